@@ -1,0 +1,65 @@
+//! Shared contact core of the EHL workbench.
+//!
+//! Both solvers (the oedometric layer model and the Reynolds EHL model) stand on this crate:
+//! the conditions and their Hertzian scales ([`params`]), the uniform grid ([`grid`]), the elastic
+//! half-space deformation as an FFT convolution ([`deformation`]), the dry contact solver
+//! ([`dry`]) and Hertz's analytic solution to check them against ([`hertz`]).
+//!
+//! Units: SI at the boundary (the `params` types), Hertzian dimensionless form inside:
+//! `X = x/a`, `P = p/p_h`, gaps and deformations in units of the Hertz approach `a²/R`.
+
+pub mod deformation;
+pub mod dry;
+pub mod grid;
+pub mod hertz;
+pub mod params;
+
+pub use deformation::Deformation;
+pub use dry::{DryProblem, DryReport, DrySettings, DrySolver, Start};
+pub use grid::Grid;
+pub use params::{Contact, HertzScales, Lubricant, Moes};
+
+/// A numerical failure, with enough context to find it: which quantity, where, when.
+#[derive(Debug, Clone, thiserror::Error, PartialEq)]
+pub enum NumericError {
+    #[error(
+        "{quantity} became non-finite ({value}) at grid point (i={i}, j={j}) in iteration {iteration}"
+    )]
+    NonFinite {
+        quantity: &'static str,
+        value: f64,
+        i: usize,
+        j: usize,
+        iteration: usize,
+    },
+    #[error(
+        "dry contact solve did not converge: residual {residual:.3e} > tolerance {tolerance:.1e} after {iterations} iterations on {nx}x{ny}"
+    )]
+    NotConverged {
+        residual: f64,
+        tolerance: f64,
+        iterations: usize,
+        nx: usize,
+        ny: usize,
+    },
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// Returns the first non-finite entry of `a` as an error naming `quantity` and `iteration`.
+pub fn check_finite(
+    quantity: &'static str,
+    a: &ndarray::Array2<f64>,
+    iteration: usize,
+) -> Result<(), NumericError> {
+    if let Some(((j, i), &value)) = a.indexed_iter().find(|(_, v)| !v.is_finite()) {
+        return Err(NumericError::NonFinite {
+            quantity,
+            value,
+            i,
+            j,
+            iteration,
+        });
+    }
+    Ok(())
+}

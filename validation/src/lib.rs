@@ -1,0 +1,1 @@
+//! Tests live in `tests/`; scenes in `scenes/`.
