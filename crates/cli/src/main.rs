@@ -1,1 +1,123 @@
-fn main() {}
+//! `ehl`: run a scene and write its results.
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+use ehl_cli::{output, run_scene};
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(
+    name = "ehl",
+    version,
+    about = "EHL point-contact validation workbench"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene (a built-in name or a JSON file) and write its results.
+    Run {
+        /// Built-in scene name (see `ehl scenes`) or path to a scene JSON file.
+        scene: String,
+        /// Output folder (default: out/<scene name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Points per side, overriding the scene's grid.
+        #[arg(long)]
+        grid: Option<usize>,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+    /// List the built-in scenes.
+    Scenes,
+    /// Check a scene file without running it; prints it with all defaults filled in.
+    Check { scene: String },
+}
+
+fn main() {
+    if let Err(e) = real_main() {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn real_main() -> Result<()> {
+    match Cli::parse().command {
+        Command::Scenes => {
+            for s in ehl_scene::builtins() {
+                println!("{:<24} {}", s.name, s.description);
+            }
+        }
+        Command::Check { scene } => {
+            let s = ehl_scene::load(&scene)?;
+            println!("{}", s.to_json());
+        }
+        Command::Run {
+            scene,
+            out,
+            grid,
+            threads,
+        } => {
+            let mut s = ehl_scene::load(&scene)?;
+            if let Some(n) = grid {
+                s = s.with_points(n)?;
+            }
+            if let Some(t) = threads {
+                anyhow::ensure!(t >= 1, "--threads must be >= 1");
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(t)
+                    .build_global()?;
+            }
+            let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
+            let outcome = run_scene(&s)?;
+            let files = output::write(&outcome, &dir)?;
+            print_result(&outcome);
+            println!("wrote {} files to {}:", files.len(), dir.display());
+            for f in files {
+                println!("  {}", f.display());
+            }
+        }
+    }
+    Ok(())
+}
+
+fn print_result(outcome: &ehl_cli::Outcome) {
+    match outcome {
+        ehl_cli::Outcome::Dry(o) => {
+            let (h, s) = (&o.hertz, &o.scales);
+            println!(
+                "scene {} ({}x{}): solved in {:.3} s ({} iterations, residual {:.1e}; setup {:.3} s)",
+                o.scene.name,
+                o.grid.nx,
+                o.grid.ny,
+                o.solve_time_s,
+                o.report.iterations,
+                o.report.residual,
+                o.setup_time_s
+            );
+            println!(
+                "  max pressure   {:.6e} Pa   Hertz {:.6e} Pa   rel. error {:+.2e}",
+                s.p_si(h.p_max),
+                s.p_h,
+                h.p_max_error
+            );
+            println!(
+                "  contact radius {:.6e} m    Hertz {:.6e} m    rel. error {:+.2e} (area-equivalent)",
+                s.x_si(h.contact_radius),
+                s.a,
+                h.contact_radius_error
+            );
+            println!(
+                "  approach       {:.6e} m    Hertz {:.6e} m    rel. error {:+.2e}",
+                s.h_si(h.approach),
+                s.delta,
+                h.approach_error
+            );
+            println!("  pressure L2 error vs Hertz {:.2e}", h.pressure_l2_error);
+        }
+    }
+}

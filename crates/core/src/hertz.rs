@@ -38,3 +38,49 @@ mod tests {
         assert!(super::gap(0.5) == 0.0 && super::gap(1.2) > 0.0);
     }
 }
+
+/// A numerical dry solution compared with Hertz (all relative errors are signed where a sign
+/// means something: positive = numerical above Hertz).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Comparison {
+    /// Largest pressure `P_max` [p_h].
+    pub p_max: f64,
+    /// `P_max − 1`.
+    pub p_max_error: f64,
+    /// Area-equivalent contact radius `sqrt(A_c / π)` [a], `A_c` the area of the cells carrying
+    /// pressure (an O(ΔX) estimate: the edge is only known to within a cell).
+    pub contact_radius: f64,
+    /// `contact_radius − 1`.
+    pub contact_radius_error: f64,
+    /// Approach `−H0` [a²/R].
+    pub approach: f64,
+    /// `approach − 1`.
+    pub approach_error: f64,
+    /// `‖P − P_Hertz‖₂ / ‖P_Hertz‖₂` over the grid.
+    pub pressure_l2_error: f64,
+}
+
+/// Compares the pressure `p` [p_h] and approach term `h0` [a²/R] on `grid` with Hertz.
+pub fn compare(grid: &crate::Grid, p: &ndarray::Array2<f64>, h0: f64) -> Comparison {
+    let exact = grid.field(pressure);
+    let p_max = p.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    let area = p.iter().filter(|&&v| v > 0.0).count() as f64 * grid.cell_area();
+    let contact_radius = (area / PI).sqrt();
+    let num: f64 = p.iter().zip(&exact).map(|(a, b)| (a - b).powi(2)).sum();
+    let den: f64 = exact.iter().map(|b| b * b).sum();
+    Comparison {
+        p_max,
+        p_max_error: p_max - 1.0,
+        contact_radius,
+        contact_radius_error: contact_radius - 1.0,
+        approach: -h0,
+        approach_error: -h0 - 1.0,
+        pressure_l2_error: (num / den).sqrt(),
+    }
+}
+
+/// Observed order of convergence between two grids whose spacing differs by `ratio`:
+/// `log(|e_coarse| / |e_fine|) / log(ratio)`.
+pub fn observed_order(e_coarse: f64, e_fine: f64, ratio: f64) -> f64 {
+    (e_coarse.abs() / e_fine.abs()).ln() / ratio.ln()
+}

@@ -1,1 +1,348 @@
+//! Scenes as data: what to run (model, conditions in SI, domain, grid, solver settings,
+//! outputs), read from JSON, checked before anything is computed or written.
+//!
+//! Built-in scenes are the JSON files in `validation/scenes/`, compiled in by name.
 
+use ehl_core::{Contact, DrySettings, Grid};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A scene. Unknown fields are refused, so a typo never silently falls back to a default.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Short name, used for output folders.
+    pub name: String,
+    /// One line on what the scene shows.
+    #[serde(default)]
+    pub description: String,
+    /// Which model runs it.
+    pub model: Model,
+    pub conditions: Conditions,
+    pub domain: Domain,
+    pub grid: GridSpec,
+    #[serde(default)]
+    pub solver: DrySettings,
+    #[serde(default)]
+    pub outputs: Outputs,
+}
+
+/// The model a scene runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Model {
+    /// Dry elastic contact of the ball on a flat (the contact core alone).
+    Dry,
+}
+
+/// Conditions in SI; each field's unit is in its name.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Conditions {
+    /// Ball radius `R` [m].
+    pub ball_radius_m: f64,
+    /// Normal load `F` [N].
+    pub load_n: f64,
+    /// Reduced modulus `E'` [Pa].
+    pub reduced_modulus_pa: f64,
+}
+
+impl Conditions {
+    pub fn contact(&self) -> Contact {
+        Contact {
+            ball_radius: self.ball_radius_m,
+            load: self.load_n,
+            reduced_modulus: self.reduced_modulus_pa,
+        }
+    }
+}
+
+/// The computational rectangle in units of the Hertz radius `a`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Domain {
+    /// `[x_min, x_max]` [a], `x` the rolling direction.
+    pub x_a: [f64; 2],
+    /// `[y_min, y_max]` [a].
+    pub y_a: [f64; 2],
+}
+
+/// Points per side.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GridSpec {
+    pub nx: usize,
+    pub ny: usize,
+}
+
+/// Which files a run writes (`summary.json` always).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Outputs {
+    /// `centreline.csv`: the fields along `y = 0`.
+    pub centreline: bool,
+    /// Full fields as `.npy`.
+    pub fields: bool,
+    /// PNG figures.
+    pub figures: bool,
+}
+
+impl Default for Outputs {
+    fn default() -> Self {
+        Self {
+            centreline: true,
+            fields: true,
+            figures: true,
+        }
+    }
+}
+
+/// Refused input: which field, what it holds, what is allowed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SceneError {
+    #[error("scene {origin}: {path}: {message}")]
+    Parse {
+        origin: String,
+        path: String,
+        message: String,
+    },
+    #[error("scene {origin}: field `{field}` = {value} is out of range: {allowed}")]
+    Range {
+        origin: String,
+        field: String,
+        value: String,
+        allowed: String,
+    },
+    #[error("no built-in scene or file named `{0}` (built-ins: {list})", list = builtin_names().join(", "))]
+    Unknown(String),
+    #[error("scene file {path}: {message}")]
+    Io { path: String, message: String },
+}
+
+const BUILTINS: &[(&str, &str)] = &[(
+    "hertz",
+    include_str!("../../../validation/scenes/hertz.json"),
+)];
+
+/// Names of the built-in scenes.
+pub fn builtin_names() -> Vec<&'static str> {
+    BUILTINS.iter().map(|(n, _)| *n).collect()
+}
+
+/// All built-in scenes, parsed and checked.
+pub fn builtins() -> Vec<Scene> {
+    BUILTINS
+        .iter()
+        .map(|(n, _)| builtin(n).expect("built-in scenes are valid"))
+        .collect()
+}
+
+/// A built-in scene by name.
+pub fn builtin(name: &str) -> Result<Scene, SceneError> {
+    let (_, text) = BUILTINS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .ok_or_else(|| SceneError::Unknown(name.into()))?;
+    Scene::from_json(text, &format!("`{name}` (built-in)"))
+}
+
+/// A built-in name, or else a path to a JSON file.
+pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
+    if let Some(_) = BUILTINS.iter().find(|(n, _)| *n == name_or_path) {
+        return builtin(name_or_path);
+    }
+    let path = Path::new(name_or_path);
+    if !path.exists() {
+        return Err(SceneError::Unknown(name_or_path.into()));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+        path: name_or_path.into(),
+        message: e.to_string(),
+    })?;
+    Scene::from_json(&text, &format!("file {name_or_path}"))
+}
+
+impl Scene {
+    /// Parses and checks; `origin` names the source in error messages.
+    pub fn from_json(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        let de = &mut serde_json::Deserializer::from_str(text);
+        let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
+            let path = e.path().to_string();
+            SceneError::Parse {
+                origin: origin.into(),
+                path: if path == "." {
+                    "(top level)".into()
+                } else {
+                    format!("field `{path}`")
+                },
+                message: e.into_inner().to_string(),
+            }
+        })?;
+        scene.validate(origin)?;
+        Ok(scene)
+    }
+
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap()
+    }
+
+    /// The same scene with `n` points per side (the `--grid` override).
+    pub fn with_points(&self, n: usize) -> Result<Scene, SceneError> {
+        let mut s = self.clone();
+        s.grid = GridSpec { nx: n, ny: n };
+        s.validate("with --grid")?;
+        Ok(s)
+    }
+
+    pub fn grid(&self) -> Grid {
+        Grid::new(
+            self.grid.nx,
+            self.grid.ny,
+            (self.domain.x_a[0], self.domain.x_a[1]),
+            (self.domain.y_a[0], self.domain.y_a[1]),
+        )
+    }
+
+    /// Range checks, each naming the field and what it allows.
+    pub fn validate(&self, origin: &str) -> Result<(), SceneError> {
+        let err = |field: &str, value: String, allowed: &str| SceneError::Range {
+            origin: origin.into(),
+            field: field.into(),
+            value,
+            allowed: allowed.into(),
+        };
+        let positive = |field: &str, v: f64, unit: &str| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(err(
+                    field,
+                    format!("{v}"),
+                    &format!("must be finite and > 0 ({unit})"),
+                ))
+            }
+        };
+        if self.name.trim().is_empty()
+            || !self
+                .name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+        {
+            return Err(err(
+                "name",
+                format!("{:?}", self.name),
+                "must be non-empty ASCII letters, digits, '-' or '_'",
+            ));
+        }
+        let c = &self.conditions;
+        positive("conditions.ball_radius_m", c.ball_radius_m, "m")?;
+        positive("conditions.load_n", c.load_n, "N")?;
+        positive("conditions.reduced_modulus_pa", c.reduced_modulus_pa, "Pa")?;
+        for (field, r) in [
+            ("domain.x_a", self.domain.x_a),
+            ("domain.y_a", self.domain.y_a),
+        ] {
+            if !(r[0].is_finite() && r[1].is_finite() && r[0] < r[1]) {
+                return Err(err(
+                    field,
+                    format!("{r:?}"),
+                    "must be [min, max] with finite min < max (units of a)",
+                ));
+            }
+            if !(r[0] <= 0.0 && r[1] >= 0.0) {
+                return Err(err(
+                    field,
+                    format!("{r:?}"),
+                    "must contain 0 (the contact centre)",
+                ));
+            }
+        }
+        // 5 points is the least that resolves anything; 4097² fields are 128 MiB each.
+        for (field, n) in [("grid.nx", self.grid.nx), ("grid.ny", self.grid.ny)] {
+            if !(5..=4097).contains(&n) {
+                return Err(err(field, n.to_string(), "must be 5 ..= 4097 points"));
+            }
+        }
+        let s = &self.solver;
+        if !(s.tolerance.is_finite() && s.tolerance > 0.0 && s.tolerance < 1.0) {
+            return Err(err(
+                "solver.tolerance",
+                format!("{}", s.tolerance),
+                "must be in (0, 1) (RMS gap on the contact, units of a²/R)",
+            ));
+        }
+        if s.max_iterations == 0 {
+            return Err(err("solver.max_iterations", "0".into(), "must be >= 1"));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn hertz_text() -> String {
+        BUILTINS[0].1.to_string()
+    }
+
+    fn refused(text: &str) -> String {
+        Scene::from_json(text, "test").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn builtins_parse_and_round_trip() {
+        for s in builtins() {
+            let again = Scene::from_json(&s.to_json(), "round trip").unwrap();
+            assert_eq!(s, again);
+        }
+        assert_eq!(load("hertz").unwrap().name, "hertz");
+    }
+
+    #[test]
+    fn missing_and_unknown_fields_are_named() {
+        let t = hertz_text().replace("\"load_n\": 20.0,", "");
+        let m = refused(&t);
+        assert!(m.contains("conditions") && m.contains("load_n"), "{m}");
+        let t = hertz_text().replace("\"load_n\"", "\"lod_n\"");
+        let m = refused(&t);
+        assert!(m.contains("unknown field `lod_n`"), "{m}");
+    }
+
+    #[test]
+    fn out_of_range_values_are_named_with_their_range() {
+        let m = refused(&hertz_text().replace("9.525e-3", "-9.525e-3"));
+        assert!(
+            m.contains("conditions.ball_radius_m") && m.contains("> 0"),
+            "{m}"
+        );
+        let m = refused(&hertz_text().replace("\"nx\": 129", "\"nx\": 4"));
+        assert!(m.contains("grid.nx") && m.contains("5 ..= 4097"), "{m}");
+        let m = refused(&hertz_text().replace("[-1.25, 1.25], \"y_a\"", "[1.25, -1.25], \"y_a\""));
+        assert!(m.contains("domain.x_a"), "{m}");
+        let m = refused(&hertz_text().replace("\"tolerance\": 1e-8", "\"tolerance\": 0"));
+        assert!(m.contains("solver.tolerance"), "{m}");
+    }
+
+    #[test]
+    fn nan_and_overflow_are_refused() {
+        // JSON has no NaN: the parser refuses it, naming the field.
+        let m = refused(&hertz_text().replace("20.0", "NaN"));
+        assert!(m.contains("load_n"), "{m}");
+        let m = refused(&hertz_text().replace("20.0", "1e999"));
+        assert!(m.contains("load_n"), "{m}");
+    }
+
+    #[test]
+    fn unknown_name_lists_builtins() {
+        let m = load("no-such-scene").unwrap_err().to_string();
+        assert!(m.contains("hertz"), "{m}");
+    }
+
+    #[test]
+    fn grid_override_is_checked() {
+        let s = builtin("hertz").unwrap();
+        assert_eq!(s.with_points(65).unwrap().grid().nx, 65);
+        assert!(s.with_points(3).is_err());
+    }
+}

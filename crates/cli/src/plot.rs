@@ -1,0 +1,305 @@
+//! PNG figures with plotters. Text is drawn with the DejaVu Sans font bundled by the `dejavu`
+//! crate (plotters' `ab_glyph` backend), so no system fonts are needed.
+
+use anyhow::{Context, Result};
+use ndarray::Array2;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+const FONT: &str = "sans-serif";
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
+            .map_err(|_| ())
+            .expect("the bundled DejaVu font loads");
+    });
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug)]
+pub enum Mark {
+    Line,
+    Points,
+    LinePoints,
+}
+
+/// One named curve.
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+    pub mark: Mark,
+}
+
+impl Series {
+    pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, mark: Mark) -> Self {
+        Self {
+            label: label.into(),
+            points,
+            mark,
+        }
+    }
+}
+
+/// One panel of an x–y chart.
+pub struct Panel {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+    pub log_x: bool,
+    pub log_y: bool,
+}
+
+const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(23, 190, 207),
+];
+
+fn range(vals: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in vals.filter(|v| v.is_finite() && (!log || *v > 0.0)) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    if log {
+        (lo / 1.5, hi * 1.5)
+    } else {
+        let pad = ((hi - lo) * 0.05).max(1e-12 * hi.abs().max(1.0));
+        (lo - pad, hi + pad)
+    }
+}
+
+fn draw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    panel: &Panel,
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let xs = range(
+        panel
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p.0)),
+        panel.log_x,
+    );
+    let ys = range(
+        panel
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| p.1)),
+        panel.log_y,
+    );
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .caption(&panel.title, (FONT, 20))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(70);
+    macro_rules! body {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            chart
+                .configure_mesh()
+                .x_desc(panel.x_label.as_str())
+                .y_desc(panel.y_label.as_str())
+                .label_style((FONT, 14))
+                .axis_desc_style((FONT, 16))
+                .draw()?;
+            for (k, s) in panel.series.iter().enumerate() {
+                let color = PALETTE[k % PALETTE.len()];
+                let pts: Vec<(f64, f64)> = s
+                    .points
+                    .iter()
+                    .cloned()
+                    .filter(|p| {
+                        p.0.is_finite()
+                            && p.1.is_finite()
+                            && (!panel.log_x || p.0 > 0.0)
+                            && (!panel.log_y || p.1 > 0.0)
+                    })
+                    .collect();
+                let legend_color = color;
+                match s.mark {
+                    Mark::Line => chart
+                        .draw_series(LineSeries::new(pts, color.stroke_width(2)))?
+                        .label(s.label.as_str())
+                        .legend(move |(x, y)| {
+                            PathElement::new(
+                                vec![(x, y), (x + 20, y)],
+                                legend_color.stroke_width(2),
+                            )
+                        }),
+                    Mark::Points => chart
+                        .draw_series(pts.into_iter().map(|p| Circle::new(p, 3, color.filled())))?
+                        .label(s.label.as_str())
+                        .legend(move |(x, y)| Circle::new((x + 10, y), 3, legend_color.filled())),
+                    Mark::LinePoints => {
+                        chart.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?;
+                        chart
+                            .draw_series(
+                                pts.into_iter().map(|p| Circle::new(p, 4, color.filled())),
+                            )?
+                            .label(s.label.as_str())
+                            .legend(move |(x, y)| {
+                                PathElement::new(
+                                    vec![(x, y), (x + 20, y)],
+                                    legend_color.stroke_width(2),
+                                )
+                            })
+                    }
+                };
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .label_font((FONT, 14))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .draw()?;
+        }};
+    }
+    match (panel.log_x, panel.log_y) {
+        (false, false) => body!(builder.build_cartesian_2d(xs.0..xs.1, ys.0..ys.1)?),
+        (true, false) => body!(builder.build_cartesian_2d((xs.0..xs.1).log_scale(), ys.0..ys.1)?),
+        (false, true) => body!(builder.build_cartesian_2d(xs.0..xs.1, (ys.0..ys.1).log_scale())?),
+        (true, true) => {
+            body!(builder.build_cartesian_2d((xs.0..xs.1).log_scale(), (ys.0..ys.1).log_scale())?)
+        }
+    }
+    Ok(())
+}
+
+/// Panels side by side (one row), with an optional footnote line (conditions, laws).
+pub fn charts(path: &Path, panels: &[Panel], footnote: &str) -> Result<()> {
+    register_font();
+    let width = 640 * panels.len() as u32;
+    let root = BitMapBackend::new(path, (width, 520)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (main, foot) = root.split_vertically(490);
+    foot.draw(&Text::new(
+        footnote.to_string(),
+        (12, 6),
+        (FONT, 14).into_font().color(&BLACK),
+    ))?;
+    for (area, panel) in main.split_evenly((1, panels.len())).iter().zip(panels) {
+        draw_panel(area, panel)?;
+    }
+    root.present()
+        .with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}
+
+/// Colour for `t ∈ [0, 1]`: a perceptually ordered blue–green–yellow ramp (viridis-like).
+fn ramp(t: f64) -> RGBColor {
+    const STOPS: [(f64, f64, f64); 5] = [
+        (68., 1., 84.),
+        (59., 82., 139.),
+        (33., 145., 140.),
+        (94., 201., 98.),
+        (253., 231., 37.),
+    ];
+    let t = t.clamp(0.0, 1.0) * 4.0;
+    let k = (t.floor() as usize).min(3);
+    let f = t - k as f64;
+    let (a, b) = (STOPS[k], STOPS[k + 1]);
+    let mix = |x: f64, y: f64| (x + (y - x) * f).round() as u8;
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// Heat map of `field[[j, i]]` over `x ∈ xr`, `y ∈ yr`, with a colour bar.
+pub fn heat_map(
+    path: &Path,
+    field: &Array2<f64>,
+    xr: (f64, f64),
+    yr: (f64, f64),
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    bar_label: &str,
+    footnote: &str,
+) -> Result<()> {
+    register_font();
+    let (ny, nx) = field.dim();
+    let lo = field
+        .iter()
+        .cloned()
+        .filter(|v| v.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    let hi = field
+        .iter()
+        .cloned()
+        .filter(|v| v.is_finite())
+        .fold(f64::NEG_INFINITY, f64::max);
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    let root = BitMapBackend::new(path, (760, 640)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (main, foot) = root.split_vertically(610);
+    foot.draw(&Text::new(
+        footnote.to_string(),
+        (12, 6),
+        (FONT, 14).into_font().color(&BLACK),
+    ))?;
+    let (left, right) = main.split_horizontally(630);
+    let mut chart = ChartBuilder::on(&left)
+        .caption(title, (FONT, 20))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(60)
+        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 16))
+        .draw()?;
+    let (dx, dy) = (
+        (xr.1 - xr.0) / (nx - 1).max(1) as f64,
+        (yr.1 - yr.0) / (ny - 1).max(1) as f64,
+    );
+    chart.draw_series(field.indexed_iter().map(|((j, i), &v)| {
+        let (x, y) = (xr.0 + i as f64 * dx, yr.0 + j as f64 * dy);
+        Rectangle::new(
+            [(x - 0.5 * dx, y - 0.5 * dy), (x + 0.5 * dx, y + 0.5 * dy)],
+            ramp((v - lo) / span).filled(),
+        )
+    }))?;
+    let mut bar = ChartBuilder::on(&right)
+        .margin_top(44)
+        .margin_bottom(57)
+        .margin_right(30)
+        .margin_left(4)
+        .y_label_area_size(78)
+        .build_cartesian_2d(0.0..1.0, lo..lo + span)?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc(bar_label)
+        .label_style((FONT, 13))
+        .axis_desc_style((FONT, 14))
+        .draw()?;
+    let steps = 100;
+    bar.draw_series((0..steps).map(|k| {
+        let v0 = lo + span * k as f64 / steps as f64;
+        let v1 = lo + span * (k + 1) as f64 / steps as f64;
+        Rectangle::new(
+            [(0.0, v0), (1.0, v1)],
+            ramp((k as f64 + 0.5) / steps as f64).filled(),
+        )
+    }))?;
+    root.present()
+        .with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}
