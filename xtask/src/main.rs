@@ -1,1 +1,84 @@
-fn main() {}
+//! The workbench's harness: `cargo xtask figures | convergence dry | bench`.
+//!
+//! Fine grids live here, not in the tests: these commands take seconds to minutes.
+
+mod bench;
+mod convergence;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(name = "cargo xtask")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Regenerate every figure of the project into one folder.
+    Figures {
+        #[arg(long, default_value = "out/figures")]
+        out: PathBuf,
+    },
+    /// Grid (and, for time-dependent models, time-step) convergence studies.
+    Convergence {
+        /// Which study: `dry`.
+        study: Study,
+        #[arg(long, default_value = "out/convergence")]
+        out: PathBuf,
+        /// Finest grid, points per side.
+        #[arg(long, default_value_t = 513)]
+        max_points: usize,
+    },
+    /// Time the deformation operator and the dry solver, 65² … 513².
+    Bench {
+        #[arg(long, default_value = "out/bench")]
+        out: PathBuf,
+        /// Finest grid, points per side.
+        #[arg(long, default_value_t = 513)]
+        max_points: usize,
+    },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Study {
+    Dry,
+}
+
+fn main() -> Result<()> {
+    match Cli::parse().command {
+        Command::Figures { out } => figures(&out),
+        Command::Convergence {
+            study: Study::Dry,
+            out,
+            max_points,
+        } => convergence::dry(&out, max_points).map(|_| ()),
+        Command::Bench { out, max_points } => bench::run(&out, max_points),
+    }
+}
+
+/// Grid sizes 65, 129, … up to `max` points per side.
+pub fn grid_sizes(max: usize) -> Vec<usize> {
+    (6..=12)
+        .map(|k| (1usize << k) + 1)
+        .filter(|&n| n <= max)
+        .collect()
+}
+
+fn figures(out: &std::path::Path) -> Result<()> {
+    std::fs::create_dir_all(out)?;
+    let mut written = vec![];
+    for scene in ehl_scene::builtins() {
+        let outcome = ehl_cli::run_scene(&scene)?;
+        written.extend(outcome.figures(out, &format!("{}_", scene.name))?);
+    }
+    written.extend(convergence::dry(out, 513)?);
+    println!("figures written to {}:", out.display());
+    for f in written {
+        println!("  {}", f.display());
+    }
+    Ok(())
+}

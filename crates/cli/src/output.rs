@@ -77,10 +77,10 @@ impl Outcome {
             }
         }
     }
-    /// Draws the figures into `dir`.
-    pub fn figures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+    /// Draws the figures into `dir`, file names starting with `prefix`.
+    pub fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
         match self {
-            Outcome::Dry(o) => dry_figures(o, dir),
+            Outcome::Dry(o) => dry_figures(o, dir, prefix),
         }
     }
 }
@@ -194,7 +194,7 @@ pub fn conditions_note(o: &DryOutcome) -> String {
     )
 }
 
-fn dry_figures(o: &DryOutcome, dir: &Path) -> Result<Vec<PathBuf>> {
+fn dry_figures(o: &DryOutcome, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
     let line = dry_centreline(o);
     let x: Vec<f64> = line.columns[0].1.iter().map(|&v| v / o.scales.a).collect();
     let col = |k: usize, scale: f64| -> Vec<(f64, f64)> {
@@ -211,36 +211,33 @@ fn dry_figures(o: &DryOutcome, dir: &Path) -> Result<Vec<PathBuf>> {
         .map(|&x| (x, hertz::pressure(x, 0.0)))
         .collect();
     let hertz_h: Vec<(f64, f64)> = fine_x.iter().map(|&x| (x, hertz::gap(x.abs()))).collect();
-    let centre = dir.join("centreline.png");
+    let centre = dir.join(format!("{prefix}centreline.png"));
     plot::charts(
         &centre,
         &[
-            Panel {
-                title: "Pressure along y = 0".into(),
-                x_label: "x / a".into(),
-                y_label: "p / p_h".into(),
-                series: vec![
+            Panel::new(
+                "Pressure along y = 0",
+                "x / a",
+                "p / p_h",
+                vec![
                     Series::new("Hertz (analytic)", hertz_p, Mark::Line),
                     Series::new("numerical", col(1, o.scales.p_h), Mark::Points),
                 ],
-                log_x: false,
-                log_y: false,
-            },
-            Panel {
-                title: "Gap along y = 0".into(),
-                x_label: "x / a".into(),
-                y_label: "h / (a²/R)".into(),
-                series: vec![
+            ),
+            Panel::new(
+                "Gap along y = 0",
+                "x / a",
+                "h / (a²/R)",
+                vec![
                     Series::new("Hertz (analytic)", hertz_h, Mark::Line),
                     Series::new("numerical", col(2, o.scales.delta), Mark::Points),
                 ],
-                log_x: false,
-                log_y: false,
-            },
+            )
+            .legend(plotters::prelude::SeriesLabelPosition::UpperMiddle),
         ],
         &conditions_note(o),
     )?;
-    let map = dir.join("pressure_map.png");
+    let map = dir.join(format!("{prefix}pressure_map.png"));
     let g = &o.grid;
     plot::heat_map(
         &map,
@@ -311,7 +308,7 @@ fn write_into(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
         }
     }
     if outputs.figures {
-        files.extend(outcome.figures(dir)?);
+        files.extend(outcome.figures(dir, "")?);
     }
     Ok(files)
 }

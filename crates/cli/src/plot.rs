@@ -51,6 +51,43 @@ pub struct Panel {
     pub series: Vec<Series>,
     pub log_x: bool,
     pub log_y: bool,
+    /// Where the legend goes (pick the corner the data leaves empty).
+    pub legend: SeriesLabelPosition,
+}
+
+impl Panel {
+    /// Linear axes, legend upper right.
+    pub fn new(title: &str, x_label: &str, y_label: &str, series: Vec<Series>) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series,
+            log_x: false,
+            log_y: false,
+            legend: SeriesLabelPosition::UpperRight,
+        }
+    }
+    pub fn log_log(mut self) -> Self {
+        self.log_x = true;
+        self.log_y = true;
+        self
+    }
+    pub fn legend(mut self, at: SeriesLabelPosition) -> Self {
+        self.legend = at;
+        self
+    }
+}
+
+/// Tick label: plain where that is short, else one significant digit in `e` notation.
+fn tick(v: &f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || (1e-2..1e4).contains(&a) {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.0e}")
+    }
 }
 
 const PALETTE: [RGBColor; 6] = [
@@ -115,6 +152,8 @@ where
                 .y_desc(panel.y_label.as_str())
                 .label_style((FONT, 14))
                 .axis_desc_style((FONT, 16))
+                .x_label_formatter(&tick)
+                .y_label_formatter(&tick)
                 .draw()?;
             for (k, s) in panel.series.iter().enumerate() {
                 let color = PALETTE[k % PALETTE.len()];
@@ -162,7 +201,7 @@ where
             }
             chart
                 .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
+                .position(panel.legend.clone())
                 .label_font((FONT, 14))
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)

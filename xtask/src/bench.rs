@@ -1,0 +1,184 @@
+//! Timings of the contact core: deformation apply, dry solve from a flat start, warm-started
+//! solves after a small change of the gap (what the layer model does every time step).
+
+use anyhow::Result;
+use ehl_core::dry::extrapolate;
+use ehl_core::{DryProblem, DrySettings, DrySolver, Grid, Start};
+use ndarray::Array2;
+use std::path::Path;
+use std::time::Instant;
+
+/// Median wall time of `reps` runs of `f` [s].
+fn median_time(reps: usize, mut f: impl FnMut()) -> f64 {
+    let mut ts: Vec<f64> = (0..reps)
+        .map(|_| {
+            let t = Instant::now();
+            f();
+            t.elapsed().as_secs_f64()
+        })
+        .collect();
+    ts.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    ts[ts.len() / 2]
+}
+
+struct Row {
+    n: usize,
+    threads: usize,
+    apply_ms: f64,
+    apply_per_nlogn_ns: f64,
+    flat_s: f64,
+    flat_its: usize,
+    coarse_its: Vec<(usize, usize)>,
+    warm_ms: f64,
+    warm_its: f64,
+    extrap_ms: f64,
+    extrap_its: f64,
+}
+
+fn bench_grid(n: usize, threads: usize) -> Result<Row> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
+    pool.install(|| {
+        let g = Grid::square(n, 1.25);
+        let solver = DrySolver::new(g, DrySettings::default());
+        let nn = (n * n) as f64;
+        let reps = if n <= 257 { 21 } else { 7 };
+        let p0 = g.field(ehl_core::hertz::pressure);
+        let mut w = g.zeros();
+        let apply = median_time(reps, || solver.operator().apply(p0.view(), w.view_mut()));
+
+        let load = 2.0 * std::f64::consts::PI / 3.0;
+        let f = g.paraboloid();
+        let prob = DryProblem {
+            rigid_gap: f.view(),
+            compliance: None,
+            load,
+        };
+        let mut p = g.zeros();
+        let mut rep = None;
+        let flat = median_time(if n <= 257 { 7 } else { 3 }, || {
+            rep = Some(solver.solve(&prob, &mut p, &mut w, Start::Flat).unwrap());
+        });
+        let rep = rep.unwrap();
+
+        // A layer-model-like sequence: a bump of the layer's relative height (l0/(a²/R) ≈ 0.013
+        // for the seed) moving by a tenth of a cell per step, re-solved from the last pressure
+        // (plain warm start) or from the linear extrapolation of the last two.
+        let steps = 12;
+        let bump = |s: usize| -> Array2<f64> {
+            let shift = -0.5 + 0.1 * g.dx() * s as f64;
+            &f + &g.field(|x, y| 0.013 * (-((x - shift).powi(2) + y * y) / 0.02).exp())
+        };
+        let gaps: Vec<Array2<f64>> = (0..=steps).map(bump).collect();
+        let (warm, warm_its) = sequence(&solver, &gaps, load, false);
+        let (ex, ex_its) = sequence(&solver, &gaps, load, true);
+        Ok(Row {
+            n,
+            threads,
+            apply_ms: apply * 1e3,
+            apply_per_nlogn_ns: apply / (nn * nn.log2()) * 1e9,
+            flat_s: flat,
+            flat_its: rep.iterations,
+            coarse_its: rep.coarse_iterations,
+            warm_ms: warm * 1e3,
+            warm_its,
+            extrap_ms: ex * 1e3,
+            extrap_its: ex_its,
+        })
+    })
+}
+
+/// Solves `gaps[0]` from flat, then each following gap warm-started from the last pressure
+/// (or its linear extrapolation); returns the mean time [s] and iterations per warm solve.
+fn sequence(solver: &DrySolver, gaps: &[Array2<f64>], load: f64, extrap: bool) -> (f64, f64) {
+    let g = *solver.grid();
+    let (mut p, mut w) = (g.zeros(), g.zeros());
+    let prob0 = DryProblem {
+        rigid_gap: gaps[0].view(),
+        compliance: None,
+        load,
+    };
+    solver.solve(&prob0, &mut p, &mut w, Start::Flat).unwrap();
+    let mut prev = p.clone();
+    let (mut time, mut its) = (0.0, 0usize);
+    for gap in &gaps[1..] {
+        let prob = DryProblem {
+            rigid_gap: gap.view(),
+            compliance: None,
+            load,
+        };
+        let t = Instant::now();
+        let mut start = if extrap {
+            extrapolate(&p, &prev)
+        } else {
+            p.clone()
+        };
+        let r = solver
+            .solve(&prob, &mut start, &mut w, Start::Warm)
+            .unwrap();
+        time += t.elapsed().as_secs_f64();
+        its += r.iterations;
+        prev = std::mem::replace(&mut p, start);
+    }
+    let steps = (gaps.len() - 1) as f64;
+    (time / steps, its as f64 / steps)
+}
+
+pub fn run(out: &Path, max: usize) -> Result<()> {
+    std::fs::create_dir_all(out)?;
+    println!("Contact core benchmark (median wall times; N = n^2 points; tolerance 1e-8)");
+    println!(
+        "{:>5} {:>3} {:>10} {:>14} {:>10} {:>5} {:>10} {:>6} {:>11} {:>6}  nested start (n, its)",
+        "n",
+        "thr",
+        "apply[ms]",
+        "apply/NlogN[ns]",
+        "flat[s]",
+        "its",
+        "warm[ms]",
+        "its",
+        "extrap[ms]",
+        "its"
+    );
+    let mut rows = vec![];
+    for threads in [1, 2] {
+        for n in crate::grid_sizes(max) {
+            let r = bench_grid(n, threads)?;
+            println!(
+                "{:>5} {:>3} {:>10.3} {:>14.3} {:>10.4} {:>5} {:>10.2} {:>6.1} {:>11.2} {:>6.1}  {:?}",
+                r.n,
+                r.threads,
+                r.apply_ms,
+                r.apply_per_nlogn_ns,
+                r.flat_s,
+                r.flat_its,
+                r.warm_ms,
+                r.warm_its,
+                r.extrap_ms,
+                r.extrap_its,
+                r.coarse_its
+            );
+            rows.push(r);
+        }
+    }
+    println!(
+        "Targets (single thread): apply 257^2 <= 3 ms; flat solve 257^2 <= 0.06 s, 513^2 <= 0.3 s"
+    );
+    let json: Vec<_> = rows
+        .iter()
+        .map(|r| {
+            serde_json::json!({
+                "n": r.n, "threads": r.threads, "apply_ms": r.apply_ms,
+                "apply_per_nlogn_ns": r.apply_per_nlogn_ns, "flat_solve_s": r.flat_s,
+                "flat_iterations": r.flat_its, "nested_iterations": r.coarse_its,
+                "warm_solve_ms": r.warm_ms, "warm_iterations": r.warm_its,
+                "extrapolated_solve_ms": r.extrap_ms, "extrapolated_iterations": r.extrap_its,
+            })
+        })
+        .collect();
+    let f = out.join("bench_contact.json");
+    std::fs::write(&f, serde_json::to_string_pretty(&json)? + "\n")?;
+    println!("wrote {}", f.display());
+    Ok(())
+}
