@@ -1,0 +1,76 @@
+//! Features that pass through the contact: a dent (or bump) on the ball, which moves with the
+//! ball surface, and a hole in the supplied layer, which moves with the layer. Under pure rolling
+//! both move at `u1`. Positions in units of `a`.
+
+use serde::{Deserialize, Serialize};
+
+/// A dent in the ball (paper Eq. 14, reconstructed):
+/// `b = A l0 10^(−10 ((x − x_b(t))² + (y − y_b)²) / W²)` with `x_b(t) = x_start + u1 t / a`.
+/// `A > 0` deepens the gap (a dent); `A < 0` is a bump.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Dent {
+    /// Height factor `A` [-]: depth in units of the supply thickness `l0`.
+    pub amplitude: f64,
+    /// Width factor `W` [a].
+    pub width_a: f64,
+    /// Centre at `t = 0` [a].
+    pub x_start_a: f64,
+    #[serde(default)]
+    pub y_a: f64,
+}
+
+impl Dent {
+    /// Gap added [units of `l0`] at `(x, y)` with the dent centre at `xc`.
+    #[inline]
+    pub fn depth(&self, x: f64, y: f64, xc: f64) -> f64 {
+        let r2 = (x - xc).powi(2) + (y - self.y_a).powi(2);
+        self.amplitude * 10f64.powf(-10.0 * r2 / (self.width_a * self.width_a))
+    }
+    /// Radius beyond which the dent is below 1e-6 of its depth [a].
+    pub fn reach(&self) -> f64 {
+        self.width_a * (0.6f64).sqrt()
+    }
+}
+
+/// A circular hole (zero supply) in the layer, carried with the layer.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Hole {
+    pub radius_a: f64,
+    /// Centre at `t = 0` [a].
+    pub x_start_a: f64,
+    #[serde(default)]
+    pub y_a: f64,
+}
+
+impl Hole {
+    #[inline]
+    pub fn inside(&self, x: f64, y: f64, xc: f64) -> bool {
+        (x - xc).powi(2) + (y - self.y_a).powi(2) < self.radius_a * self.radius_a
+    }
+}
+
+/// Either feature.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Feature {
+    Dent(Dent),
+    Hole(Hole),
+}
+
+impl Feature {
+    pub fn x_start(&self) -> f64 {
+        match self {
+            Feature::Dent(d) => d.x_start_a,
+            Feature::Hole(h) => h.x_start_a,
+        }
+    }
+    /// Half-size beyond which the feature has no effect [a].
+    pub fn reach(&self) -> f64 {
+        match self {
+            Feature::Dent(d) => d.reach(),
+            Feature::Hole(h) => h.radius_a,
+        }
+    }
+}

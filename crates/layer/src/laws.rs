@@ -1,0 +1,126 @@
+//! The layer's material laws: the modulus `E(p, ε)` (paper Eq. 10) and the damper viscosity
+//! `η(p)` (paper Eq. 11). Both equations were lost from the paper's text; what is here is the
+//! reconstruction of `shared/docs/model-notes.md` §2, with its alternatives as named variants.
+//! All pressures and moduli in units of `p_h`; viscosities as `η / p_h` [s].
+
+use serde::{Deserialize, Serialize};
+
+/// `E(p, ε)`. Every variant satisfies what the paper's text fixes: `E = Eo` for `p ≤ Eo`
+/// (steady strain `p/Eo`), and `E → p` as `ε → 1` (the strain never passes 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModulusLaw {
+    /// Default reconstruction: `E = Eo + max(p − Eo, 0) ε^m`, `m = p_ref / Eo`.
+    #[default]
+    Power,
+    /// The same with `m = 1`.
+    PowerLinear,
+    /// `E = max(Eo, Eo^(1−ε^m) p^(ε^m))`, `m = p_ref / Eo`: geometric interpolation.
+    Geometric,
+}
+
+impl ModulusLaw {
+    /// `E / p_h` at pressure `p` [p_h], strain `eps`, oedometric modulus `eo` [p_h] and
+    /// reference pressure `p_ref` [p_h].
+    #[inline]
+    pub fn modulus(self, p: f64, eps: f64, eo: f64, p_ref: f64) -> f64 {
+        let eps = eps.clamp(0.0, 1.0);
+        match self {
+            ModulusLaw::Power => eo + (p - eo).max(0.0) * eps.powf(p_ref / eo),
+            ModulusLaw::PowerLinear => eo + (p - eo).max(0.0) * eps,
+            ModulusLaw::Geometric => {
+                if p <= eo {
+                    eo
+                } else {
+                    let s = eps.powf(p_ref / eo);
+                    eo.powf(1.0 - s) * p.powf(s)
+                }
+            }
+        }
+    }
+}
+
+/// How Table 1's damper constant "5.5e5 Pa s" is read (model notes §2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum DamperReading {
+    /// `η = κ η0 exp((ln η0 + 9.67)(−1 + (1 + p/p0)^z))`, κ dimensionless ("for κ = 1 this is
+    /// Roelands"). The default: it reproduces the paper's compression and squeeze timing.
+    #[default]
+    Factor,
+    /// `η = κ exp(…)` with κ in Pa s replacing `κ η0`: a ~22× stiffer damper for the seed.
+    Literal,
+}
+
+/// The damper viscosity law, Roelands-shaped, ready to evaluate in Hertz units.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Damper {
+    /// Prefactor `η(0) / p_h` [s]: `κ η0 / p_h` or `κ / p_h` by the reading.
+    pub eta_zero: f64,
+    /// `ln η0 + 9.67` [-] (η0 in Pa s).
+    pub roelands_s: f64,
+    /// Roelands index `z` [-].
+    pub z: f64,
+    /// Roelands pressure constant `p0 / p_h` [-].
+    pub p0: f64,
+}
+
+impl Damper {
+    /// `η / p_h` [s] at pressure `p` [p_h].
+    #[inline]
+    pub fn eta(&self, p: f64) -> f64 {
+        self.eta_zero * (self.roelands_s * (-1.0 + (1.0 + p.max(0.0) / self.p0).powf(self.z))).exp()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn modulus_laws_meet_the_papers_constraints() {
+        let (eo, p_ref) = (0.2557, 1.0); // Eo/p_h for the seed: 0.1346 / 0.5265
+        for law in [
+            ModulusLaw::Power,
+            ModulusLaw::PowerLinear,
+            ModulusLaw::Geometric,
+        ] {
+            // E = Eo for p <= Eo, whatever the strain.
+            for eps in [0.0, 0.3, 1.0] {
+                assert_eq!(law.modulus(0.2, eps, eo, p_ref), eo, "{law:?}");
+            }
+            // E -> p as eps -> 1, and E = Eo at eps = 0.
+            for p in [0.3, 1.0, 1.5] {
+                assert!(
+                    (law.modulus(p, 1.0, eo, p_ref) - p).abs() < 1e-12,
+                    "{law:?}"
+                );
+                assert!(
+                    (law.modulus(p, 0.0, eo, p_ref) - eo).abs() < 1e-12,
+                    "{law:?}"
+                );
+                // Monotone in strain: the layer stiffens as it is compressed.
+                assert!(law.modulus(p, 0.6, eo, p_ref) <= law.modulus(p, 0.7, eo, p_ref));
+            }
+        }
+    }
+
+    #[test]
+    fn steady_strain_never_exceeds_one() {
+        // E(p, eps) eps = p has no root below 1 for p > Eo: the strain rises towards 1.
+        let (eo, p_ref) = (0.2557, 1.0);
+        for law in [
+            ModulusLaw::Power,
+            ModulusLaw::PowerLinear,
+            ModulusLaw::Geometric,
+        ] {
+            for k in 0..100 {
+                let eps = k as f64 / 100.0;
+                assert!(
+                    law.modulus(0.8, eps, eo, p_ref) * eps < 0.8,
+                    "{law:?} at {eps}"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,17 @@
+//! The oedometric viscoelastic layer model of van Emden et al. (Tribology International 111
+//! (2017) 197–210): a dry contact (elastic half-space, gap ≥ 0, pressure ≥ 0, force balance)
+//! with a transported Kelvin–Voigt layer `l = l0 (1 − ε)` in the gap,
+//! `η(p) Dε/Dt + E(p, ε) ε = p`. The contact is the shared core's [`ehl_core::DrySolver`].
+
+pub mod features;
+pub mod laws;
+pub mod model;
+pub mod run;
+pub mod stepper;
+pub mod transport;
+
+pub use features::{Dent, Feature, Hole};
+pub use laws::{DamperReading, ModulusLaw};
+pub use model::{LayerModel, LayerSpec, LayerState, Monitor};
+pub use run::{Record, Snapshot, StopSettings, TimeSettings, run, squeeze_steady, uniform_state};
+pub use stepper::{LayerError, Scheme, Stepper, stability_estimate};

@@ -1,0 +1,275 @@
+//! The layer model's parameters in Hertz units, its fields, and its contact solve.
+//!
+//! Gap: `H = H0 + f + b(t) + W − L`, `L = L0(x, t) (1 − ε)` (all in `a²/R`); strain law
+//! `η(p) Dε/Dt + E(p, ε) ε = p`, `Dε/Dt = ∂ε/∂t + u1 ∂ε/∂x`. Pressures in `p_h`, lengths in `a`,
+//! time in seconds (rolling and squeeze share a clock, and squeeze has no velocity scale).
+
+use crate::features::Feature;
+use crate::laws::{Damper, DamperReading, ModulusLaw};
+use ehl_core::params::oedometric_modulus;
+use ehl_core::{
+    Contact, DryProblem, DryReport, DrySettings, DrySolver, Grid, HertzScales, Lubricant,
+    NumericError, Start,
+};
+use ndarray::{Array2, Zip};
+use serde::{Deserialize, Serialize};
+
+/// The layer's conditions in SI (Table 1's layer rows).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LayerSpec {
+    /// Supplied (undeformed) layer thickness `l0` [m].
+    pub supply_thickness_m: f64,
+    /// Layer modulus `E_layer` [Pa] (at ε = 0).
+    pub modulus_pa: f64,
+    /// Layer Poisson ratio `ν` [-].
+    pub poisson_ratio: f64,
+    /// Damper constant κ: dimensionless factor, or Pa s under the literal reading.
+    pub damper_constant: f64,
+    #[serde(default)]
+    pub damper_reading: DamperReading,
+    #[serde(default)]
+    pub modulus_law: ModulusLaw,
+    /// Reference pressure `p_ref` [Pa] of the modulus law; `None`: `p_h` (the paper's choice).
+    #[serde(default)]
+    pub reference_pressure_pa: Option<f64>,
+}
+
+/// Everything the layer model needs, in Hertz units, with the contact solver of its grid.
+pub struct LayerModel {
+    pub scales: HertzScales,
+    pub grid: Grid,
+    /// `l0 / (a²/R)`.
+    pub l0: f64,
+    /// `Eo / p_h`.
+    pub eo: f64,
+    /// `p_ref / p_h`.
+    pub p_ref: f64,
+    pub law: ModulusLaw,
+    pub damper: Damper,
+    pub spec: LayerSpec,
+    /// Rolling velocity `u1` [m/s] (0 in squeeze).
+    pub u1: f64,
+    pub features: Vec<Feature>,
+    pub solver: DrySolver,
+    /// `(X² + Y²)/2`.
+    shape: Array2<f64>,
+    /// `∬ P dX dY` for the scene's load.
+    pub load: f64,
+}
+
+impl LayerModel {
+    pub fn new(
+        contact: &Contact,
+        lub: &Lubricant,
+        spec: &LayerSpec,
+        u1: f64,
+        grid: Grid,
+        settings: DrySettings,
+        features: Vec<Feature>,
+    ) -> Self {
+        let scales = HertzScales::new(contact);
+        let eta_zero_pa_s = match spec.damper_reading {
+            DamperReading::Factor => spec.damper_constant * lub.eta0,
+            DamperReading::Literal => spec.damper_constant,
+        };
+        let damper = Damper {
+            eta_zero: eta_zero_pa_s / scales.p_h,
+            roelands_s: lub.eta0.ln() + 9.67,
+            z: lub.roelands_z(),
+            p0: lub.p0_roelands / scales.p_h,
+        };
+        Self {
+            l0: spec.supply_thickness_m / scales.delta,
+            eo: oedometric_modulus(spec.modulus_pa, spec.poisson_ratio) / scales.p_h,
+            p_ref: spec.reference_pressure_pa.unwrap_or(scales.p_h) / scales.p_h,
+            law: spec.modulus_law,
+            damper,
+            spec: *spec,
+            u1,
+            features,
+            solver: DrySolver::new(grid, settings),
+            shape: grid.paraboloid(),
+            load: scales.load_dimensionless(),
+            scales,
+            grid,
+        }
+    }
+
+    /// `E / p_h`.
+    #[inline]
+    pub fn modulus(&self, p: f64, eps: f64) -> f64 {
+        self.law.modulus(p, eps, self.eo, self.p_ref)
+    }
+    /// `η / p_h` [s].
+    #[inline]
+    pub fn eta(&self, p: f64) -> f64 {
+        self.damper.eta(p)
+    }
+    /// Strain rate of the Kelvin–Voigt element, `(p − E ε) / η` [1/s].
+    #[inline]
+    pub fn rate(&self, p: f64, eps: f64) -> f64 {
+        (p - self.modulus(p, eps) * eps) / self.eta(p)
+    }
+    pub fn rate_field(&self, p: &Array2<f64>, eps: &Array2<f64>) -> Array2<f64> {
+        Zip::from(p)
+            .and(eps)
+            .par_map_collect(|&p, &e| self.rate(p, e))
+    }
+
+    /// Feature centre position at time `t` [a] (features move at `u1`).
+    pub fn feature_x(&self, f: &Feature, t: f64) -> f64 {
+        f.x_start() + self.u1 * t / self.scales.a
+    }
+
+    /// Supply thickness field `L0(x, t)` [a²/R]: `l0`, zero inside holes.
+    pub fn supply(&self, t: f64) -> Array2<f64> {
+        let holes: Vec<_> = self
+            .features
+            .iter()
+            .filter_map(|f| match f {
+                Feature::Hole(h) => Some((*h, self.feature_x(f, t))),
+                _ => None,
+            })
+            .collect();
+        self.grid.field(|x, y| {
+            if holes.iter().any(|(h, xc)| h.inside(x, y, *xc)) {
+                0.0
+            } else {
+                self.l0
+            }
+        })
+    }
+
+    /// Rigid gap of the ball: `f + b(t)` [a²/R].
+    pub fn ball(&self, t: f64) -> Array2<f64> {
+        let mut g = self.shape.clone();
+        for f in &self.features {
+            if let Feature::Dent(d) = f {
+                let xc = self.feature_x(f, t);
+                let l0 = self.l0;
+                Zip::indexed(&mut g).par_for_each(|(j, i), v| {
+                    *v += l0 * d.depth(self.grid.x(i), self.grid.y(j), xc);
+                });
+            }
+        }
+        g
+    }
+
+    /// Layer thickness `L = L0 (1 − ε)` [a²/R] at time `t`.
+    pub fn thickness(&self, eps: &Array2<f64>, t: f64) -> Array2<f64> {
+        let mut l = self.supply(t);
+        Zip::from(&mut l).and(eps).for_each(|l, &e| *l *= 1.0 - e);
+        l
+    }
+
+    /// Solves the contact for a rigid gap `g0` and optional compliance (Hertz units).
+    pub fn contact(
+        &self,
+        g0: &Array2<f64>,
+        compliance: Option<&Array2<f64>>,
+        p: &mut Array2<f64>,
+        w: &mut Array2<f64>,
+        start: Start,
+    ) -> Result<DryReport, NumericError> {
+        let prob = DryProblem {
+            rigid_gap: g0.view(),
+            compliance: compliance.map(|c| c.view()),
+            load: self.load,
+        };
+        self.solver.solve(&prob, p, w, start)
+    }
+}
+
+/// The state of a run: strain, pressure and deformation at time `t`.
+#[derive(Clone, Debug)]
+pub struct LayerState {
+    /// Time [s].
+    pub t: f64,
+    /// Strain `ε ∈ [0, 1]`.
+    pub eps: Array2<f64>,
+    /// Pressure `P` [p_h].
+    pub p: Array2<f64>,
+    /// Deformation `W` [a²/R].
+    pub w: Array2<f64>,
+    /// Approach term `H0` [a²/R].
+    pub h0: f64,
+}
+
+impl LayerState {
+    /// Layer thickness `L` [a²/R].
+    pub fn thickness(&self, model: &LayerModel) -> Array2<f64> {
+        model.thickness(&self.eps, self.t)
+    }
+}
+
+/// Scalars a run is watched by, in SI.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Monitor {
+    /// Time [s].
+    pub t: f64,
+    /// Layer thickness at the contact centre [m].
+    pub central_thickness: f64,
+    /// Smallest layer thickness where the surfaces carry pressure [m].
+    pub minimum_thickness: f64,
+    /// Largest pressure [Pa].
+    pub max_pressure: f64,
+    /// Extent of the loaded zone along `y = 0` [m].
+    pub contact_diameter: f64,
+    /// Extent of the loaded zone with no layer left along `y = 0` [m].
+    pub dry_diameter: f64,
+    /// Mutual approach `−h0` [m].
+    pub approach: f64,
+    /// Contact-solver iterations spent on the step that led here.
+    pub iterations: usize,
+}
+
+/// Extent `(last − first + 1) ΔX` of the points of `row` where `pred` holds [a].
+fn extent(row: impl Iterator<Item = bool>, dx: f64) -> f64 {
+    let idx: Vec<usize> = row
+        .enumerate()
+        .filter(|(_, b)| *b)
+        .map(|(i, _)| i)
+        .collect();
+    match (idx.first(), idx.last()) {
+        (Some(a), Some(b)) => (b - a + 1) as f64 * dx,
+        _ => 0.0,
+    }
+}
+
+impl Monitor {
+    pub fn of(model: &LayerModel, s: &LayerState, iterations: usize) -> Self {
+        let g = &model.grid;
+        let sc = &model.scales;
+        let l = s.thickness(model);
+        let (j0, i0) = (g.row_nearest(0.0), g.col_nearest(0.0));
+        let mut lmin = f64::INFINITY;
+        Zip::from(&l).and(&s.p).for_each(|&l, &p| {
+            if p > 0.0 {
+                lmin = lmin.min(l);
+            }
+        });
+        if !lmin.is_finite() {
+            lmin = l.iter().cloned().fold(f64::INFINITY, f64::min);
+        }
+        let prow = s.p.row(j0);
+        let lrow = l.row(j0);
+        // "No layer left": below 1e-6 of the supply.
+        let dry_tol = 1e-6 * model.l0;
+        Self {
+            t: s.t,
+            central_thickness: sc.h_si(l[[j0, i0]]),
+            minimum_thickness: sc.h_si(lmin),
+            max_pressure: sc.p_si(s.p.iter().cloned().fold(0.0, f64::max)),
+            contact_diameter: sc.x_si(extent(prow.iter().map(|&p| p > 0.0), g.dx())),
+            dry_diameter: sc.x_si(extent(
+                prow.iter()
+                    .zip(lrow.iter())
+                    .map(|(&p, &l)| p > 0.0 && l <= dry_tol),
+                g.dx(),
+            )),
+            approach: sc.h_si(-s.h0),
+            iterations,
+        }
+    }
+}

@@ -1,0 +1,422 @@
+//! Time integration of the layer, with the contact solved at every stage.
+//!
+//! Both schemes share the semi-Lagrangian transport ([`crate::transport`]) and differ only in the
+//! Kelvin–Voigt relaxation along each material path:
+//! - [`Scheme::Explicit`] (the paper's kind): Heun's second-order Runge–Kutta, a contact solve per
+//!   stage. Its stability limit comes from the layer: see [`stability_estimate`].
+//! - [`Scheme::Implicit`]: variable-step BDF2 (L-stable, second order). With `E` and `η` taken at
+//!   the state extrapolated to the new time (second order), the new strain is affine in the new
+//!   pressure, `ε = A + B p`, so the layer enters the contact solve as a local compliance
+//!   `c = l0 B`. Points where `ε` would pass 1 are fixed at 1 (no layer) and the contact re-solved.
+
+use crate::model::{LayerModel, LayerState};
+use crate::transport::{shift, shift_strain};
+use ehl_core::{NumericError, Start, check_finite};
+use ndarray::{Array2, Zip};
+use serde::{Deserialize, Serialize};
+
+/// Time-integration scheme.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Scheme {
+    /// Heun (RK2), explicit in the layer, two contact solves per step.
+    Explicit,
+    /// BDF2 with the layer as a local compliance, one contact solve per step (more where the
+    /// layer runs out or with Picard passes).
+    #[default]
+    Implicit,
+}
+
+/// Why a run stopped before its end.
+#[derive(Debug, Clone, thiserror::Error, PartialEq)]
+pub enum LayerError {
+    #[error("at step {step} (t = {t:.6e} s): {source}")]
+    Contact {
+        step: usize,
+        t: f64,
+        source: NumericError,
+    },
+    #[error(
+        "explicit stepping is unstable at step {step} (t = {t:.6e} s): the strain at (x = {x:.4} a, y = {y:.4} a) oscillates with growing amplitude ({amplitude:.3e}) for {count} steps; Δt = {dt:.3e} s exceeds the stability limit (estimate {limit:.3e} s). Use a smaller step (more steps per cell) or the implicit scheme."
+    )]
+    Unstable {
+        step: usize,
+        t: f64,
+        x: f64,
+        y: f64,
+        amplitude: f64,
+        count: usize,
+        dt: f64,
+        limit: f64,
+    },
+    #[error("{0}")]
+    Setup(String),
+}
+
+/// What one step cost, and its error estimate where the scheme gives one.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepInfo {
+    pub solves: usize,
+    pub iterations: usize,
+    /// Estimated local strain error of the step (RMS over the layer's active points).
+    pub error_estimate: Option<f64>,
+}
+
+/// A past level, for BDF2 and the predictors: strain and pressure, and the step that left it.
+#[derive(Clone)]
+struct Level {
+    eps: Array2<f64>,
+    p: Array2<f64>,
+    dt: f64,
+}
+
+/// Steps a [`LayerState`]; holds the history the multistep scheme needs.
+#[derive(Clone)]
+pub struct Stepper {
+    pub scheme: Scheme,
+    /// Extra passes re-evaluating `E`, `η` at the new state (implicit scheme).
+    pub picard: usize,
+    /// Most recent first.
+    history: Vec<Level>,
+    /// Explicit-instability watch: per point, consecutive growing sign flips of the strain change.
+    flips: Option<(Array2<f64>, Array2<u32>)>,
+    pub steps: usize,
+}
+
+/// Estimated explicit stability limit [s] (model notes §2): a strain perturbation feeds back
+/// through the contact with stiffness `E + k l0`, `k = 1 / K(0,0)` the stiffness of one cell,
+/// so Heun (like Euler on the real axis) needs `Δt < 2 η / (E + k l0)`, tightest where η is
+/// smallest (unloaded inlet, `p → 0`).
+pub fn stability_estimate(m: &LayerModel) -> f64 {
+    let k = 1.0 / m.solver.operator().self_influence();
+    2.0 * m.eta(0.0) / (m.eo + k * m.l0)
+}
+
+impl Stepper {
+    pub fn new(scheme: Scheme, picard: usize) -> Self {
+        Self {
+            scheme,
+            picard,
+            history: vec![],
+            flips: None,
+            steps: 0,
+        }
+    }
+
+    /// Forget the history (after a change of motion, e.g. a sudden stop): the next step starts
+    /// the multistep scheme afresh.
+    pub fn reset(&mut self) {
+        self.history.clear();
+        self.flips = None;
+    }
+
+    /// Cells the layer moves in `dt`.
+    fn cells(m: &LayerModel, dt: f64) -> f64 {
+        m.u1 * dt / (m.scales.a * m.grid.dx())
+    }
+
+    /// Advances `s` by `dt` [s].
+    pub fn step(
+        &mut self,
+        m: &LayerModel,
+        s: &mut LayerState,
+        dt: f64,
+    ) -> Result<StepInfo, LayerError> {
+        let before = s.eps.clone();
+        let info = match self.scheme {
+            Scheme::Explicit => self.explicit(m, s, dt),
+            Scheme::Implicit => self.implicit(m, s, dt),
+        }?;
+        self.steps += 1;
+        check_finite("strain", &s.eps, self.steps)
+            .and_then(|_| check_finite("pressure", &s.p, self.steps))
+            .map_err(|e| LayerError::Contact {
+                step: self.steps,
+                t: s.t,
+                source: e,
+            })?;
+        if self.scheme == Scheme::Explicit {
+            self.watch(m, &before, s, dt)?;
+        }
+        Ok(info)
+    }
+
+    /// Pressure extrapolated to the new time from the last two levels (warm start, coefficients).
+    fn p_predict(&self, s: &LayerState, dt: f64) -> Array2<f64> {
+        match self.history.first() {
+            Some(prev) => {
+                let om = dt / prev.dt;
+                Zip::from(&s.p)
+                    .and(&prev.p)
+                    .par_map_collect(|&a, &b| (a + om * (a - b)).max(0.0))
+            }
+            None => s.p.clone(),
+        }
+    }
+
+    fn push_history(&mut self, s: &LayerState, dt: f64) {
+        self.history.insert(
+            0,
+            Level {
+                eps: s.eps.clone(),
+                p: s.p.clone(),
+                dt,
+            },
+        );
+        self.history.truncate(2);
+    }
+
+    fn explicit(
+        &mut self,
+        m: &LayerModel,
+        s: &mut LayerState,
+        dt: f64,
+    ) -> Result<StepInfo, LayerError> {
+        let k = Self::cells(m, dt);
+        let t1 = s.t + dt;
+        let step = self.steps + 1;
+        let rate = m.rate_field(&s.p, &s.eps);
+        let eps_d = shift_strain(&s.eps, k);
+        let rate_d = shift(&rate, k, 0.0);
+        let eps_star = Zip::from(&eps_d)
+            .and(&rate_d)
+            .par_map_collect(|&e, &r| (e + dt * r).clamp(0.0, 1.0));
+        let ball = m.ball(t1);
+        let mut p = self.p_predict(s, dt);
+        let mut w = s.w.clone();
+        let g0 = &ball - &m.thickness(&eps_star, t1);
+        let r1 = m
+            .contact(&g0, None, &mut p, &mut w, Start::Warm)
+            .map_err(|e| LayerError::Contact {
+                step,
+                t: t1,
+                source: e,
+            })?;
+        let rate_star = m.rate_field(&p, &eps_star);
+        let eps_new = Zip::from(&eps_d)
+            .and(&rate_d)
+            .and(&rate_star)
+            .par_map_collect(|&e, &r0, &r1| (e + 0.5 * dt * (r0 + r1)).clamp(0.0, 1.0));
+        let g0 = &ball - &m.thickness(&eps_new, t1);
+        let r2 = m
+            .contact(&g0, None, &mut p, &mut w, Start::Warm)
+            .map_err(|e| LayerError::Contact {
+                step,
+                t: t1,
+                source: e,
+            })?;
+        // Heun minus Euler: the local error of the Euler stage, a conservative estimate.
+        let err = rms_active(&eps_new, &eps_star, &p);
+        self.push_history(s, dt);
+        *s = LayerState {
+            t: t1,
+            eps: eps_new,
+            p,
+            w,
+            h0: r2.h0,
+        };
+        Ok(StepInfo {
+            solves: 2,
+            iterations: r1.iterations + r2.iterations,
+            error_estimate: Some(err),
+        })
+    }
+
+    fn implicit(
+        &mut self,
+        m: &LayerModel,
+        s: &mut LayerState,
+        dt: f64,
+    ) -> Result<StepInfo, LayerError> {
+        let k = Self::cells(m, dt);
+        let t1 = s.t + dt;
+        let step = self.steps + 1;
+        let eps_d = shift_strain(&s.eps, k);
+        // BDF2 weights for a step ratio ω = dt / dt_prev; BDF1 on the first step.
+        let (a0, rhs, eps_pred) = match self.history.first() {
+            None => (1.0, eps_d.clone(), eps_d.clone()),
+            Some(prev) => {
+                let om = dt / prev.dt;
+                let eps_dd = shift_strain(&prev.eps, k + Self::cells(m, prev.dt));
+                let rhs = Zip::from(&eps_d)
+                    .and(&eps_dd)
+                    .par_map_collect(|&e1, &e0| (1.0 + om) * e1 - om * om / (1.0 + om) * e0);
+                let pred = Zip::from(&eps_d)
+                    .and(&eps_dd)
+                    .par_map_collect(|&e1, &e0| (e1 + om * (e1 - e0)).clamp(0.0, 1.0));
+                ((1.0 + 2.0 * om) / (1.0 + om), rhs, pred)
+            }
+        };
+        let mut p = self.p_predict(s, dt);
+        let mut w = s.w.clone();
+        let ball = m.ball(t1);
+        let supply = m.supply(t1);
+        let (mut solves, mut iterations) = (0, 0);
+        let mut coef_p = p.clone();
+        let mut coef_eps = eps_pred.clone();
+        let mut eps_new;
+        let mut h0;
+        let mut pass = 0;
+        loop {
+            // ε = A + B p with E, η frozen at (coef_p, coef_eps).
+            let mut a = Array2::zeros(p.dim());
+            let mut b = Array2::zeros(p.dim());
+            Zip::from(&mut a)
+                .and(&mut b)
+                .and(&rhs)
+                .and(&coef_p)
+                .and(&coef_eps)
+                .par_for_each(|a, b, &r, &pc, &ec| {
+                    let eta = m.eta(pc);
+                    let d = a0 + dt * m.modulus(pc, ec) / eta;
+                    *a = r / d;
+                    *b = dt / eta / d;
+                });
+            // Points already at ε ≥ 1 for any p ≥ 0 start dry.
+            let mut dry = a.mapv(|v| v >= 1.0);
+            let mut dry_passes = 0;
+            loop {
+                let mut g0 = ball.clone();
+                let mut c = Array2::zeros(p.dim());
+                Zip::from(&mut g0)
+                    .and(&mut c)
+                    .and(&supply)
+                    .and(&a)
+                    .and(&b)
+                    .and(&dry)
+                    .par_for_each(|g, c, &l0, &a, &b, &d| {
+                        if !d {
+                            *g -= l0 * (1.0 - a);
+                            *c = l0 * b;
+                        }
+                    });
+                let r = m
+                    .contact(&g0, Some(&c), &mut p, &mut w, Start::Warm)
+                    .map_err(|e| LayerError::Contact {
+                        step,
+                        t: t1,
+                        source: e,
+                    })?;
+                solves += 1;
+                iterations += r.iterations;
+                h0 = r.h0;
+                eps_new =
+                    Zip::from(&a)
+                        .and(&b)
+                        .and(&p)
+                        .and(&dry)
+                        .par_map_collect(
+                            |&a, &b, &p, &d| {
+                                if d { 1.0 } else { (a + b * p).max(0.0) }
+                            },
+                        );
+                // Where the layer would be squeezed past nothing, fix it at nothing and re-solve.
+                let mut grew = false;
+                Zip::from(&mut dry)
+                    .and(&eps_new)
+                    .and(&supply)
+                    .for_each(|d, &e, &l0| {
+                        if !*d && e > 1.0 && l0 > 0.0 {
+                            *d = true;
+                            grew = true;
+                        }
+                    });
+                dry_passes += 1;
+                if !grew || dry_passes >= 8 {
+                    break;
+                }
+            }
+            eps_new.mapv_inplace(|v| v.min(1.0));
+            if pass >= self.picard {
+                break;
+            }
+            pass += 1;
+            coef_p = p.clone();
+            coef_eps = eps_new.clone();
+        }
+        // Milne's device: quadratic extrapolation along the paths against BDF2; for constant
+        // steps BDF2's local error is 2/7 of their difference.
+        let err = if self.history.len() == 2 {
+            let (l1, l2) = (&self.history[0], &self.history[1]);
+            let (h, h1, h2) = (dt, l1.dt, l2.dt);
+            let e1 = shift_strain(&l1.eps, k + Self::cells(m, h1));
+            let e2 = shift_strain(&l2.eps, k + Self::cells(m, h1) + Self::cells(m, h2));
+            // Nodes at -h, -(h+h1), -(h+h1+h2) relative to the new time; Lagrange weights at 0.
+            let (x0, x1, x2) = (-h, -(h + h1), -(h + h1 + h2));
+            let w0 = x1 * x2 / ((x0 - x1) * (x0 - x2));
+            let w1 = x0 * x2 / ((x1 - x0) * (x1 - x2));
+            let w2 = x0 * x1 / ((x2 - x0) * (x2 - x1));
+            let pred = Zip::from(&eps_d)
+                .and(&e1)
+                .and(&e2)
+                .par_map_collect(|&a, &b, &c| w0 * a + w1 * b + w2 * c);
+            Some(2.0 / 7.0 * rms_active(&eps_new, &pred, &p))
+        } else {
+            None
+        };
+        self.push_history(s, dt);
+        *s = LayerState {
+            t: t1,
+            eps: eps_new,
+            p,
+            w,
+            h0,
+        };
+        Ok(StepInfo {
+            solves,
+            iterations,
+            error_estimate: err,
+        })
+    }
+
+    /// Explicit instability: a point whose strain change flips sign and grows, step after step.
+    fn watch(
+        &mut self,
+        m: &LayerModel,
+        before: &Array2<f64>,
+        s: &LayerState,
+        dt: f64,
+    ) -> Result<(), LayerError> {
+        let d = s.eps.clone() - before;
+        let (prev_d, count) = self
+            .flips
+            .get_or_insert_with(|| (Array2::zeros(d.dim()), Array2::zeros(d.dim())));
+        Zip::from(&mut *count)
+            .and(&d)
+            .and(&*prev_d)
+            .for_each(|c, &dn, &dp| {
+                if dn * dp < 0.0 && dn.abs() > dp.abs() && dn.abs() > 1e-3 {
+                    *c += 1;
+                } else {
+                    *c = 0;
+                }
+            });
+        *prev_d = d;
+        const LIMIT: u32 = 4;
+        if let Some(((j, i), &c)) = count.indexed_iter().find(|(_, c)| **c >= LIMIT) {
+            return Err(LayerError::Unstable {
+                step: self.steps,
+                t: s.t,
+                x: m.grid.x(i),
+                y: m.grid.y(j),
+                amplitude: prev_d[[j, i]].abs(),
+                count: c as usize,
+                dt,
+                limit: stability_estimate(m),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// RMS of `a − b` over the points where the layer is active (loaded, or strained).
+fn rms_active(a: &Array2<f64>, b: &Array2<f64>, p: &Array2<f64>) -> f64 {
+    let (mut s, mut n) = (0.0, 0usize);
+    Zip::from(a).and(b).and(p).for_each(|&a, &b, &p| {
+        if p > 0.0 || a > 1e-9 {
+            s += (a - b).powi(2);
+            n += 1;
+        }
+    });
+    if n == 0 { 0.0 } else { (s / n as f64).sqrt() }
+}
