@@ -35,7 +35,10 @@ fn main() {
         &spec,
         0.01,
         grid,
-        DrySettings::default(),
+        DrySettings {
+            tolerance: args.get(5).map(|s| s.parse().unwrap()).unwrap_or(1e-8),
+            ..DrySettings::default()
+        },
         vec![],
     );
     println!(
@@ -58,7 +61,7 @@ fn main() {
         window_travel_a: 0.5,
         window_time_s: 0.5,
         until_features_passed: false,
-        max_time_s: 0.2,
+        max_time_s: args.get(4).map(|s| s.parse().unwrap()).unwrap_or(0.2),
     };
     let rec = run(&m, &mut st, &mut stepper, &time, &stop, &[], &mut |_| {});
     match rec {
@@ -69,6 +72,34 @@ fn main() {
                 rec.steps, rec.solves, rec.iterations, rec.wall_time_s, rec.stop_reason, last
             );
             println!("  ms/step {:.2}", rec.wall_time_s / rec.steps as f64 * 1e3);
+            let ((j, i), pm) =
+                st.p.indexed_iter().fold(
+                    ((0, 0), 0.0),
+                    |a, (ix, &v)| if v > a.1 { (ix, v) } else { a },
+                );
+            println!("  max P {pm:.4} at x={:.4} y={:.4}", grid.x(i), grid.y(j));
+            let l = st.thickness(&m);
+            for di in -3i64..=3 {
+                let ii = (i as i64 + di) as usize;
+                println!(
+                    "   x={:.4} P={:.4} L/L0={:.4} eps={:.4}",
+                    grid.x(ii),
+                    st.p[[j, ii]],
+                    l[[j, ii]] / m.l0,
+                    st.eps[[j, ii]]
+                );
+            }
+            ndarray_npy::write_npy("/tmp/p.npy", &st.p).unwrap();
+            ndarray_npy::write_npy("/tmp/eps.npy", &st.eps).unwrap();
+            let j0 = grid.row_nearest(0.0);
+            for ii in (0..grid.nx).step_by(grid.nx / 16) {
+                println!(
+                    "   cl x={:.3} P={:.4} L/L0={:.4}",
+                    grid.x(ii),
+                    st.p[[j0, ii]],
+                    l[[j0, ii]] / m.l0
+                );
+            }
         }
         Err(e) => println!("error: {e}"),
     }

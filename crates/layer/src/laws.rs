@@ -24,6 +24,9 @@ impl ModulusLaw {
     /// reference pressure `p_ref` [p_h].
     #[inline]
     pub fn modulus(self, p: f64, eps: f64, eo: f64, p_ref: f64) -> f64 {
+        if p <= eo {
+            return eo;
+        }
         let eps = eps.clamp(0.0, 1.0);
         match self {
             ModulusLaw::Power => eo + (p - eo).max(0.0) * eps.powf(p_ref / eo),
@@ -69,6 +72,9 @@ impl Damper {
     /// `η / p_h` [s] at pressure `p` [p_h].
     #[inline]
     pub fn eta(&self, p: f64) -> f64 {
+        if p <= 0.0 {
+            return self.eta_zero;
+        }
         self.eta_zero * (self.roelands_s * (-1.0 + (1.0 + p.max(0.0) / self.p0).powf(self.z))).exp()
     }
 }

@@ -173,6 +173,18 @@ pub struct StopSettings {
     pub max_time_s: f64,
 }
 
+impl Default for StopSettings {
+    fn default() -> Self {
+        Self {
+            steady_tolerance: default_steady_tol(),
+            window_travel_a: default_window_a(),
+            window_time_s: default_window_s(),
+            until_features_passed: false,
+            max_time_s: 10.0,
+        }
+    }
+}
+
 fn default_steady_tol() -> f64 {
     1e-3
 }
@@ -247,6 +259,7 @@ pub fn run(
         (false, None) => m.eta(0.0) / m.eo * 1e-2,
     };
     let adaptive = !rolling && time.dt_s.is_none();
+    stepper.estimate_error = adaptive;
     let mut series = vec![Monitor::of(m, state, 0)];
     let mut snaps = vec![];
     let mut pending: Vec<f64> = snapshot_times.to_vec();

@@ -81,6 +81,8 @@ pub struct Stepper {
     /// Explicit-instability watch: per point, consecutive growing sign flips of the strain change.
     flips: Option<(Array2<f64>, Array2<u32>)>,
     pub steps: usize,
+    /// Compute the local error estimate (error control); off for fixed steps, it costs shifts.
+    pub estimate_error: bool,
 }
 
 /// Estimated explicit stability limit [s] (model notes §2): a strain perturbation feeds back
@@ -100,6 +102,7 @@ impl Stepper {
             history: vec![],
             flips: None,
             steps: 0,
+            estimate_error: false,
         }
     }
 
@@ -206,7 +209,9 @@ impl Stepper {
                 source: e,
             })?;
         // Heun minus Euler: the local error of the Euler stage, a conservative estimate.
-        let err = rms_active(&eps_new, &eps_star, &p);
+        let err = self
+            .estimate_error
+            .then(|| rms_active(&eps_new, &eps_star, &p));
         self.push_history(s, dt);
         *s = LayerState {
             t: t1,
@@ -218,7 +223,7 @@ impl Stepper {
         Ok(StepInfo {
             solves: 2,
             iterations: r1.iterations + r2.iterations,
-            error_estimate: Some(err),
+            error_estimate: err,
         })
     }
 
@@ -336,7 +341,7 @@ impl Stepper {
         }
         // Milne's device: quadratic extrapolation along the paths against BDF2; for constant
         // steps BDF2's local error is 2/7 of their difference.
-        let err = if self.history.len() == 2 {
+        let err = if self.estimate_error && self.history.len() == 2 {
             let (l1, l2) = (&self.history[0], &self.history[1]);
             let (h, h1, h2) = (dt, l1.dt, l2.dt);
             let e1 = shift_strain(&l1.eps, k + Self::cells(m, h1));

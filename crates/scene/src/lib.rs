@@ -3,7 +3,8 @@
 //!
 //! Built-in scenes are the JSON files in `validation/scenes/`, compiled in by name.
 
-use ehl_core::{Contact, DrySettings, Grid};
+use ehl_core::{Contact, DrySettings, Grid, Lubricant};
+use ehl_layer::{Feature, LayerSpec, StopSettings, TimeSettings};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -19,6 +20,15 @@ pub struct Scene {
     /// Which model runs it.
     pub model: Model,
     pub conditions: Conditions,
+    /// Lubricant (the layer's damper, the Reynolds fluid); required by those models.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lubricant: Option<LubricantSpec>,
+    /// The viscoelastic layer; required by the layer model.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer: Option<LayerSpec>,
+    /// What happens in time: start, motion, features, steps, stop rule, snapshots (layer model).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub run: Option<RunSpec>,
     pub domain: Domain,
     pub grid: GridSpec,
     #[serde(default)]
@@ -33,6 +43,8 @@ pub struct Scene {
 pub enum Model {
     /// Dry elastic contact of the ball on a flat (the contact core alone).
     Dry,
+    /// The oedometric viscoelastic layer model.
+    Layer,
 }
 
 /// Conditions in SI; each field's unit is in its name.
@@ -45,8 +57,73 @@ pub struct Conditions {
     pub load_n: f64,
     /// Reduced modulus `E'` [Pa].
     pub reduced_modulus_pa: f64,
+    /// Rolling velocity `u1` [m/s] of both surfaces (pure rolling); 0 or absent: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rolling_velocity_m_s: Option<f64>,
 }
 
+/// Lubricant in SI.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LubricantSpec {
+    /// Viscosity at ambient pressure `η0` [Pa s].
+    pub eta0_pa_s: f64,
+    /// Pressure–viscosity coefficient `α` [1/Pa].
+    pub alpha_per_pa: f64,
+    /// Roelands pressure constant `p0` [Pa].
+    pub p0_roelands_pa: f64,
+}
+
+impl LubricantSpec {
+    pub fn lubricant(&self) -> Lubricant {
+        Lubricant {
+            eta0: self.eta0_pa_s,
+            alpha: self.alpha_per_pa,
+            p0_roelands: self.p0_roelands_pa,
+        }
+    }
+}
+
+/// Initial state of a layer run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StartState {
+    /// Unstrained layer of the supply thickness (`ε = 0`).
+    Uniform,
+    /// The fully squeezed state `ε = min(p/Eo, 1)`.
+    Squeezed,
+    /// Steady rolling at the scene's velocity, reached from the squeezed state first.
+    SteadyRolling,
+}
+
+/// What the surfaces do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Motion {
+    /// Pure rolling at `conditions.rolling_velocity_m_s`.
+    Rolling,
+    /// Squeeze: the rolling stops (suddenly) at the start, the load stays.
+    Squeeze,
+    /// No time stepping: the start state is the result (e.g. the steady squeeze).
+    None,
+}
+
+/// A layer run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    pub start: StartState,
+    pub motion: Motion,
+    #[serde(default)]
+    pub features: Vec<Feature>,
+    #[serde(default)]
+    pub time: TimeSettings,
+    #[serde(default)]
+    pub stop: StopSettings,
+    /// Times [s, from the start of the motion] at which fields are written.
+    #[serde(default)]
+    pub snapshots_s: Vec<f64>,
+}
 impl Conditions {
     pub fn contact(&self) -> Contact {
         Contact {
@@ -273,6 +350,157 @@ impl Scene {
         }
         if s.max_iterations == 0 {
             return Err(err("solver.max_iterations", "0".into(), "must be >= 1"));
+        }
+        let nonneg = |field: &str, v: f64, unit: &str| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(err(
+                    field,
+                    format!("{v}"),
+                    &format!("must be finite and >= 0 ({unit})"),
+                ))
+            }
+        };
+        if let Some(u) = c.rolling_velocity_m_s {
+            nonneg("conditions.rolling_velocity_m_s", u, "m/s")?;
+        }
+        if let Some(l) = &self.lubricant {
+            positive("lubricant.eta0_pa_s", l.eta0_pa_s, "Pa s")?;
+            nonneg("lubricant.alpha_per_pa", l.alpha_per_pa, "1/Pa")?;
+            positive("lubricant.p0_roelands_pa", l.p0_roelands_pa, "Pa")?;
+        }
+        if let Some(l) = &self.layer {
+            positive("layer.supply_thickness_m", l.supply_thickness_m, "m")?;
+            positive("layer.modulus_pa", l.modulus_pa, "Pa")?;
+            if !(l.poisson_ratio.is_finite() && (0.0..0.5).contains(&l.poisson_ratio)) {
+                return Err(err(
+                    "layer.poisson_ratio",
+                    format!("{}", l.poisson_ratio),
+                    "must be in [0, 0.5) (the oedometric modulus diverges at 0.5)",
+                ));
+            }
+            positive(
+                "layer.damper_constant",
+                l.damper_constant,
+                "1, or Pa s when literal",
+            )?;
+            if let Some(p) = l.reference_pressure_pa {
+                positive("layer.reference_pressure_pa", p, "Pa")?;
+            }
+        }
+        if self.model == Model::Layer {
+            let missing = |f: &str| err(f, "(missing)".into(), "required by the layer model");
+            if self.lubricant.is_none() {
+                return Err(missing("lubricant"));
+            }
+            if self.layer.is_none() {
+                return Err(missing("layer"));
+            }
+            let r = self.run.as_ref().ok_or_else(|| missing("run"))?;
+            let u = c.rolling_velocity_m_s.unwrap_or(0.0);
+            let needs_rolling = r.motion == Motion::Rolling || r.start == StartState::SteadyRolling;
+            if needs_rolling && !(u > 0.0) {
+                return Err(err(
+                    "conditions.rolling_velocity_m_s",
+                    format!("{u}"),
+                    "must be > 0 (m/s) for rolling motion or a steady-rolling start",
+                ));
+            }
+            let t = &r.time;
+            if !(t.steps_per_cell.is_finite()
+                && t.steps_per_cell >= 0.5
+                && t.steps_per_cell <= 1000.0)
+            {
+                return Err(err(
+                    "run.time.steps_per_cell",
+                    format!("{}", t.steps_per_cell),
+                    "must be in [0.5, 1000] (time steps per grid interval)",
+                ));
+            }
+            if let Some(dt) = t.dt_s {
+                positive("run.time.dt_s", dt, "s")?;
+            }
+            if !(t.error_tolerance.is_finite()
+                && t.error_tolerance > 0.0
+                && t.error_tolerance < 1.0)
+            {
+                return Err(err(
+                    "run.time.error_tolerance",
+                    format!("{}", t.error_tolerance),
+                    "must be in (0, 1)",
+                ));
+            }
+            if t.picard > 10 {
+                return Err(err(
+                    "run.time.picard",
+                    t.picard.to_string(),
+                    "must be 0 ..= 10",
+                ));
+            }
+            let st = &r.stop;
+            if !(st.steady_tolerance.is_finite()
+                && st.steady_tolerance > 0.0
+                && st.steady_tolerance < 1.0)
+            {
+                return Err(err(
+                    "run.stop.steady_tolerance",
+                    format!("{}", st.steady_tolerance),
+                    "must be in (0, 1)",
+                ));
+            }
+            positive("run.stop.window_travel_a", st.window_travel_a, "units of a")?;
+            positive("run.stop.window_time_s", st.window_time_s, "s")?;
+            positive("run.stop.max_time_s", st.max_time_s, "s")?;
+            if st.until_features_passed && r.features.is_empty() {
+                return Err(err(
+                    "run.stop.until_features_passed",
+                    "true".into(),
+                    "needs at least one feature in run.features",
+                ));
+            }
+            for (k, f) in r.features.iter().enumerate() {
+                match f {
+                    Feature::Dent(d) => {
+                        if !d.amplitude.is_finite() {
+                            return Err(err(
+                                &format!("run.features[{k}].dent.amplitude"),
+                                format!("{}", d.amplitude),
+                                "must be finite",
+                            ));
+                        }
+                        positive(
+                            &format!("run.features[{k}].dent.width_a"),
+                            d.width_a,
+                            "units of a",
+                        )?;
+                        if !(d.x_start_a.is_finite() && d.y_a.is_finite()) {
+                            return Err(err(
+                                &format!("run.features[{k}].dent"),
+                                "non-finite position".into(),
+                                "x_start_a, y_a must be finite",
+                            ));
+                        }
+                    }
+                    Feature::Hole(h) => {
+                        positive(
+                            &format!("run.features[{k}].hole.radius_a"),
+                            h.radius_a,
+                            "units of a",
+                        )?;
+                        if !(h.x_start_a.is_finite() && h.y_a.is_finite()) {
+                            return Err(err(
+                                &format!("run.features[{k}].hole"),
+                                "non-finite position".into(),
+                                "x_start_a, y_a must be finite",
+                            ));
+                        }
+                    }
+                }
+            }
+            for (k, &ts) in r.snapshots_s.iter().enumerate() {
+                nonneg(&format!("run.snapshots_s[{k}]"), ts, "s")?;
+            }
         }
         Ok(())
     }
