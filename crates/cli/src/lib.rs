@@ -2,6 +2,7 @@
 //! a [`Scene`](ehl_scene::Scene) goes in, an [`Outcome`] comes out, and [`output::write`] turns it
 //! into `summary.json`, `centreline.csv`, `.npy` fields and PNG figures.
 
+pub mod layer;
 pub mod output;
 pub mod plot;
 pub mod progress;

@@ -11,7 +11,7 @@ use serde_json::{Map, Value, json};
 use std::path::{Path, PathBuf};
 
 /// A scalar with its unit.
-fn q(value: f64, unit: &str) -> Value {
+pub fn q(value: f64, unit: &str) -> Value {
     json!({ "value": value, "unit": unit })
 }
 
@@ -47,25 +47,28 @@ impl Outcome {
     pub fn summary(&self) -> Value {
         match self {
             Outcome::Dry(o) => dry_summary(o),
+            Outcome::Layer(o) => o.summary(),
         }
     }
     /// The fields along the grid row nearest to `y = 0`.
     pub fn centreline(&self) -> Centreline {
         match self {
             Outcome::Dry(o) => dry_centreline(o),
+            Outcome::Layer(o) => o.centreline(),
         }
     }
     /// Full fields in SI, with file stems.
-    pub fn fields(&self) -> Vec<(&'static str, Array2<f64>)> {
+    pub fn fields(&self) -> Vec<(String, Array2<f64>)> {
         match self {
             Outcome::Dry(o) => {
                 let s = &o.scales;
                 vec![
-                    ("pressure_pa", o.p.mapv(|v| s.p_si(v))),
-                    ("gap_m", o.gap.mapv(|v| s.h_si(v))),
-                    ("deformation_m", o.w.mapv(|v| s.h_si(v))),
+                    ("pressure_pa".into(), o.p.mapv(|v| s.p_si(v))),
+                    ("gap_m".into(), o.gap.mapv(|v| s.h_si(v))),
+                    ("deformation_m".into(), o.w.mapv(|v| s.h_si(v))),
                 ]
             }
+            Outcome::Layer(o) => o.fields(),
         }
     }
     /// Grid coordinates `x`, `y` [m] of the field columns and rows.
@@ -75,12 +78,17 @@ impl Outcome {
                 let to_si = |v: Vec<f64>| ndarray::Array1::from(v).mapv(|v| o.scales.x_si(v));
                 (to_si(o.grid.xs()), to_si(o.grid.ys()))
             }
+            Outcome::Layer(o) => {
+                let to_si = |v: Vec<f64>| ndarray::Array1::from(v).mapv(|v| o.scales.x_si(v));
+                (to_si(o.grid.xs()), to_si(o.grid.ys()))
+            }
         }
     }
     /// Draws the figures into `dir`, file names starting with `prefix`.
     pub fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
         match self {
             Outcome::Dry(o) => dry_figures(o, dir, prefix),
+            Outcome::Layer(o) => o.figures(dir, prefix),
         }
     }
 }
@@ -239,15 +247,13 @@ fn dry_figures(o: &DryOutcome, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>
     )?;
     let map = dir.join(format!("{prefix}pressure_map.png"));
     let g = &o.grid;
-    plot::heat_map(
+    plot::heat_maps(
         &map,
-        &o.p,
+        &[plot::MapPanel { field: &o.p, title: "Pressure p / p_h".into(), bar_label: "p / p_h".into() }],
         (g.x_min, g.x_max),
         (g.y_min, g.y_max),
-        "Pressure p / p_h",
         "x / a",
         "y / a",
-        "p / p_h",
         &conditions_note(o),
     )?;
     Ok(vec![centre, map])
@@ -288,6 +294,13 @@ fn write_into(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
         serde_json::to_string_pretty(&outcome.summary())? + "\n",
     )?;
     files.push(summary);
+    if let Outcome::Layer(o) = outcome {
+        if let Some(csv) = o.time_series_csv() {
+            let f = dir.join("timeseries.csv");
+            std::fs::write(&f, csv)?;
+            files.push(f);
+        }
+    }
     if outputs.centreline {
         let f = dir.join("centreline.csv");
         std::fs::write(&f, outcome.centreline().to_csv())?;

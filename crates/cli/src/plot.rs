@@ -256,42 +256,55 @@ fn ramp(t: f64) -> RGBColor {
     RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
-/// Heat map of `field[[j, i]]` over `x ∈ xr`, `y ∈ yr`, with a colour bar.
-pub fn heat_map(
+/// One heat-map panel.
+pub struct MapPanel<'a> {
+    pub field: &'a Array2<f64>,
+    pub title: String,
+    pub bar_label: String,
+}
+
+/// Heat maps of `field[[j, i]]` over `x ∈ xr`, `y ∈ yr`, side by side, each with a colour bar.
+pub fn heat_maps(
     path: &Path,
-    field: &Array2<f64>,
+    panels: &[MapPanel],
     xr: (f64, f64),
     yr: (f64, f64),
-    title: &str,
     x_label: &str,
     y_label: &str,
-    bar_label: &str,
     footnote: &str,
 ) -> Result<()> {
     register_font();
-    let (ny, nx) = field.dim();
-    let lo = field
-        .iter()
-        .cloned()
-        .filter(|v| v.is_finite())
-        .fold(f64::INFINITY, f64::min);
-    let hi = field
-        .iter()
-        .cloned()
-        .filter(|v| v.is_finite())
-        .fold(f64::NEG_INFINITY, f64::max);
-    let span = if hi > lo { hi - lo } else { 1.0 };
-    let root = BitMapBackend::new(path, (760, 640)).into_drawing_area();
+    let width = 760 * panels.len() as u32;
+    let root = BitMapBackend::new(path, (width, 640)).into_drawing_area();
     root.fill(&WHITE)?;
     let (main, foot) = root.split_vertically(610);
-    foot.draw(&Text::new(
-        footnote.to_string(),
-        (12, 6),
-        (FONT, 14).into_font().color(&BLACK),
-    ))?;
-    let (left, right) = main.split_horizontally(630);
+    foot.draw(&Text::new(footnote.to_string(), (12, 6), (FONT, 14).into_font().color(&BLACK)))?;
+    for (area, panel) in main.split_evenly((1, panels.len())).iter().zip(panels) {
+        draw_map(area, panel, xr, yr, x_label, y_label)?;
+    }
+    root.present().with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}
+
+fn draw_map<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    panel: &MapPanel,
+    xr: (f64, f64),
+    yr: (f64, f64),
+    x_label: &str,
+    y_label: &str,
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let field = panel.field;
+    let (ny, nx) = field.dim();
+    let lo = field.iter().cloned().filter(|v| v.is_finite()).fold(f64::INFINITY, f64::min);
+    let hi = field.iter().cloned().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    let (left, right) = area.split_horizontally(630);
     let mut chart = ChartBuilder::on(&left)
-        .caption(title, (FONT, 20))
+        .caption(&panel.title, (FONT, 20))
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(60)
@@ -304,10 +317,7 @@ pub fn heat_map(
         .label_style((FONT, 14))
         .axis_desc_style((FONT, 16))
         .draw()?;
-    let (dx, dy) = (
-        (xr.1 - xr.0) / (nx - 1).max(1) as f64,
-        (yr.1 - yr.0) / (ny - 1).max(1) as f64,
-    );
+    let (dx, dy) = ((xr.1 - xr.0) / (nx - 1).max(1) as f64, (yr.1 - yr.0) / (ny - 1).max(1) as f64);
     chart.draw_series(field.indexed_iter().map(|((j, i), &v)| {
         let (x, y) = (xr.0 + i as f64 * dx, yr.0 + j as f64 * dy);
         Rectangle::new(
@@ -325,7 +335,8 @@ pub fn heat_map(
     bar.configure_mesh()
         .disable_mesh()
         .disable_x_axis()
-        .y_desc(bar_label)
+        .y_desc(panel.bar_label.as_str())
+        .y_label_formatter(&tick)
         .label_style((FONT, 13))
         .axis_desc_style((FONT, 14))
         .draw()?;
@@ -333,12 +344,7 @@ pub fn heat_map(
     bar.draw_series((0..steps).map(|k| {
         let v0 = lo + span * k as f64 / steps as f64;
         let v1 = lo + span * (k + 1) as f64 / steps as f64;
-        Rectangle::new(
-            [(0.0, v0), (1.0, v1)],
-            ramp((k as f64 + 0.5) / steps as f64).filled(),
-        )
+        Rectangle::new([(0.0, v0), (1.0, v1)], ramp((k as f64 + 0.5) / steps as f64).filled())
     }))?;
-    root.present()
-        .with_context(|| format!("writing {}", path.display()))?;
     Ok(())
 }

@@ -10,12 +10,14 @@ use std::time::Instant;
 /// What a run produced, per model.
 pub enum Outcome {
     Dry(DryOutcome),
+    Layer(Box<crate::layer::LayerOutcome>),
 }
 
 impl Outcome {
     pub fn scene(&self) -> &Scene {
         match self {
             Outcome::Dry(o) => &o.scene,
+            Outcome::Layer(o) => &o.scene,
         }
     }
 }
@@ -44,6 +46,7 @@ pub struct DryOutcome {
 pub fn run_scene(scene: &Scene) -> Result<Outcome> {
     match scene.model {
         Model::Dry => Ok(Outcome::Dry(run_dry(scene)?)),
+        Model::Layer => Ok(Outcome::Layer(Box::new(crate::layer::run_layer(scene)?))),
     }
 }
 

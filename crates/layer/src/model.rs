@@ -33,6 +33,13 @@ pub struct LayerSpec {
     /// Reference pressure `p_ref` [Pa] of the modulus law; `None`: `p_h` (the paper's choice).
     #[serde(default)]
     pub reference_pressure_pa: Option<f64>,
+    /// Regularisation, not in the paper (0: off, the model as published). `E` and `η` are
+    /// evaluated at the pressure smoothed by a Gaussian of this standard deviation [a]. The
+    /// published model is ill-posed where `α_eff (p − E ε) > 1 − ε ∂E/∂p` (higher pressure,
+    /// slower compression): grid-scale streaks grow there; smoothing over a length removes the
+    /// feedback for shorter waves. See the README's validation notes.
+    #[serde(default)]
+    pub coefficient_smoothing_a: f64,
 }
 
 /// Everything the layer model needs, in Hertz units, with the contact solver of its grid.
@@ -106,15 +113,54 @@ impl LayerModel {
     pub fn eta(&self, p: f64) -> f64 {
         self.damper.eta(p)
     }
-    /// Strain rate of the Kelvin–Voigt element, `(p − E ε) / η` [1/s].
+    /// Strain rate of the Kelvin–Voigt element, `(p − E ε) / η` [1/s], with the material
+    /// coefficients at pressure `pc` (= `p` unless regularised).
     #[inline]
-    pub fn rate(&self, p: f64, eps: f64) -> f64 {
-        (p - self.modulus(p, eps) * eps) / self.eta(p)
+    pub fn rate(&self, p: f64, pc: f64, eps: f64) -> f64 {
+        (p - self.modulus(pc, eps) * eps) / self.eta(pc)
     }
     pub fn rate_field(&self, p: &Array2<f64>, eps: &Array2<f64>) -> Array2<f64> {
-        Zip::from(p)
-            .and(eps)
-            .par_map_collect(|&p, &e| self.rate(p, e))
+        let pc = self.coefficient_pressure(p);
+        Zip::from(p).and(&pc).and(eps).par_map_collect(|&p, &pc, &e| self.rate(p, pc, e))
+    }
+
+    /// The pressure the material coefficients see: `p` itself, or its Gaussian smoothing when
+    /// the regularisation is on (separable, truncated at 3σ, edge values held).
+    pub fn coefficient_pressure(&self, p: &Array2<f64>) -> Array2<f64> {
+        let sigma = self.spec.coefficient_smoothing_a;
+        if sigma <= 0.0 {
+            return p.clone();
+        }
+        let blur = |f: &Array2<f64>, axis: usize, h: f64| -> Array2<f64> {
+            let r = (3.0 * sigma / h).ceil() as isize;
+            let w: Vec<f64> =
+                (-r..=r).map(|k| (-0.5 * (k as f64 * h / sigma).powi(2)).exp()).collect();
+            let norm: f64 = w.iter().sum();
+            let (ny, nx) = f.dim();
+            Array2::from_shape_fn((ny, nx), |(j, i)| {
+                let mut s = 0.0;
+                for (k, wk) in (-r..=r).zip(&w) {
+                    let (jj, ii) = if axis == 0 {
+                        ((j as isize + k).clamp(0, ny as isize - 1) as usize, i)
+                    } else {
+                        (j, (i as isize + k).clamp(0, nx as isize - 1) as usize)
+                    };
+                    s += wk * f[[jj, ii]];
+                }
+                s / norm
+            })
+        };
+        blur(&blur(p, 1, self.grid.dx()), 0, self.grid.dy())
+    }
+
+    /// Local growth indicator of lateral short waves (from linearising the strain law with the
+    /// layer held by a stiff contact): positive where a higher pressure slows the compression,
+    /// `α_eff (p − E ε) − (1 − ε ∂E/∂p)`, `α_eff = d ln η / dp`. Dimensionless.
+    pub fn instability_indicator(&self, p: f64, eps: f64) -> f64 {
+        let dp = 1e-6;
+        let alpha_eff = (self.eta(p + dp).ln() - self.eta(p).ln()) / dp;
+        let e_p = (self.modulus(p + dp, eps) - self.modulus(p, eps)) / dp;
+        alpha_eff * (p - self.modulus(p, eps) * eps) - (1.0 - eps * e_p)
     }
 
     /// Feature centre position at time `t` [a] (features move at `u1`).
@@ -220,6 +266,11 @@ pub struct Monitor {
     pub dry_diameter: f64,
     /// Mutual approach `−h0` [m].
     pub approach: f64,
+    /// Pressure at the contact centre [Pa].
+    pub central_pressure: f64,
+    /// Largest row-to-row wiggle of the pressure, `max |p_j − (p_{j−1} + p_{j+1})/2|` [Pa]:
+    /// the signature of the lateral short-wave instability (smooth fields give ~p_h ΔY²).
+    pub lateral_wiggle: f64,
     /// Contact-solver iterations spent on the step that led here.
     pub iterations: usize,
 }
@@ -235,6 +286,19 @@ fn extent(row: impl Iterator<Item = bool>, dx: f64) -> f64 {
         (Some(a), Some(b)) => (b - a + 1) as f64 * dx,
         _ => 0.0,
     }
+}
+
+/// `max |p_j − (p_{j−1} + p_{j+1})/2|` over the grid, in the units of `p`.
+pub fn lateral_wiggle(p: &Array2<f64>) -> f64 {
+    let ny = p.nrows();
+    let mut m = 0.0f64;
+    for j in 1..ny.saturating_sub(1) {
+        let (a, b, c) = (p.row(j - 1), p.row(j), p.row(j + 1));
+        for i in 0..p.ncols() {
+            m = m.max((b[i] - 0.5 * (a[i] + c[i])).abs());
+        }
+    }
+    m
 }
 
 impl Monitor {
@@ -269,6 +333,8 @@ impl Monitor {
                 g.dx(),
             )),
             approach: sc.h_si(-s.h0),
+            central_pressure: sc.p_si(s.p[[j0, i0]]),
+            lateral_wiggle: sc.p_si(lateral_wiggle(&s.p)),
             iterations,
         }
     }

@@ -257,7 +257,7 @@ impl Stepper {
         let ball = m.ball(t1);
         let supply = m.supply(t1);
         let (mut solves, mut iterations) = (0, 0);
-        let mut coef_p = p.clone();
+        let mut coef_p = m.coefficient_pressure(&p);
         let mut coef_eps = eps_pred.clone();
         let mut eps_new;
         let mut h0;
@@ -336,7 +336,7 @@ impl Stepper {
                 break;
             }
             pass += 1;
-            coef_p = p.clone();
+            coef_p = m.coefficient_pressure(&p);
             coef_eps = eps_new.clone();
         }
         // Milne's device: quadratic extrapolation along the paths against BDF2; for constant

@@ -196,10 +196,22 @@ pub enum SceneError {
     Io { path: String, message: String },
 }
 
-const BUILTINS: &[(&str, &str)] = &[(
+macro_rules! builtin_scenes {
+    ($($name:literal),*) => {
+        &[$(($name, include_str!(concat!("../../../validation/scenes/", $name, ".json")))),*]
+    };
+}
+
+const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "hertz",
-    include_str!("../../../validation/scenes/hertz.json"),
-)];
+    "squeeze-steady",
+    "rolling-from-squeezed",
+    "rolling-from-uniform",
+    "squeeze-after-stop",
+    "dent-deep",
+    "dent-shallow",
+    "hole"
+);
 
 /// Names of the built-in scenes.
 pub fn builtin_names() -> Vec<&'static str> {

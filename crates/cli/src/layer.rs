@@ -1,0 +1,461 @@
+//! Layer-model scenes: the run (start state, motion, stop rule) and what it writes.
+
+use crate::output::{Centreline, q};
+use crate::plot::{self, MapPanel, Mark, Panel, Series};
+use anyhow::{Context, Result};
+use ehl_core::{Grid, HertzScales, hertz};
+use ehl_layer::run::SqueezeReport;
+use ehl_layer::{
+    LayerModel, LayerState, Monitor, Record, Stepper, StopSettings, run, squeeze_steady,
+    stability_estimate, uniform_state,
+};
+use ehl_scene::{Motion, Scene, StartState};
+use ndarray::Array2;
+use serde_json::{Value, json};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// What a layer scene produced.
+pub struct LayerOutcome {
+    pub scene: Scene,
+    pub scales: HertzScales,
+    pub grid: Grid,
+    /// `l0 / (a²/R)`, `Eo / p_h`, for normalising.
+    pub l0: f64,
+    pub eo: f64,
+    pub final_state: LayerState,
+    /// Final layer thickness `L` [a²/R] and gap `H` [a²/R].
+    pub l: Array2<f64>,
+    pub gap: Array2<f64>,
+    /// The scene's own motion (absent for `motion: none`).
+    pub record: Option<Record>,
+    /// The steady-rolling pre-run of a `steady-rolling` start.
+    pub prerun: Option<PrerunInfo>,
+    pub squeeze: Option<SqueezeReport>,
+    pub final_monitor: Monitor,
+    /// Explicit stability estimate [s] at the scene's grid.
+    pub stability_estimate_s: f64,
+    pub setup_time_s: f64,
+    pub total_time_s: f64,
+}
+
+/// The pre-run's record, in brief.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PrerunInfo {
+    pub steps: usize,
+    pub simulated_time_s: f64,
+    pub wall_time_s: f64,
+    pub steady: bool,
+    pub stop_reason: String,
+    pub cached: bool,
+}
+
+type Cache = Mutex<HashMap<String, (LayerState, PrerunInfo)>>;
+
+/// Steady-rolling states already computed in this process, keyed by everything they depend
+/// on: scenes that start from the same steady rolling share one pre-run.
+fn cache() -> &'static Cache {
+    static C: std::sync::OnceLock<Cache> = std::sync::OnceLock::new();
+    C.get_or_init(|| Mutex::new(HashMap::new()))
+}
+
+fn prerun_key(s: &Scene) -> String {
+    let r = s.run.as_ref().unwrap();
+    serde_json::to_string(&json!([
+        s.conditions, s.lubricant, s.layer, s.domain, s.grid, s.solver, r.time, r.stop.steady_tolerance,
+        r.stop.window_travel_a, r.stop.max_time_s
+    ]))
+    .unwrap()
+}
+
+pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
+    let t_all = Instant::now();
+    let r = scene.run.as_ref().expect("validated");
+    let spec = scene.layer.expect("validated");
+    let lub = scene.lubricant.expect("validated").lubricant();
+    let contact = scene.conditions.contact();
+    let u_roll = scene.conditions.rolling_velocity_m_s.unwrap_or(0.0);
+    let grid = scene.grid();
+    let t0 = Instant::now();
+    let mut m = LayerModel::new(&contact, &lub, &spec, u_roll, grid, scene.solver, vec![]);
+    let setup_time_s = t0.elapsed().as_secs_f64();
+    let fail = |what: &str| format!("scene `{}`: {what}", scene.name);
+
+    let spin = crate::progress::spinner("layer");
+    let mut squeeze = None;
+    let mut prerun = None;
+    let mut stepper = Stepper::new(r.time.scheme, r.time.picard);
+    let mut state = match r.start {
+        StartState::Uniform => uniform_state(&m).with_context(|| fail("uniform start"))?,
+        StartState::Squeezed => {
+            let (s, rep) = squeeze_steady(&m).with_context(|| fail("steady squeeze"))?;
+            squeeze = Some(rep);
+            s
+        }
+        StartState::SteadyRolling => {
+            let key = prerun_key(scene);
+            let hit = cache().lock().unwrap().get(&key).cloned();
+            match hit {
+                Some((s, mut info)) => {
+                    info.cached = true;
+                    prerun = Some(info);
+                    s
+                }
+                None => {
+                    let (mut s, rep) = squeeze_steady(&m).with_context(|| fail("steady squeeze"))?;
+                    squeeze = Some(rep);
+                    let stop = StopSettings { until_features_passed: false, ..r.stop };
+                    let mut pre = Stepper::new(r.time.scheme, r.time.picard);
+                    let rec = run(&m, &mut s, &mut pre, &r.time, &stop, &[], &mut |t| {
+                        spin.set_message(format!("pre-run: rolling to steady, t = {:.4} s", t))
+                    })
+                    .with_context(|| fail("steady-rolling pre-run"))?;
+                    anyhow::ensure!(
+                        rec.steady,
+                        "{}: the steady-rolling pre-run stopped without reaching steady state ({})",
+                        scene.name,
+                        rec.stop_reason
+                    );
+                    let info = PrerunInfo {
+                        steps: rec.steps,
+                        simulated_time_s: s.t,
+                        wall_time_s: rec.wall_time_s,
+                        steady: rec.steady,
+                        stop_reason: rec.stop_reason.clone(),
+                        cached: false,
+                    };
+                    cache().lock().unwrap().insert(key, (s.clone(), info.clone()));
+                    prerun = Some(info);
+                    s
+                }
+            }
+        }
+    };
+    // The scene's own motion starts at t = 0.
+    state.t = 0.0;
+    m.features = r.features.clone();
+    m.u1 = match r.motion {
+        Motion::Rolling => u_roll,
+        Motion::Squeeze | Motion::None => 0.0,
+    };
+    let record = match r.motion {
+        Motion::None => None,
+        motion => {
+            if motion == Motion::Squeeze {
+                stepper.reset();
+            }
+            let label = format!("{:?}", motion).to_lowercase();
+            let rec = run(&m, &mut state, &mut stepper, &r.time, &r.stop, &r.snapshots_s, &mut |t| {
+                spin.set_message(format!("{label}: t = {t:.4} s"))
+            })
+            .with_context(|| fail(&format!("{label} run")))?;
+            Some(rec)
+        }
+    };
+    spin.finish_and_clear();
+    let final_monitor = Monitor::of(&m, &state, 0);
+    let l = state.thickness(&m);
+    let gap = m.ball(state.t) + &state.w - &l + state.h0;
+    Ok(LayerOutcome {
+        scene: scene.clone(),
+        scales: m.scales,
+        grid,
+        l0: m.l0,
+        eo: m.eo,
+        l,
+        gap,
+        record,
+        prerun,
+        squeeze,
+        final_monitor,
+        stability_estimate_s: stability_estimate(&m),
+        setup_time_s,
+        total_time_s: t_all.elapsed().as_secs_f64(),
+        final_state: state,
+    })
+}
+
+impl LayerOutcome {
+    pub fn summary(&self) -> Value {
+        let (s, f) = (&self.scales, &self.final_monitor);
+        let spec = self.scene.layer.unwrap();
+        let r = self.scene.run.as_ref().unwrap();
+        let mut run_json = json!({
+            "start": r.start, "motion": r.motion, "features": r.features,
+            "scheme": r.time.scheme, "time": r.time, "stop": r.stop,
+        });
+        if let Some(rec) = &self.record {
+            let n = rec.steps.max(1) as f64;
+            run_json["steps"] = json!(rec.steps);
+            run_json["rejected_steps"] = json!(rec.rejected_steps);
+            run_json["contact_solves"] = json!(rec.solves);
+            run_json["contact_iterations"] = json!(rec.iterations);
+            run_json["iterations_per_step"] = json!(rec.iterations as f64 / n);
+            run_json["time_step_range"] = json!({"value": [rec.dt_range.0, rec.dt_range.1], "unit": "s"});
+            run_json["simulated_time"] = q(self.final_state.t, "s");
+            run_json["wall_time"] = q(rec.wall_time_s, "s");
+            run_json["wall_time_per_step"] = q(rec.wall_time_s / n, "s");
+            run_json["steady"] = json!(rec.steady);
+            run_json["stop_reason"] = json!(rec.stop_reason);
+        }
+        json!({
+            "scene": self.scene.name,
+            "model": "layer",
+            "description": self.scene.description,
+            "conditions": self.scene.conditions,
+            "lubricant": self.scene.lubricant,
+            "layer": spec,
+            "laws": {
+                "modulus": spec.modulus_law,
+                "damper_reading": spec.damper_reading,
+                "coefficient_smoothing": q(spec.coefficient_smoothing_a * s.a, "m"),
+            },
+            "scales": {
+                "a": q(s.a, "m"), "p_h": q(s.p_h, "Pa"), "a2_over_r": q(s.delta, "m"),
+                "oedometric_modulus": q(self.eo * s.p_h, "Pa"),
+                "note": "a and p_h from Table 1 (a = 0.13467 mm); the seed's time step implies a = 0.13697 mm: compare in Hertz-normalised form",
+            },
+            "grid": {
+                "nx": self.grid.nx, "ny": self.grid.ny,
+                "dx": q(self.grid.dx() * s.a, "m"), "dy": q(self.grid.dy() * s.a, "m"),
+            },
+            "results": {
+                "central_thickness": q(f.central_thickness, "m"),
+                "minimum_thickness": q(f.minimum_thickness, "m"),
+                "max_pressure": q(f.max_pressure, "Pa"),
+                "central_pressure": q(f.central_pressure, "Pa"),
+                "contact_diameter": q(f.contact_diameter, "m"),
+                "dry_diameter": q(f.dry_diameter, "m"),
+                "approach": q(f.approach, "m"),
+                "lateral_wiggle": q(f.lateral_wiggle, "Pa"),
+            },
+            "normalised": {
+                "central_thickness_over_l0": f.central_thickness / spec.supply_thickness_m,
+                "minimum_thickness_over_l0": f.minimum_thickness / spec.supply_thickness_m,
+                "max_pressure_over_p_h": f.max_pressure / s.p_h,
+                "contact_diameter_over_2a": f.contact_diameter / (2.0 * s.a),
+                "dry_diameter_over_2a": f.dry_diameter / (2.0 * s.a),
+            },
+            "run": run_json,
+            "prerun": self.prerun,
+            "steady_squeeze_solve": self.squeeze,
+            "explicit_stability_estimate": q(self.stability_estimate_s, "s"),
+            "setup_time": q(self.setup_time_s, "s"),
+            "total_wall_time": q(self.total_time_s, "s"),
+            "threads": rayon::current_num_threads(),
+        })
+    }
+
+    fn row(&self, field: &Array2<f64>) -> Vec<f64> {
+        field.row(self.grid.row_nearest(0.0)).to_vec()
+    }
+
+    pub fn centreline(&self) -> Centreline {
+        let (g, s) = (&self.grid, &self.scales);
+        let xs = g.xs();
+        let y = g.y(g.row_nearest(0.0));
+        Centreline {
+            columns: vec![
+                ("x_m".into(), xs.iter().map(|&x| s.x_si(x)).collect()),
+                ("pressure_pa".into(), self.row(&self.final_state.p).iter().map(|&v| s.p_si(v)).collect()),
+                ("layer_thickness_m".into(), self.row(&self.l).iter().map(|&v| s.h_si(v)).collect()),
+                ("strain".into(), self.row(&self.final_state.eps)),
+                ("gap_m".into(), self.row(&self.gap).iter().map(|&v| s.h_si(v)).collect()),
+                (
+                    "pressure_dry_hertz_pa".into(),
+                    xs.iter().map(|&x| s.p_si(hertz::pressure(x, y))).collect(),
+                ),
+            ],
+        }
+    }
+
+    pub fn fields(&self) -> Vec<(String, Array2<f64>)> {
+        let s = &self.scales;
+        let mut v = vec![
+            ("pressure_pa".to_string(), self.final_state.p.mapv(|v| s.p_si(v))),
+            ("layer_thickness_m".to_string(), self.l.mapv(|v| s.h_si(v))),
+            ("strain".to_string(), self.final_state.eps.clone()),
+            ("gap_m".to_string(), self.gap.mapv(|v| s.h_si(v))),
+        ];
+        if let Some(rec) = &self.record {
+            for (k, snap) in rec.snapshots.iter().enumerate() {
+                let tag = format!("snapshot{k:02}_t{:.5}s", snap.t);
+                v.push((format!("{tag}_pressure_pa"), snap.p.mapv(|v| s.p_si(v))));
+                v.push((format!("{tag}_layer_thickness_m"), snap.l.mapv(|v| s.h_si(v))));
+            }
+        }
+        v
+    }
+
+    /// Time series as CSV, SI.
+    pub fn time_series_csv(&self) -> Option<String> {
+        let rec = self.record.as_ref()?;
+        let mut s = String::from(
+            "t_s,central_thickness_m,minimum_thickness_m,max_pressure_pa,central_pressure_pa,contact_diameter_m,dry_diameter_m,approach_m,lateral_wiggle_pa,iterations\n",
+        );
+        for m in &rec.series {
+            s += &format!(
+                "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}\n",
+                m.t,
+                m.central_thickness,
+                m.minimum_thickness,
+                m.max_pressure,
+                m.central_pressure,
+                m.contact_diameter,
+                m.dry_diameter,
+                m.approach,
+                m.lateral_wiggle,
+                m.iterations
+            );
+        }
+        Some(s)
+    }
+
+    /// Conditions and laws, for figure footnotes.
+    pub fn note(&self) -> String {
+        let spec = self.scene.layer.unwrap();
+        let r = self.scene.run.as_ref().unwrap();
+        format!(
+            "{}: F = {} N, u1 = {} m/s, l0 = {} nm, E law {:?}, damper {:?} (κ = {:e}){}, {:?} n_t = {}; grid {}x{}; a = {:.4} mm",
+            self.scene.name,
+            self.scene.conditions.load_n,
+            self.scene.conditions.rolling_velocity_m_s.unwrap_or(0.0),
+            spec.supply_thickness_m * 1e9,
+            spec.modulus_law,
+            spec.damper_reading,
+            spec.damper_constant,
+            if spec.coefficient_smoothing_a > 0.0 {
+                format!(", smoothing {} a", spec.coefficient_smoothing_a)
+            } else {
+                String::new()
+            },
+            r.time.scheme,
+            r.time.steps_per_cell,
+            self.grid.nx,
+            self.grid.ny,
+            self.scales.a * 1e3
+        )
+    }
+
+    pub fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
+        let mut out = vec![];
+        let (s, g) = (&self.scales, &self.grid);
+        let l0_nm = self.scene.layer.unwrap().supply_thickness_m * 1e9;
+        let x: Vec<f64> = g.xs();
+        let line = |field: &Array2<f64>, scale: f64| -> Vec<(f64, f64)> {
+            x.iter().cloned().zip(self.row(field).iter().map(|v| v * scale)).collect()
+        };
+        // Final centrelines: layer thickness and pressure, with dry Hertz for reference.
+        let f = dir.join(format!("{prefix}centreline.png"));
+        let hertz_p: Vec<(f64, f64)> = x.iter().map(|&xx| (xx, hertz::pressure(xx, 0.0))).collect();
+        plot::charts(
+            &f,
+            &[
+                Panel::new(
+                    "Layer thickness along y = 0",
+                    "x / a",
+                    "l [nm]",
+                    vec![Series::new("layer model", line(&self.l, s.delta * 1e9), Mark::Line)],
+                )
+                .legend(plotters::prelude::SeriesLabelPosition::LowerRight),
+                Panel::new(
+                    "Pressure along y = 0",
+                    "x / a",
+                    "p / p_h",
+                    vec![
+                        Series::new("layer model", line(&self.final_state.p, 1.0), Mark::Line),
+                        Series::new("dry contact (Hertz)", hertz_p, Mark::Line),
+                    ],
+                ),
+            ],
+            &self.note(),
+        )?;
+        out.push(f);
+        let f = dir.join(format!("{prefix}maps.png"));
+        let lnm = self.l.mapv(|v| v * s.delta * 1e9);
+        plot::heat_maps(
+            &f,
+            &[
+                MapPanel { field: &lnm, title: format!("Layer thickness l [nm] (l0 = {l0_nm} nm)"), bar_label: "l [nm]".into() },
+                MapPanel { field: &self.final_state.p, title: "Pressure p / p_h".into(), bar_label: "p / p_h".into() },
+            ],
+            (g.x_min, g.x_max),
+            (g.y_min, g.y_max),
+            "x / a",
+            "y / a",
+            &self.note(),
+        )?;
+        out.push(f);
+        if let Some(rec) = &self.record {
+            let ser = |k: fn(&Monitor) -> f64, scale: f64| -> Vec<(f64, f64)> {
+                rec.series.iter().map(|m| (m.t, k(m) * scale)).collect()
+            };
+            let f = dir.join(format!("{prefix}history.png"));
+            plot::charts(
+                &f,
+                &[
+                    Panel::new(
+                        "Layer thickness",
+                        "t [s]",
+                        "l [nm]",
+                        vec![
+                            Series::new("central", ser(|m| m.central_thickness, 1e9), Mark::Line),
+                            Series::new("minimum", ser(|m| m.minimum_thickness, 1e9), Mark::Line),
+                        ],
+                    ),
+                    Panel::new(
+                        "Pressure",
+                        "t [s]",
+                        "p / p_h",
+                        vec![
+                            Series::new("maximum", ser(|m| m.max_pressure, 1.0 / s.p_h), Mark::Line),
+                            Series::new("central", ser(|m| m.central_pressure, 1.0 / s.p_h), Mark::Line),
+                        ],
+                    ),
+                ],
+                &self.note(),
+            )?;
+            out.push(f);
+            if !rec.snapshots.is_empty() {
+                // Centrelines at every snapshot time.
+                let f = dir.join(format!("{prefix}snapshots_centreline.png"));
+                let series_of = |sel: fn(&ehl_layer::Snapshot) -> &Array2<f64>, scale: f64| -> Vec<Series> {
+                    rec.snapshots
+                        .iter()
+                        .map(|sn| Series::new(format!("t = {:.4} s", sn.t), line(sel(sn), scale), Mark::Line))
+                        .collect()
+                };
+                plot::charts(
+                    &f,
+                    &[
+                        Panel::new("Layer thickness along y = 0", "x / a", "l [nm]", series_of(|s| &s.l, s.delta * 1e9))
+                            .legend(plotters::prelude::SeriesLabelPosition::LowerRight),
+                        Panel::new("Pressure along y = 0", "x / a", "p / p_h", series_of(|s| &s.p, 1.0)),
+                    ],
+                    &self.note(),
+                )?;
+                out.push(f);
+                for (k, sn) in rec.snapshots.iter().enumerate() {
+                    let f = dir.join(format!("{prefix}snapshot{k:02}_maps.png"));
+                    let lnm = sn.l.mapv(|v| v * s.delta * 1e9);
+                    plot::heat_maps(
+                        &f,
+                        &[
+                            MapPanel { field: &lnm, title: format!("l [nm] at t = {:.4} s", sn.t), bar_label: "l [nm]".into() },
+                            MapPanel { field: &sn.p, title: format!("p / p_h at t = {:.4} s", sn.t), bar_label: "p / p_h".into() },
+                        ],
+                        (g.x_min, g.x_max),
+                        (g.y_min, g.y_max),
+                        "x / a",
+                        "y / a",
+                        &self.note(),
+                    )?;
+                    out.push(f);
+                }
+            }
+        }
+        Ok(out)
+    }
+}
