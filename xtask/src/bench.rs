@@ -180,5 +180,9 @@ pub fn run(out: &Path, max: usize) -> Result<()> {
     let f = out.join("bench_contact.json");
     std::fs::write(&f, serde_json::to_string_pretty(&json)? + "\n")?;
     println!("wrote {}", f.display());
+    let layer = crate::layer::bench(max)?;
+    let f = out.join("bench_layer.json");
+    std::fs::write(&f, serde_json::to_string_pretty(&layer)? + "\n")?;
+    println!("wrote {}", f.display());
     Ok(())
 }

@@ -4,6 +4,7 @@
 
 mod bench;
 mod convergence;
+mod layer;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -25,13 +26,17 @@ enum Command {
     },
     /// Grid (and, for time-dependent models, time-step) convergence studies.
     Convergence {
-        /// Which study: `dry`.
+        /// Which study: `dry` (Hertz grid study) or `layer` (steady rolling: grids, time steps,
+        /// explicit stability, speed against accuracy).
         study: Study,
         #[arg(long, default_value = "out/convergence")]
         out: PathBuf,
         /// Finest grid, points per side.
         #[arg(long, default_value_t = 513)]
         max_points: usize,
+        /// Grid of the layer time-step study.
+        #[arg(long, default_value_t = 129)]
+        nt_points: usize,
     },
     /// Time the deformation operator and the dry solver, 65² … 513².
     Bench {
@@ -46,6 +51,7 @@ enum Command {
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum Study {
     Dry,
+    Layer,
 }
 
 fn main() -> Result<()> {
@@ -55,7 +61,14 @@ fn main() -> Result<()> {
             study: Study::Dry,
             out,
             max_points,
+            ..
         } => convergence::dry(&out, max_points).map(|_| ()),
+        Command::Convergence {
+            study: Study::Layer,
+            out,
+            max_points,
+            nt_points,
+        } => layer::convergence(&out, max_points, nt_points).map(|_| ()),
         Command::Bench { out, max_points } => bench::run(&out, max_points),
     }
 }
@@ -76,6 +89,7 @@ fn figures(out: &std::path::Path) -> Result<()> {
         written.extend(outcome.figures(out, &format!("{}_", scene.name))?);
     }
     written.extend(convergence::dry(out, 513)?);
+    written.push(layer::modulus_figure(out)?);
     println!("figures written to {}:", out.display());
     for f in written {
         println!("  {}", f.display());

@@ -61,11 +61,28 @@ fn cache() -> &'static Cache {
     C.get_or_init(|| Mutex::new(HashMap::new()))
 }
 
+/// The pre-run's stop rule: the same for every scene, so that every scene starting from steady
+/// rolling under the same conditions starts from the same state.
+fn prerun_stop() -> StopSettings {
+    StopSettings {
+        steady_tolerance: 1e-3,
+        window_travel_a: 0.5,
+        until_features_passed: false,
+        max_time_s: 1.0,
+        ..StopSettings::default()
+    }
+}
+
 fn prerun_key(s: &Scene) -> String {
     let r = s.run.as_ref().unwrap();
     serde_json::to_string(&json!([
-        s.conditions, s.lubricant, s.layer, s.domain, s.grid, s.solver, r.time, r.stop.steady_tolerance,
-        r.stop.window_travel_a, r.stop.max_time_s
+        s.conditions,
+        s.lubricant,
+        s.layer,
+        s.domain,
+        s.grid,
+        s.solver,
+        r.time
     ]))
     .unwrap()
 }
@@ -104,9 +121,10 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
                     s
                 }
                 None => {
-                    let (mut s, rep) = squeeze_steady(&m).with_context(|| fail("steady squeeze"))?;
+                    let (mut s, rep) =
+                        squeeze_steady(&m).with_context(|| fail("steady squeeze"))?;
                     squeeze = Some(rep);
-                    let stop = StopSettings { until_features_passed: false, ..r.stop };
+                    let stop = prerun_stop();
                     let mut pre = Stepper::new(r.time.scheme, r.time.picard);
                     let rec = run(&m, &mut s, &mut pre, &r.time, &stop, &[], &mut |t| {
                         spin.set_message(format!("pre-run: rolling to steady, t = {:.4} s", t))
@@ -126,7 +144,10 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
                         stop_reason: rec.stop_reason.clone(),
                         cached: false,
                     };
-                    cache().lock().unwrap().insert(key, (s.clone(), info.clone()));
+                    cache()
+                        .lock()
+                        .unwrap()
+                        .insert(key, (s.clone(), info.clone()));
                     prerun = Some(info);
                     s
                 }
@@ -147,9 +168,15 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
                 stepper.reset();
             }
             let label = format!("{:?}", motion).to_lowercase();
-            let rec = run(&m, &mut state, &mut stepper, &r.time, &r.stop, &r.snapshots_s, &mut |t| {
-                spin.set_message(format!("{label}: t = {t:.4} s"))
-            })
+            let rec = run(
+                &m,
+                &mut state,
+                &mut stepper,
+                &r.time,
+                &r.stop,
+                &r.snapshots_s,
+                &mut |t| spin.set_message(format!("{label}: t = {t:.4} s")),
+            )
             .with_context(|| fail(&format!("{label} run")))?;
             Some(rec)
         }
@@ -193,7 +220,8 @@ impl LayerOutcome {
             run_json["contact_solves"] = json!(rec.solves);
             run_json["contact_iterations"] = json!(rec.iterations);
             run_json["iterations_per_step"] = json!(rec.iterations as f64 / n);
-            run_json["time_step_range"] = json!({"value": [rec.dt_range.0, rec.dt_range.1], "unit": "s"});
+            run_json["time_step_range"] =
+                json!({"value": [rec.dt_range.0, rec.dt_range.1], "unit": "s"});
             run_json["simulated_time"] = q(self.final_state.t, "s");
             run_json["wall_time"] = q(rec.wall_time_s, "s");
             run_json["wall_time_per_step"] = q(rec.wall_time_s / n, "s");
@@ -259,10 +287,22 @@ impl LayerOutcome {
         Centreline {
             columns: vec![
                 ("x_m".into(), xs.iter().map(|&x| s.x_si(x)).collect()),
-                ("pressure_pa".into(), self.row(&self.final_state.p).iter().map(|&v| s.p_si(v)).collect()),
-                ("layer_thickness_m".into(), self.row(&self.l).iter().map(|&v| s.h_si(v)).collect()),
+                (
+                    "pressure_pa".into(),
+                    self.row(&self.final_state.p)
+                        .iter()
+                        .map(|&v| s.p_si(v))
+                        .collect(),
+                ),
+                (
+                    "layer_thickness_m".into(),
+                    self.row(&self.l).iter().map(|&v| s.h_si(v)).collect(),
+                ),
                 ("strain".into(), self.row(&self.final_state.eps)),
-                ("gap_m".into(), self.row(&self.gap).iter().map(|&v| s.h_si(v)).collect()),
+                (
+                    "gap_m".into(),
+                    self.row(&self.gap).iter().map(|&v| s.h_si(v)).collect(),
+                ),
                 (
                     "pressure_dry_hertz_pa".into(),
                     xs.iter().map(|&x| s.p_si(hertz::pressure(x, y))).collect(),
@@ -274,7 +314,10 @@ impl LayerOutcome {
     pub fn fields(&self) -> Vec<(String, Array2<f64>)> {
         let s = &self.scales;
         let mut v = vec![
-            ("pressure_pa".to_string(), self.final_state.p.mapv(|v| s.p_si(v))),
+            (
+                "pressure_pa".to_string(),
+                self.final_state.p.mapv(|v| s.p_si(v)),
+            ),
             ("layer_thickness_m".to_string(), self.l.mapv(|v| s.h_si(v))),
             ("strain".to_string(), self.final_state.eps.clone()),
             ("gap_m".to_string(), self.gap.mapv(|v| s.h_si(v))),
@@ -283,7 +326,10 @@ impl LayerOutcome {
             for (k, snap) in rec.snapshots.iter().enumerate() {
                 let tag = format!("snapshot{k:02}_t{:.5}s", snap.t);
                 v.push((format!("{tag}_pressure_pa"), snap.p.mapv(|v| s.p_si(v))));
-                v.push((format!("{tag}_layer_thickness_m"), snap.l.mapv(|v| s.h_si(v))));
+                v.push((
+                    format!("{tag}_layer_thickness_m"),
+                    snap.l.mapv(|v| s.h_si(v)),
+                ));
             }
         }
         v
@@ -345,7 +391,10 @@ impl LayerOutcome {
         let l0_nm = self.scene.layer.unwrap().supply_thickness_m * 1e9;
         let x: Vec<f64> = g.xs();
         let line = |field: &Array2<f64>, scale: f64| -> Vec<(f64, f64)> {
-            x.iter().cloned().zip(self.row(field).iter().map(|v| v * scale)).collect()
+            x.iter()
+                .cloned()
+                .zip(self.row(field).iter().map(|v| v * scale))
+                .collect()
         };
         // Final centrelines: layer thickness and pressure, with dry Hertz for reference.
         let f = dir.join(format!("{prefix}centreline.png"));
@@ -357,7 +406,11 @@ impl LayerOutcome {
                     "Layer thickness along y = 0",
                     "x / a",
                     "l [nm]",
-                    vec![Series::new("layer model", line(&self.l, s.delta * 1e9), Mark::Line)],
+                    vec![Series::new(
+                        "layer model",
+                        line(&self.l, s.delta * 1e9),
+                        Mark::Line,
+                    )],
                 )
                 .legend(plotters::prelude::SeriesLabelPosition::LowerRight),
                 Panel::new(
@@ -378,8 +431,16 @@ impl LayerOutcome {
         plot::heat_maps(
             &f,
             &[
-                MapPanel { field: &lnm, title: format!("Layer thickness l [nm] (l0 = {l0_nm} nm)"), bar_label: "l [nm]".into() },
-                MapPanel { field: &self.final_state.p, title: "Pressure p / p_h".into(), bar_label: "p / p_h".into() },
+                MapPanel {
+                    field: &lnm,
+                    title: format!("Layer thickness l [nm] (l0 = {l0_nm} nm)"),
+                    bar_label: "l [nm]".into(),
+                },
+                MapPanel {
+                    field: &self.final_state.p,
+                    title: "Pressure p / p_h".into(),
+                    bar_label: "p / p_h".into(),
+                },
             ],
             (g.x_min, g.x_max),
             (g.y_min, g.y_max),
@@ -410,8 +471,16 @@ impl LayerOutcome {
                         "t [s]",
                         "p / p_h",
                         vec![
-                            Series::new("maximum", ser(|m| m.max_pressure, 1.0 / s.p_h), Mark::Line),
-                            Series::new("central", ser(|m| m.central_pressure, 1.0 / s.p_h), Mark::Line),
+                            Series::new(
+                                "maximum",
+                                ser(|m| m.max_pressure, 1.0 / s.p_h),
+                                Mark::Line,
+                            ),
+                            Series::new(
+                                "central",
+                                ser(|m| m.central_pressure, 1.0 / s.p_h),
+                                Mark::Line,
+                            ),
                         ],
                     ),
                 ],
@@ -421,18 +490,35 @@ impl LayerOutcome {
             if !rec.snapshots.is_empty() {
                 // Centrelines at every snapshot time.
                 let f = dir.join(format!("{prefix}snapshots_centreline.png"));
-                let series_of = |sel: fn(&ehl_layer::Snapshot) -> &Array2<f64>, scale: f64| -> Vec<Series> {
-                    rec.snapshots
-                        .iter()
-                        .map(|sn| Series::new(format!("t = {:.4} s", sn.t), line(sel(sn), scale), Mark::Line))
-                        .collect()
-                };
+                let series_of =
+                    |sel: fn(&ehl_layer::Snapshot) -> &Array2<f64>, scale: f64| -> Vec<Series> {
+                        rec.snapshots
+                            .iter()
+                            .map(|sn| {
+                                Series::new(
+                                    format!("t = {:.4} s", sn.t),
+                                    line(sel(sn), scale),
+                                    Mark::Line,
+                                )
+                            })
+                            .collect()
+                    };
                 plot::charts(
                     &f,
                     &[
-                        Panel::new("Layer thickness along y = 0", "x / a", "l [nm]", series_of(|s| &s.l, s.delta * 1e9))
-                            .legend(plotters::prelude::SeriesLabelPosition::LowerRight),
-                        Panel::new("Pressure along y = 0", "x / a", "p / p_h", series_of(|s| &s.p, 1.0)),
+                        Panel::new(
+                            "Layer thickness along y = 0",
+                            "x / a",
+                            "l [nm]",
+                            series_of(|s| &s.l, s.delta * 1e9),
+                        )
+                        .legend(plotters::prelude::SeriesLabelPosition::LowerRight),
+                        Panel::new(
+                            "Pressure along y = 0",
+                            "x / a",
+                            "p / p_h",
+                            series_of(|s| &s.p, 1.0),
+                        ),
                     ],
                     &self.note(),
                 )?;
@@ -443,8 +529,16 @@ impl LayerOutcome {
                     plot::heat_maps(
                         &f,
                         &[
-                            MapPanel { field: &lnm, title: format!("l [nm] at t = {:.4} s", sn.t), bar_label: "l [nm]".into() },
-                            MapPanel { field: &sn.p, title: format!("p / p_h at t = {:.4} s", sn.t), bar_label: "p / p_h".into() },
+                            MapPanel {
+                                field: &lnm,
+                                title: format!("l [nm] at t = {:.4} s", sn.t),
+                                bar_label: "l [nm]".into(),
+                            },
+                            MapPanel {
+                                field: &sn.p,
+                                title: format!("p / p_h at t = {:.4} s", sn.t),
+                                bar_label: "p / p_h".into(),
+                            },
                         ],
                         (g.x_min, g.x_max),
                         (g.y_min, g.y_max),

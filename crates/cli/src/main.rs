@@ -123,30 +123,54 @@ fn print_result(outcome: &ehl_cli::Outcome) {
             let f = &o.final_monitor;
             let s = &o.scales;
             let l0 = o.scene.layer.unwrap().supply_thickness_m;
-            println!("scene {} ({}x{}): {:.1} s wall", o.scene.name, o.grid.nx, o.grid.ny, o.total_time_s);
+            println!(
+                "scene {} ({}x{}): {:.1} s wall",
+                o.scene.name, o.grid.nx, o.grid.ny, o.total_time_s
+            );
             if let Some(p) = &o.prerun {
                 println!(
                     "  pre-run to steady rolling: {} steps, {:.4} s simulated, {:.1} s wall{}",
-                    p.steps, p.simulated_time_s, p.wall_time_s, if p.cached { " (cached)" } else { "" }
+                    p.steps,
+                    p.simulated_time_s,
+                    p.wall_time_s,
+                    if p.cached { " (cached)" } else { "" }
                 );
             }
             if let Some(r) = &o.record {
                 println!(
                     "  run: {} steps ({} rejected), {:.4} s simulated, {:.1} s wall, {:.2} ms/step, {:.2} contact iterations/step; {}",
-                    r.steps, r.rejected_steps, o.final_state.t, r.wall_time_s,
+                    r.steps,
+                    r.rejected_steps,
+                    o.final_state.t,
+                    r.wall_time_s,
                     r.wall_time_s / r.steps.max(1) as f64 * 1e3,
-                    r.iterations as f64 / r.steps.max(1) as f64, r.stop_reason
+                    r.iterations as f64 / r.steps.max(1) as f64,
+                    r.stop_reason
                 );
                 if !r.steady {
                     println!("  warning: the run did not reach its stop condition");
                 }
             }
-            println!("  central thickness {:.4e} m ({:.4} l0)   minimum {:.4e} m ({:.4} l0)",
-                f.central_thickness, f.central_thickness / l0, f.minimum_thickness, f.minimum_thickness / l0);
-            println!("  max pressure {:.5e} Pa ({:.4} p_h)   contact diameter {:.4e} m ({:.4} x 2a)   dry diameter {:.4e} m",
-                f.max_pressure, f.max_pressure / s.p_h, f.contact_diameter, f.contact_diameter / (2.0 * s.a), f.dry_diameter);
+            println!(
+                "  central thickness {:.4e} m ({:.4} l0)   minimum {:.4e} m ({:.4} l0)",
+                f.central_thickness,
+                f.central_thickness / l0,
+                f.minimum_thickness,
+                f.minimum_thickness / l0
+            );
+            println!(
+                "  max pressure {:.5e} Pa ({:.4} p_h)   contact diameter {:.4e} m ({:.4} x 2a)   dry diameter {:.4e} m",
+                f.max_pressure,
+                f.max_pressure / s.p_h,
+                f.contact_diameter,
+                f.contact_diameter / (2.0 * s.a),
+                f.dry_diameter
+            );
             if f.lateral_wiggle > 0.05 * s.p_h {
-                println!("  note: row-to-row pressure wiggle {:.3} p_h: the lateral short-wave instability of the layer model (see README)", f.lateral_wiggle / s.p_h);
+                println!(
+                    "  note: row-to-row pressure wiggle {:.3} p_h: the lateral short-wave instability of the layer model (see README)",
+                    f.lateral_wiggle / s.p_h
+                );
             }
         }
     }

@@ -249,7 +249,11 @@ fn dry_figures(o: &DryOutcome, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>
     let g = &o.grid;
     plot::heat_maps(
         &map,
-        &[plot::MapPanel { field: &o.p, title: "Pressure p / p_h".into(), bar_label: "p / p_h".into() }],
+        &[plot::MapPanel {
+            field: &o.p,
+            title: "Pressure p / p_h".into(),
+            bar_label: "p / p_h".into(),
+        }],
         (g.x_min, g.x_max),
         (g.y_min, g.y_max),
         "x / a",

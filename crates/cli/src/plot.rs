@@ -278,11 +278,16 @@ pub fn heat_maps(
     let root = BitMapBackend::new(path, (width, 640)).into_drawing_area();
     root.fill(&WHITE)?;
     let (main, foot) = root.split_vertically(610);
-    foot.draw(&Text::new(footnote.to_string(), (12, 6), (FONT, 14).into_font().color(&BLACK)))?;
+    foot.draw(&Text::new(
+        footnote.to_string(),
+        (12, 6),
+        (FONT, 14).into_font().color(&BLACK),
+    ))?;
     for (area, panel) in main.split_evenly((1, panels.len())).iter().zip(panels) {
         draw_map(area, panel, xr, yr, x_label, y_label)?;
     }
-    root.present().with_context(|| format!("writing {}", path.display()))?;
+    root.present()
+        .with_context(|| format!("writing {}", path.display()))?;
     Ok(())
 }
 
@@ -299,8 +304,16 @@ where
 {
     let field = panel.field;
     let (ny, nx) = field.dim();
-    let lo = field.iter().cloned().filter(|v| v.is_finite()).fold(f64::INFINITY, f64::min);
-    let hi = field.iter().cloned().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
+    let lo = field
+        .iter()
+        .cloned()
+        .filter(|v| v.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    let hi = field
+        .iter()
+        .cloned()
+        .filter(|v| v.is_finite())
+        .fold(f64::NEG_INFINITY, f64::max);
     let span = if hi > lo { hi - lo } else { 1.0 };
     let (left, right) = area.split_horizontally(630);
     let mut chart = ChartBuilder::on(&left)
@@ -317,7 +330,10 @@ where
         .label_style((FONT, 14))
         .axis_desc_style((FONT, 16))
         .draw()?;
-    let (dx, dy) = ((xr.1 - xr.0) / (nx - 1).max(1) as f64, (yr.1 - yr.0) / (ny - 1).max(1) as f64);
+    let (dx, dy) = (
+        (xr.1 - xr.0) / (nx - 1).max(1) as f64,
+        (yr.1 - yr.0) / (ny - 1).max(1) as f64,
+    );
     chart.draw_series(field.indexed_iter().map(|((j, i), &v)| {
         let (x, y) = (xr.0 + i as f64 * dx, yr.0 + j as f64 * dy);
         Rectangle::new(
@@ -344,7 +360,10 @@ where
     bar.draw_series((0..steps).map(|k| {
         let v0 = lo + span * k as f64 / steps as f64;
         let v1 = lo + span * (k + 1) as f64 / steps as f64;
-        Rectangle::new([(0.0, v0), (1.0, v1)], ramp((k as f64 + 0.5) / steps as f64).filled())
+        Rectangle::new(
+            [(0.0, v0), (1.0, v1)],
+            ramp((k as f64 + 0.5) / steps as f64).filled(),
+        )
     }))?;
     Ok(())
 }

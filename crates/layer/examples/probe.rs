@@ -26,7 +26,8 @@ fn main() {
         damper_constant: 5.5e5,
         damper_reading: DamperReading::Factor,
         modulus_law: ModulusLaw::Power,
-        reference_pressure_pa: None, coefficient_smoothing_a: args.get(6).map(|s| s.parse().unwrap()).unwrap_or(0.0),
+        reference_pressure_pa: None,
+        coefficient_smoothing_a: args.get(6).map(|s| s.parse().unwrap()).unwrap_or(0.0),
     };
     let grid = Grid::square(n, 1.25);
     let m = LayerModel::new(

@@ -121,7 +121,10 @@ impl LayerModel {
     }
     pub fn rate_field(&self, p: &Array2<f64>, eps: &Array2<f64>) -> Array2<f64> {
         let pc = self.coefficient_pressure(p);
-        Zip::from(p).and(&pc).and(eps).par_map_collect(|&p, &pc, &e| self.rate(p, pc, e))
+        Zip::from(p)
+            .and(&pc)
+            .and(eps)
+            .par_map_collect(|&p, &pc, &e| self.rate(p, pc, e))
     }
 
     /// The pressure the material coefficients see: `p` itself, or its Gaussian smoothing when
@@ -133,8 +136,9 @@ impl LayerModel {
         }
         let blur = |f: &Array2<f64>, axis: usize, h: f64| -> Array2<f64> {
             let r = (3.0 * sigma / h).ceil() as isize;
-            let w: Vec<f64> =
-                (-r..=r).map(|k| (-0.5 * (k as f64 * h / sigma).powi(2)).exp()).collect();
+            let w: Vec<f64> = (-r..=r)
+                .map(|k| (-0.5 * (k as f64 * h / sigma).powi(2)).exp())
+                .collect();
             let norm: f64 = w.iter().sum();
             let (ny, nx) = f.dim();
             Array2::from_shape_fn((ny, nx), |(j, i)| {
@@ -170,6 +174,9 @@ impl LayerModel {
 
     /// Supply thickness field `L0(x, t)` [a²/R]: `l0`, zero inside holes.
     pub fn supply(&self, t: f64) -> Array2<f64> {
+        if !self.features.iter().any(|f| matches!(f, Feature::Hole(_))) {
+            return Array2::from_elem(self.grid.shape(), self.l0);
+        }
         let holes: Vec<_> = self
             .features
             .iter()

@@ -1,0 +1,466 @@
+//! Layer-model studies: grid and time-step convergence of steady rolling (seed Fig. 15), explicit
+//! against implicit, the explicit stability limit by experiment, speed against accuracy, and the
+//! per-step bench.
+
+use anyhow::Result;
+use ehl_cli::layer::LayerOutcome;
+use ehl_cli::plot::{self, Mark, Panel, Series};
+use ehl_cli::{Outcome, run_scene};
+use ehl_layer::{LayerModel, ModulusLaw, Scheme, Stepper, TimeSettings, squeeze_steady};
+use ehl_scene::Scene;
+use plotters::prelude::SeriesLabelPosition;
+use serde_json::json;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The steady-rolling scene with another grid, scheme and steps per cell.
+pub fn rolling(n: usize, scheme: Scheme, nt: f64) -> Scene {
+    let mut s = ehl_scene::builtin("rolling-from-uniform")
+        .unwrap()
+        .with_points(n)
+        .unwrap();
+    let r = s.run.as_mut().unwrap();
+    r.time = TimeSettings {
+        scheme,
+        steps_per_cell: nt,
+        ..r.time
+    };
+    r.snapshots_s.clear();
+    s.outputs.figures = false;
+    s
+}
+
+fn layer(o: Outcome) -> LayerOutcome {
+    match o {
+        Outcome::Layer(l) => *l,
+        _ => unreachable!(),
+    }
+}
+
+/// One steady-rolling result.
+#[derive(Clone, Debug, serde::Serialize)]
+struct Point {
+    n: usize,
+    scheme: Scheme,
+    nt: f64,
+    dt_s: f64,
+    central_nm: f64,
+    minimum_nm: f64,
+    max_pressure_ph: f64,
+    wiggle_ph: f64,
+    steps: usize,
+    wall_s: f64,
+    steady: bool,
+}
+
+fn measure(n: usize, scheme: Scheme, nt: f64) -> Result<Point> {
+    let o = layer(run_scene(&rolling(n, scheme, nt))?);
+    let rec = o.record.as_ref().unwrap();
+    let f = &o.final_monitor;
+    let p = Point {
+        n,
+        scheme,
+        nt,
+        dt_s: o.grid.dx() * o.scales.a / (nt * 0.01),
+        central_nm: f.central_thickness * 1e9,
+        minimum_nm: f.minimum_thickness * 1e9,
+        max_pressure_ph: f.max_pressure / o.scales.p_h,
+        wiggle_ph: f.lateral_wiggle / o.scales.p_h,
+        steps: rec.steps,
+        wall_s: rec.wall_time_s,
+        steady: rec.steady,
+    };
+    println!(
+        "  {:>4} {:>9} n_t={:>5} dt={:.3e}s  h_c={:8.4} nm  h_min={:7.4} nm  p_max={:.4} p_h  wiggle={:.3} p_h  {:>6} steps {:7.1} s{}",
+        p.n,
+        format!("{:?}", p.scheme),
+        p.nt,
+        p.dt_s,
+        p.central_nm,
+        p.minimum_nm,
+        p.max_pressure_ph,
+        p.wiggle_ph,
+        p.steps,
+        p.wall_s,
+        if p.steady { "" } else { "  NOT STEADY" }
+    );
+    Ok(p)
+}
+
+/// `log2(|q1 − q2| / |q2 − q3|)` for three results with refinement ratio 2.
+fn order3(q1: f64, q2: f64, q3: f64) -> f64 {
+    ((q1 - q2).abs() / (q2 - q3).abs()).log2()
+}
+
+fn print_orders(label: &str, pts: &[&Point]) -> Vec<serde_json::Value> {
+    let mut v = vec![];
+    for w in pts.windows(3) {
+        let (a, b, c) = (w[0], w[1], w[2]);
+        let oc = order3(a.central_nm, b.central_nm, c.central_nm);
+        let om = order3(a.minimum_nm, b.minimum_nm, c.minimum_nm);
+        println!(
+            "  observed order ({label} {} -> {} -> {}): central {:.2}, minimum {:.2}",
+            if label == "grid" { a.n as f64 } else { a.nt },
+            if label == "grid" { b.n as f64 } else { b.nt },
+            if label == "grid" { c.n as f64 } else { c.nt },
+            oc,
+            om
+        );
+        v.push(json!({"from": [a.n, a.nt], "to": [c.n, c.nt], "central": oc, "minimum": om}));
+    }
+    v
+}
+
+/// `cargo xtask convergence layer`.
+pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(out)?;
+    println!(
+        "Layer model, steady rolling from a uniform layer (Table 1, u1 = 0.01 m/s), to steady"
+    );
+    println!("Grid study (n_t = 10):");
+    let mut grid_pts = vec![];
+    for n in crate::grid_sizes(max_points) {
+        grid_pts.push(measure(n, Scheme::Implicit, 10.0)?);
+        // The explicit scheme costs two solves a step: up to 257² here.
+        if n <= 257 {
+            grid_pts.push(measure(n, Scheme::Explicit, 10.0)?);
+        }
+    }
+    let imp: Vec<&Point> = grid_pts
+        .iter()
+        .filter(|p| p.scheme == Scheme::Implicit)
+        .collect();
+    let exp: Vec<&Point> = grid_pts
+        .iter()
+        .filter(|p| p.scheme == Scheme::Explicit)
+        .collect();
+    let mut orders = json!({});
+    orders["grid_implicit"] = json!(print_orders("grid", &imp));
+    orders["grid_explicit"] = json!(print_orders("grid", &exp));
+
+    println!("Time-step study on {nt_points}^2:");
+    let nts = [2.5, 5.0, 10.0, 20.0, 40.0];
+    let mut nt_pts = vec![];
+    for &nt in &nts {
+        nt_pts.push(measure(nt_points, Scheme::Implicit, nt)?);
+    }
+    for &nt in &nts[1..] {
+        nt_pts.push(measure(nt_points, Scheme::Explicit, nt)?);
+    }
+    let imp_t: Vec<&Point> = nt_pts
+        .iter()
+        .filter(|p| p.scheme == Scheme::Implicit)
+        .collect();
+    let exp_t: Vec<&Point> = nt_pts
+        .iter()
+        .filter(|p| p.scheme == Scheme::Explicit)
+        .collect();
+    orders["time_implicit"] = json!(print_orders("n_t", &imp_t));
+    orders["time_explicit"] = json!(print_orders("n_t", &exp_t));
+    let (a, b) = (imp_t.last().unwrap(), exp_t.last().unwrap());
+    println!(
+        "Explicit against implicit at n_t = {} on {}^2: central {:+.2e} nm, minimum {:+.2e} nm, p_max {:+.2e} p_h (implicit's own n_t 20 -> 40 change: central {:.2e}, minimum {:.2e})",
+        a.nt,
+        nt_points,
+        b.central_nm - a.central_nm,
+        b.minimum_nm - a.minimum_nm,
+        b.max_pressure_ph - a.max_pressure_ph,
+        (imp_t[imp_t.len() - 2].central_nm - a.central_nm).abs(),
+        (imp_t[imp_t.len() - 2].minimum_nm - a.minimum_nm).abs(),
+    );
+
+    let stability = stability_limit(&[65, 129, 257.min(max_points)])?;
+
+    // Speed against accuracy: error against the finest implicit result of each study.
+    let finest_grid = *imp.last().unwrap();
+    let finest_t = *imp_t.last().unwrap();
+    let curve = |pts: &[&Point], reference: &Point, label: &str, pick: fn(&Point) -> f64| {
+        Series::new(
+            label,
+            pts.iter()
+                .filter(|p| !std::ptr::eq(**p, reference))
+                .map(|p| (p.wall_s, (pick(p) - pick(reference)).abs()))
+                .collect(),
+            Mark::LinePoints,
+        )
+    };
+    let chart = |title: &str, pick: fn(&Point) -> f64| {
+        Panel::new(
+            title,
+            "wall time [s]",
+            "|error| [nm] vs finest implicit",
+            vec![
+                curve(&imp, finest_grid, "implicit, grids (n_t = 10)", pick),
+                curve(&exp, finest_grid, "explicit, grids (n_t = 10)", pick),
+                curve(
+                    &imp_t,
+                    finest_t,
+                    &format!("implicit, n_t ({nt_points}^2)"),
+                    pick,
+                ),
+                curve(
+                    &exp_t,
+                    finest_t,
+                    &format!("explicit, n_t ({nt_points}^2)"),
+                    pick,
+                ),
+            ],
+        )
+        .log_log()
+        .legend(SeriesLabelPosition::UpperRight)
+    };
+    let png = out.join("layer_speed_accuracy.png");
+    plot::charts(
+        &png,
+        &[
+            chart("Central layer thickness", |p| p.central_nm),
+            chart("Minimum layer thickness", |p| p.minimum_nm),
+        ],
+        &format!(
+            "steady rolling from uniform, Table 1; grid errors against {}^2 implicit, time-step errors against n_t = 40 on {}^2",
+            finest_grid.n, nt_points
+        ),
+    )?;
+    let conv_png = out.join("layer_convergence.png");
+    let vs_n = |pts: &[&Point], pick: fn(&Point) -> f64, label: &str| {
+        Series::new(
+            label,
+            pts.iter().map(|p| (p.n as f64, pick(p))).collect(),
+            Mark::LinePoints,
+        )
+    };
+    let vs_t = |pts: &[&Point], pick: fn(&Point) -> f64, label: &str| {
+        Series::new(
+            label,
+            pts.iter().map(|p| (p.nt, pick(p))).collect(),
+            Mark::LinePoints,
+        )
+    };
+    plot::charts(
+        &conv_png,
+        &[
+            Panel::new(
+                "Grid convergence (n_t = 10)",
+                "points per side",
+                "layer thickness [nm]",
+                vec![
+                    vs_n(&imp, |p| p.central_nm, "central, implicit"),
+                    vs_n(&exp, |p| p.central_nm, "central, explicit"),
+                    vs_n(&imp, |p| p.minimum_nm, "minimum, implicit"),
+                    vs_n(&exp, |p| p.minimum_nm, "minimum, explicit"),
+                ],
+            )
+            .legend(SeriesLabelPosition::MiddleRight),
+            Panel::new(
+                &format!("Time-step convergence ({nt_points}^2)"),
+                "time steps per cell n_t",
+                "layer thickness [nm]",
+                vec![
+                    vs_t(&imp_t, |p| p.central_nm, "central, implicit"),
+                    vs_t(&exp_t, |p| p.central_nm, "central, explicit"),
+                    vs_t(&imp_t, |p| p.minimum_nm, "minimum, implicit"),
+                    vs_t(&exp_t, |p| p.minimum_nm, "minimum, explicit"),
+                ],
+            )
+            .legend(SeriesLabelPosition::MiddleRight),
+        ],
+        "seed Fig. 15 analogue: steady rolling from a uniform 25 nm layer, Table 1",
+    )?;
+    let wig = out.join("layer_lateral_instability.png");
+    plot::charts(
+        &wig,
+        &[Panel::new(
+            "Lateral short-wave instability against grid",
+            "points per side",
+            "row-to-row pressure wiggle / p_h",
+            vec![
+                vs_n(&imp, |p| p.wiggle_ph, "implicit"),
+                vs_n(&exp, |p| p.wiggle_ph, "explicit"),
+            ],
+        )
+        .legend(SeriesLabelPosition::UpperLeft)],
+        "steady rolling, n_t = 10: the model as published grows grid-scale streaks where alpha_eff (p - E eps) > 1 - eps dE/dp",
+    )?;
+    let json_path = out.join("layer_convergence.json");
+    std::fs::write(
+        &json_path,
+        serde_json::to_string_pretty(&json!({
+            "grid_study": grid_pts, "time_step_study": nt_pts, "observed_orders": orders,
+            "explicit_stability": stability,
+        }))? + "\n",
+    )?;
+    Ok(vec![png, conv_png, wig, json_path])
+}
+
+/// Raises the explicit step until the run fails; from the implicit steady state, 0.5 a of travel.
+fn stability_limit(grids: &[usize]) -> Result<Vec<serde_json::Value>> {
+    println!(
+        "Explicit stability limit by experiment (0.5 a of rolling from the implicit steady state):"
+    );
+    let mut rows = vec![];
+    for &n in grids {
+        let scene = rolling(n, Scheme::Implicit, 10.0);
+        let start = layer(run_scene(&scene)?);
+        let (model, estimate) = model_of(&scene);
+        let mut last_ok = None;
+        let mut first_fail = None;
+        for nt in [10.0, 5.0, 3.0, 2.0, 1.5, 1.0, 0.75, 0.5] {
+            let mut s = start.final_state.clone();
+            let dt = model.grid.dx() * model.scales.a / (nt * model.u1);
+            let mut st = Stepper::new(Scheme::Explicit, 0);
+            let steps = (0.5 * nt / model.grid.dx()).ceil() as usize;
+            let mut failure = None;
+            for _ in 0..steps {
+                if let Err(e) = st.step(&model, &mut s, dt) {
+                    failure = Some(e.to_string());
+                    break;
+                }
+            }
+            match failure {
+                None => {
+                    println!("  {n:>4}^2  n_t = {nt:>5}  dt = {dt:.3e} s  stable");
+                    last_ok = Some(dt);
+                }
+                Some(e) => {
+                    println!("  {n:>4}^2  n_t = {nt:>5}  dt = {dt:.3e} s  FAILS: {e}");
+                    first_fail = Some(dt);
+                    break;
+                }
+            }
+        }
+        println!(
+            "  {n:>4}^2: largest stable dt {:.3e} s, first failing {:.3e} s; estimate 2 eta/(E + k l0) = {estimate:.3e} s",
+            last_ok.unwrap_or(f64::NAN),
+            first_fail.unwrap_or(f64::NAN)
+        );
+        rows.push(json!({"n": n, "largest_stable_dt_s": last_ok, "first_failing_dt_s": first_fail, "estimate_s": estimate}));
+    }
+    Ok(rows)
+}
+
+fn model_of(scene: &Scene) -> (LayerModel, f64) {
+    let m = LayerModel::new(
+        &scene.conditions.contact(),
+        &scene.lubricant.unwrap().lubricant(),
+        &scene.layer.unwrap(),
+        scene.conditions.rolling_velocity_m_s.unwrap(),
+        scene.grid(),
+        scene.solver,
+        vec![],
+    );
+    let e = ehl_layer::stability_estimate(&m);
+    (m, e)
+}
+
+/// Seed Fig. 3 analogue: the modulus laws against strain and pressure.
+pub fn modulus_figure(out: &Path) -> Result<PathBuf> {
+    let scene = ehl_scene::builtin("rolling-from-uniform").unwrap();
+    let (m, _) = model_of(&scene.with_points(17).unwrap());
+    let laws = [
+        ModulusLaw::Power,
+        ModulusLaw::PowerLinear,
+        ModulusLaw::Geometric,
+    ];
+    let mut panels = vec![];
+    let style = |k: usize| if k == 0 { Mark::Line } else { Mark::LinePoints };
+    let mut s1 = vec![];
+    let mut s2 = vec![];
+    for (k, law) in laws.iter().enumerate() {
+        for &p in &[0.5, 1.0, 1.5] {
+            s1.push(Series::new(
+                format!("{law:?}, p = {p} p_h"),
+                (0..=50)
+                    .map(|i| {
+                        let e = i as f64 / 50.0;
+                        (e, law.modulus(p, e, m.eo, m.p_ref))
+                    })
+                    .collect(),
+                style(k),
+            ));
+        }
+        for &e in &[0.25, 0.5, 0.9] {
+            s2.push(Series::new(
+                format!("{law:?}, eps = {e}"),
+                (0..=50)
+                    .map(|i| {
+                        let p = 1.5 * i as f64 / 50.0;
+                        (p, law.modulus(p, e, m.eo, m.p_ref))
+                    })
+                    .collect(),
+                style(k),
+            ));
+        }
+    }
+    panels.push(
+        Panel::new("E against strain", "strain eps", "E / p_h", s1)
+            .legend(SeriesLabelPosition::UpperLeft),
+    );
+    panels.push(
+        Panel::new("E against pressure", "p / p_h", "E / p_h", s2)
+            .legend(SeriesLabelPosition::UpperLeft),
+    );
+    let f = out.join("layer_fig03_modulus.png");
+    plot::charts(
+        &f,
+        &panels,
+        &format!(
+            "modulus laws (reconstructions of the seed's lost Eq. 10): Eo = {:.4} p_h, p_ref = p_h; Power (default): E = Eo + max(p - Eo, 0) eps^(p_ref/Eo)",
+            m.eo
+        ),
+    )?;
+    Ok(f)
+}
+
+/// `cargo xtask bench` (layer part): time and contact iterations per step, and the direct
+/// steady-squeeze solve, on 65² … max².
+pub fn bench(max: usize) -> Result<Vec<serde_json::Value>> {
+    println!(
+        "Layer model benchmark: implicit and explicit steps of steady rolling (n_t = 10), steady squeeze"
+    );
+    println!(
+        "{:>5} {:>12} {:>10} {:>12} {:>10} {:>14} {:>8}",
+        "n", "impl ms/step", "its/step", "expl ms/step", "its/step", "squeeze-dir s", "passes"
+    );
+    let mut rows = vec![];
+    for n in crate::grid_sizes(max) {
+        let scene = rolling(n, Scheme::Implicit, 10.0);
+        let (m, _) = model_of(&scene);
+        let t = Instant::now();
+        let (sq, rep) = squeeze_steady(&m)?;
+        let sq_time = t.elapsed().as_secs_f64();
+        let _ = rep;
+        let dt = m.grid.dx() * m.scales.a / (10.0 * m.u1);
+        let mut per = vec![];
+        for scheme in [Scheme::Implicit, Scheme::Explicit] {
+            let mut s = sq.clone();
+            let mut st = Stepper::new(scheme, 0);
+            // Warm up past the restart transient's first steps, then time.
+            for _ in 0..5 {
+                st.step(&m, &mut s, dt)?;
+            }
+            let steps = 40;
+            let t = Instant::now();
+            let mut its = 0;
+            for _ in 0..steps {
+                its += st.step(&m, &mut s, dt)?.iterations;
+            }
+            per.push((
+                t.elapsed().as_secs_f64() / steps as f64 * 1e3,
+                its as f64 / steps as f64,
+            ));
+        }
+        println!(
+            "{:>5} {:>12.2} {:>10.2} {:>12.2} {:>10.2} {:>14.3} {:>8}",
+            n, per[0].0, per[0].1, per[1].0, per[1].1, sq_time, rep.passes
+        );
+        rows.push(json!({
+            "n": n, "implicit_ms_per_step": per[0].0, "implicit_iterations_per_step": per[0].1,
+            "explicit_ms_per_step": per[1].0, "explicit_iterations_per_step": per[1].1,
+            "steady_squeeze_s": sq_time, "steady_squeeze_passes": rep.passes,
+        }));
+    }
+    println!(
+        "Targets: steady squeeze at 513^2 <= 5 s; steady rolling 257^2 n_t = 10 <= 60 s (see `ehl run rolling-from-uniform`)"
+    );
+    Ok(rows)
+}
