@@ -13,6 +13,7 @@ fn hertz_at(n: usize) -> ehl_cli::DryOutcome {
     let scene = ehl_scene::builtin("hertz").unwrap().with_points(n).unwrap();
     match run_scene(&scene).unwrap() {
         Outcome::Dry(o) => o,
+        _ => unreachable!("the hertz scene is dry"),
     }
 }
 
