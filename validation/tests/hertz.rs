@@ -31,10 +31,7 @@ fn scales_match_the_published_values() {
         let digits = v["digits"].as_i64().unwrap() as i32;
         // The reference prints `digits` significant figures: agree to half a unit in the last.
         let tol = 0.5 * 10f64.powi(expected.abs().log10().floor() as i32 - digits + 1);
-        assert!(
-            (value - expected).abs() <= tol,
-            "{key}: {value} vs {expected} ± {tol}"
-        );
+        assert!((value - expected).abs() <= tol, "{key}: {value} vs {expected} ± {tol}");
     }
 }
 
@@ -43,16 +40,8 @@ fn central_pressure_at_129_within_1e_4() {
     let o = hertz_at(129);
     // Measured discretisation error on 129² is 1.5e-5 (xtask convergence dry); the bound the
     // issue sets, 1e-4, leaves room for other machines' rounding but not for a wrong kernel.
-    assert!(
-        o.hertz.p_max_error.abs() < 1e-4,
-        "p_max/p_h - 1 = {}",
-        o.hertz.p_max_error
-    );
-    assert!(
-        o.hertz.approach_error.abs() < 1e-4,
-        "approach error {}",
-        o.hertz.approach_error
-    );
+    assert!(o.hertz.p_max_error.abs() < 1e-4, "p_max/p_h - 1 = {}", o.hertz.p_max_error);
+    assert!(o.hertz.approach_error.abs() < 1e-4, "approach error {}", o.hertz.approach_error);
 }
 
 #[test]
@@ -65,16 +54,9 @@ fn errors_fall_with_refinement() {
         ("max pressure", c.p_max_error, f.p_max_error),
         ("approach", c.approach_error, f.approach_error),
         ("pressure L2", c.pressure_l2_error, f.pressure_l2_error),
-        (
-            "contact radius",
-            c.contact_radius_error,
-            f.contact_radius_error,
-        ),
+        ("contact radius", c.contact_radius_error, f.contact_radius_error),
     ] {
-        assert!(
-            ef.abs() * 1.5 < ec.abs(),
-            "{what}: {ec:e} on 65^2 -> {ef:e} on 129^2"
-        );
+        assert!(ef.abs() * 1.5 < ec.abs(), "{what}: {ec:e} on 65^2 -> {ef:e} on 129^2");
     }
 }
 

@@ -36,9 +36,7 @@ struct Row {
 }
 
 fn bench_grid(n: usize, threads: usize) -> Result<Row> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()?;
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
     pool.install(|| {
         let g = Grid::square(n, 1.25);
         let solver = DrySolver::new(g, DrySettings::default());
@@ -50,11 +48,7 @@ fn bench_grid(n: usize, threads: usize) -> Result<Row> {
 
         let load = 2.0 * std::f64::consts::PI / 3.0;
         let f = g.paraboloid();
-        let prob = DryProblem {
-            rigid_gap: f.view(),
-            compliance: None,
-            load,
-        };
+        let prob = DryProblem { rigid_gap: f.view(), compliance: None, load };
         let mut p = g.zeros();
         let mut rep = None;
         let flat = median_time(if n <= 257 { 7 } else { 3 }, || {
@@ -94,29 +88,15 @@ fn bench_grid(n: usize, threads: usize) -> Result<Row> {
 fn sequence(solver: &DrySolver, gaps: &[Array2<f64>], load: f64, extrap: bool) -> (f64, f64) {
     let g = *solver.grid();
     let (mut p, mut w) = (g.zeros(), g.zeros());
-    let prob0 = DryProblem {
-        rigid_gap: gaps[0].view(),
-        compliance: None,
-        load,
-    };
+    let prob0 = DryProblem { rigid_gap: gaps[0].view(), compliance: None, load };
     solver.solve(&prob0, &mut p, &mut w, Start::Flat).unwrap();
     let mut prev = p.clone();
     let (mut time, mut its) = (0.0, 0usize);
     for gap in &gaps[1..] {
-        let prob = DryProblem {
-            rigid_gap: gap.view(),
-            compliance: None,
-            load,
-        };
+        let prob = DryProblem { rigid_gap: gap.view(), compliance: None, load };
         let t = Instant::now();
-        let mut start = if extrap {
-            extrapolate(&p, &prev)
-        } else {
-            p.clone()
-        };
-        let r = solver
-            .solve(&prob, &mut start, &mut w, Start::Warm)
-            .unwrap();
+        let mut start = if extrap { extrapolate(&p, &prev) } else { p.clone() };
+        let r = solver.solve(&prob, &mut start, &mut w, Start::Warm).unwrap();
         time += t.elapsed().as_secs_f64();
         its += r.iterations;
         prev = std::mem::replace(&mut p, start);

@@ -22,11 +22,7 @@ pub fn dry(out: &Path, max: usize) -> Result<Vec<PathBuf>> {
         let g = Grid::square(n, 1.25);
         let solver = DrySolver::new(g, DrySettings::default());
         let f = g.paraboloid();
-        let prob = DryProblem {
-            rigid_gap: f.view(),
-            compliance: None,
-            load,
-        };
+        let prob = DryProblem { rigid_gap: f.view(), compliance: None, load };
         let (mut p, mut w) = (g.zeros(), g.zeros());
         let t = Instant::now();
         let rep = solver.solve(&prob, &mut p, &mut w, Start::Flat)?;
@@ -46,10 +42,7 @@ pub fn dry(out: &Path, max: usize) -> Result<Vec<PathBuf>> {
         rows.push((n, g.dx(), c, rep.iterations, time));
     }
     println!("Observed orders (log2 of successive error ratios):");
-    println!(
-        "{:>11} {:>9} {:>9} {:>9} {:>9}",
-        "grids", "p_max", "a_c", "delta", "L2(p)"
-    );
+    println!("{:>11} {:>9} {:>9} {:>9} {:>9}", "grids", "p_max", "a_c", "delta", "L2(p)");
     let mut orders = vec![];
     for k in 1..rows.len() {
         let (a, b) = (&rows[k - 1].2, &rows[k].2);
@@ -74,11 +67,7 @@ pub fn dry(out: &Path, max: usize) -> Result<Vec<PathBuf>> {
         }));
     }
     let series = |label: &str, f: fn(&hertz::Comparison) -> f64| {
-        Series::new(
-            label,
-            rows.iter().map(|r| (r.1, f(&r.2).abs())).collect(),
-            Mark::LinePoints,
-        )
+        Series::new(label, rows.iter().map(|r| (r.1, f(&r.2).abs())).collect(), Mark::LinePoints)
     };
     let png = out.join("dry_convergence.png");
     plot::charts(
@@ -89,9 +78,7 @@ pub fn dry(out: &Path, max: usize) -> Result<Vec<PathBuf>> {
             "|error| (relative)",
             vec![
                 series("max pressure", |c| c.p_max_error),
-                series("contact radius (area-equivalent)", |c| {
-                    c.contact_radius_error
-                }),
+                series("contact radius (area-equivalent)", |c| c.contact_radius_error),
                 series("approach", |c| c.approach_error),
                 series("pressure L2", |c| c.pressure_l2_error),
             ],

@@ -15,18 +15,18 @@ use std::time::Instant;
 
 /// The steady-rolling scene with another grid, scheme and steps per cell.
 pub fn rolling(n: usize, scheme: Scheme, nt: f64) -> Scene {
-    let mut s = ehl_scene::builtin("rolling-from-uniform")
-        .unwrap()
-        .with_points(n)
-        .unwrap();
+    let mut s = ehl_scene::builtin("rolling-from-uniform").unwrap().with_points(n).unwrap();
     let r = s.run.as_mut().unwrap();
-    r.time = TimeSettings {
-        scheme,
-        steps_per_cell: nt,
-        ..r.time
-    };
+    r.time = TimeSettings { scheme, steps_per_cell: nt, ..r.time };
     r.snapshots_s.clear();
     s.outputs.figures = false;
+    s
+}
+
+/// The same with the coefficient smoothing set to `sigma` [a] (0: the model as published).
+pub fn rolling_smoothed(n: usize, sigma: f64) -> Scene {
+    let mut s = rolling(n, Scheme::Implicit, 10.0);
+    s.layer.as_mut().unwrap().coefficient_smoothing_a = sigma;
     s
 }
 
@@ -54,7 +54,15 @@ struct Point {
 }
 
 fn measure(n: usize, scheme: Scheme, nt: f64) -> Result<Point> {
-    let o = layer(run_scene(&rolling(n, scheme, nt))?);
+    measure_scene(&rolling(n, scheme, nt))
+}
+
+fn measure_scene(scene: &Scene) -> Result<Point> {
+    let (n, scheme, nt) = {
+        let t = &scene.run.as_ref().unwrap().time;
+        (scene.grid.nx, t.scheme, t.steps_per_cell)
+    };
+    let o = layer(run_scene(scene)?);
     let rec = o.record.as_ref().unwrap();
     let f = &o.final_monitor;
     let p = Point {
@@ -126,14 +134,8 @@ pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Ve
             grid_pts.push(measure(n, Scheme::Explicit, 10.0)?);
         }
     }
-    let imp: Vec<&Point> = grid_pts
-        .iter()
-        .filter(|p| p.scheme == Scheme::Implicit)
-        .collect();
-    let exp: Vec<&Point> = grid_pts
-        .iter()
-        .filter(|p| p.scheme == Scheme::Explicit)
-        .collect();
+    let imp: Vec<&Point> = grid_pts.iter().filter(|p| p.scheme == Scheme::Implicit).collect();
+    let exp: Vec<&Point> = grid_pts.iter().filter(|p| p.scheme == Scheme::Explicit).collect();
     let mut orders = json!({});
     orders["grid_implicit"] = json!(print_orders("grid", &imp));
     orders["grid_explicit"] = json!(print_orders("grid", &exp));
@@ -147,14 +149,8 @@ pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Ve
     for &nt in &nts[1..] {
         nt_pts.push(measure(nt_points, Scheme::Explicit, nt)?);
     }
-    let imp_t: Vec<&Point> = nt_pts
-        .iter()
-        .filter(|p| p.scheme == Scheme::Implicit)
-        .collect();
-    let exp_t: Vec<&Point> = nt_pts
-        .iter()
-        .filter(|p| p.scheme == Scheme::Explicit)
-        .collect();
+    let imp_t: Vec<&Point> = nt_pts.iter().filter(|p| p.scheme == Scheme::Implicit).collect();
+    let exp_t: Vec<&Point> = nt_pts.iter().filter(|p| p.scheme == Scheme::Explicit).collect();
     orders["time_implicit"] = json!(print_orders("n_t", &imp_t));
     orders["time_explicit"] = json!(print_orders("n_t", &exp_t));
     let (a, b) = (imp_t.last().unwrap(), exp_t.last().unwrap());
@@ -170,6 +166,13 @@ pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Ve
     );
 
     let stability = stability_limit(&[65, 129, 257.min(max_points)])?;
+
+    println!("Lateral instability: the model as published (smoothing 0), implicit, n_t = 10:");
+    let default_sigma = rolling(65, Scheme::Implicit, 10.0).layer.unwrap().coefficient_smoothing_a;
+    let mut raw = vec![];
+    for n in crate::grid_sizes(max_points.min(257)) {
+        raw.push(measure_scene(&rolling_smoothed(n, 0.0))?);
+    }
 
     // Speed against accuracy: error against the finest implicit result of each study.
     let finest_grid = *imp.last().unwrap();
@@ -192,18 +195,8 @@ pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Ve
             vec![
                 curve(&imp, finest_grid, "implicit, grids (n_t = 10)", pick),
                 curve(&exp, finest_grid, "explicit, grids (n_t = 10)", pick),
-                curve(
-                    &imp_t,
-                    finest_t,
-                    &format!("implicit, n_t ({nt_points}^2)"),
-                    pick,
-                ),
-                curve(
-                    &exp_t,
-                    finest_t,
-                    &format!("explicit, n_t ({nt_points}^2)"),
-                    pick,
-                ),
+                curve(&imp_t, finest_t, &format!("implicit, n_t ({nt_points}^2)"), pick),
+                curve(&exp_t, finest_t, &format!("explicit, n_t ({nt_points}^2)"), pick),
             ],
         )
         .log_log()
@@ -223,18 +216,10 @@ pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Ve
     )?;
     let conv_png = out.join("layer_convergence.png");
     let vs_n = |pts: &[&Point], pick: fn(&Point) -> f64, label: &str| {
-        Series::new(
-            label,
-            pts.iter().map(|p| (p.n as f64, pick(p))).collect(),
-            Mark::LinePoints,
-        )
+        Series::new(label, pts.iter().map(|p| (p.n as f64, pick(p))).collect(), Mark::LinePoints)
     };
     let vs_t = |pts: &[&Point], pick: fn(&Point) -> f64, label: &str| {
-        Series::new(
-            label,
-            pts.iter().map(|p| (p.nt, pick(p))).collect(),
-            Mark::LinePoints,
-        )
+        Series::new(label, pts.iter().map(|p| (p.nt, pick(p))).collect(), Mark::LinePoints)
     };
     plot::charts(
         &conv_png,
@@ -274,18 +259,19 @@ pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Ve
             "points per side",
             "row-to-row pressure wiggle / p_h",
             vec![
-                vs_n(&imp, |p| p.wiggle_ph, "implicit"),
-                vs_n(&exp, |p| p.wiggle_ph, "explicit"),
+                vs_n(&raw.iter().collect::<Vec<_>>(), |p| p.wiggle_ph, "as published (no smoothing)"),
+                vs_n(&imp, |p| p.wiggle_ph, &format!("smoothing {default_sigma} a (default)")),
             ],
         )
         .legend(SeriesLabelPosition::UpperLeft)],
-        "steady rolling, n_t = 10: the model as published grows grid-scale streaks where alpha_eff (p - E eps) > 1 - eps dE/dp",
+        "steady rolling, implicit, n_t = 10: streaks grow where alpha_eff (p - E eps) > 1 - eps dE/dp; smoothing the coefficients' pressure removes them",
     )?;
     let json_path = out.join("layer_convergence.json");
     std::fs::write(
         &json_path,
         serde_json::to_string_pretty(&json!({
             "grid_study": grid_pts, "time_step_study": nt_pts, "observed_orders": orders,
+            "as_published_grid_study": raw, "default_smoothing_a": default_sigma,
             "explicit_stability": stability,
         }))? + "\n",
     )?;
@@ -356,11 +342,7 @@ fn model_of(scene: &Scene) -> (LayerModel, f64) {
 pub fn modulus_figure(out: &Path) -> Result<PathBuf> {
     let scene = ehl_scene::builtin("rolling-from-uniform").unwrap();
     let (m, _) = model_of(&scene.with_points(17).unwrap());
-    let laws = [
-        ModulusLaw::Power,
-        ModulusLaw::PowerLinear,
-        ModulusLaw::Geometric,
-    ];
+    let laws = [ModulusLaw::Power, ModulusLaw::PowerLinear, ModulusLaw::Geometric];
     let mut panels = vec![];
     let style = |k: usize| if k == 0 { Mark::Line } else { Mark::LinePoints };
     let mut s1 = vec![];
@@ -444,10 +426,7 @@ pub fn bench(max: usize) -> Result<Vec<serde_json::Value>> {
             for _ in 0..steps {
                 its += st.step(&m, &mut s, dt)?.iterations;
             }
-            per.push((
-                t.elapsed().as_secs_f64() / steps as f64 * 1e3,
-                its as f64 / steps as f64,
-            ));
+            per.push((t.elapsed().as_secs_f64() / steps as f64 * 1e3, its as f64 / steps as f64));
         }
         println!(
             "{:>5} {:>12.2} {:>10.2} {:>12.2} {:>10.2} {:>14.3} {:>8}",

@@ -57,28 +57,19 @@ enum Study {
 fn main() -> Result<()> {
     match Cli::parse().command {
         Command::Figures { out } => figures(&out),
-        Command::Convergence {
-            study: Study::Dry,
-            out,
-            max_points,
-            ..
-        } => convergence::dry(&out, max_points).map(|_| ()),
-        Command::Convergence {
-            study: Study::Layer,
-            out,
-            max_points,
-            nt_points,
-        } => layer::convergence(&out, max_points, nt_points).map(|_| ()),
+        Command::Convergence { study: Study::Dry, out, max_points, .. } => {
+            convergence::dry(&out, max_points).map(|_| ())
+        }
+        Command::Convergence { study: Study::Layer, out, max_points, nt_points } => {
+            layer::convergence(&out, max_points, nt_points).map(|_| ())
+        }
         Command::Bench { out, max_points } => bench::run(&out, max_points),
     }
 }
 
 /// Grid sizes 65, 129, … up to `max` points per side.
 pub fn grid_sizes(max: usize) -> Vec<usize> {
-    (6..=12)
-        .map(|k| (1usize << k) + 1)
-        .filter(|&n| n <= max)
-        .collect()
+    (6..=12).map(|k| (1usize << k) + 1).filter(|&n| n <= max).collect()
 }
 
 fn figures(out: &std::path::Path) -> Result<()> {

@@ -144,10 +144,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
                         stop_reason: rec.stop_reason.clone(),
                         cached: false,
                     };
-                    cache()
-                        .lock()
-                        .unwrap()
-                        .insert(key, (s.clone(), info.clone()));
+                    cache().lock().unwrap().insert(key, (s.clone(), info.clone()));
                     prerun = Some(info);
                     s
                 }
@@ -168,16 +165,11 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
                 stepper.reset();
             }
             let label = format!("{:?}", motion).to_lowercase();
-            let rec = run(
-                &m,
-                &mut state,
-                &mut stepper,
-                &r.time,
-                &r.stop,
-                &r.snapshots_s,
-                &mut |t| spin.set_message(format!("{label}: t = {t:.4} s")),
-            )
-            .with_context(|| fail(&format!("{label} run")))?;
+            let rec =
+                run(&m, &mut state, &mut stepper, &r.time, &r.stop, &r.snapshots_s, &mut |t| {
+                    spin.set_message(format!("{label}: t = {t:.4} s"))
+                })
+                .with_context(|| fail(&format!("{label} run")))?;
             Some(rec)
         }
     };
@@ -289,20 +281,14 @@ impl LayerOutcome {
                 ("x_m".into(), xs.iter().map(|&x| s.x_si(x)).collect()),
                 (
                     "pressure_pa".into(),
-                    self.row(&self.final_state.p)
-                        .iter()
-                        .map(|&v| s.p_si(v))
-                        .collect(),
+                    self.row(&self.final_state.p).iter().map(|&v| s.p_si(v)).collect(),
                 ),
                 (
                     "layer_thickness_m".into(),
                     self.row(&self.l).iter().map(|&v| s.h_si(v)).collect(),
                 ),
                 ("strain".into(), self.row(&self.final_state.eps)),
-                (
-                    "gap_m".into(),
-                    self.row(&self.gap).iter().map(|&v| s.h_si(v)).collect(),
-                ),
+                ("gap_m".into(), self.row(&self.gap).iter().map(|&v| s.h_si(v)).collect()),
                 (
                     "pressure_dry_hertz_pa".into(),
                     xs.iter().map(|&x| s.p_si(hertz::pressure(x, y))).collect(),
@@ -314,10 +300,7 @@ impl LayerOutcome {
     pub fn fields(&self) -> Vec<(String, Array2<f64>)> {
         let s = &self.scales;
         let mut v = vec![
-            (
-                "pressure_pa".to_string(),
-                self.final_state.p.mapv(|v| s.p_si(v)),
-            ),
+            ("pressure_pa".to_string(), self.final_state.p.mapv(|v| s.p_si(v))),
             ("layer_thickness_m".to_string(), self.l.mapv(|v| s.h_si(v))),
             ("strain".to_string(), self.final_state.eps.clone()),
             ("gap_m".to_string(), self.gap.mapv(|v| s.h_si(v))),
@@ -326,10 +309,7 @@ impl LayerOutcome {
             for (k, snap) in rec.snapshots.iter().enumerate() {
                 let tag = format!("snapshot{k:02}_t{:.5}s", snap.t);
                 v.push((format!("{tag}_pressure_pa"), snap.p.mapv(|v| s.p_si(v))));
-                v.push((
-                    format!("{tag}_layer_thickness_m"),
-                    snap.l.mapv(|v| s.h_si(v)),
-                ));
+                v.push((format!("{tag}_layer_thickness_m"), snap.l.mapv(|v| s.h_si(v))));
             }
         }
         v
@@ -391,10 +371,7 @@ impl LayerOutcome {
         let l0_nm = self.scene.layer.unwrap().supply_thickness_m * 1e9;
         let x: Vec<f64> = g.xs();
         let line = |field: &Array2<f64>, scale: f64| -> Vec<(f64, f64)> {
-            x.iter()
-                .cloned()
-                .zip(self.row(field).iter().map(|v| v * scale))
-                .collect()
+            x.iter().cloned().zip(self.row(field).iter().map(|v| v * scale)).collect()
         };
         // Final centrelines: layer thickness and pressure, with dry Hertz for reference.
         let f = dir.join(format!("{prefix}centreline.png"));
@@ -406,11 +383,7 @@ impl LayerOutcome {
                     "Layer thickness along y = 0",
                     "x / a",
                     "l [nm]",
-                    vec![Series::new(
-                        "layer model",
-                        line(&self.l, s.delta * 1e9),
-                        Mark::Line,
-                    )],
+                    vec![Series::new("layer model", line(&self.l, s.delta * 1e9), Mark::Line)],
                 )
                 .legend(plotters::prelude::SeriesLabelPosition::LowerRight),
                 Panel::new(

@@ -6,11 +6,7 @@ use ehl_cli::{output, run_scene};
 use std::path::PathBuf;
 
 #[derive(Parser)]
-#[command(
-    name = "ehl",
-    version,
-    about = "EHL point-contact validation workbench"
-)]
+#[command(name = "ehl", version, about = "EHL point-contact validation workbench")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -56,21 +52,14 @@ fn real_main() -> Result<()> {
             let s = ehl_scene::load(&scene)?;
             println!("{}", s.to_json());
         }
-        Command::Run {
-            scene,
-            out,
-            grid,
-            threads,
-        } => {
+        Command::Run { scene, out, grid, threads } => {
             let mut s = ehl_scene::load(&scene)?;
             if let Some(n) = grid {
                 s = s.with_points(n)?;
             }
             if let Some(t) = threads {
                 anyhow::ensure!(t >= 1, "--threads must be >= 1");
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(t)
-                    .build_global()?;
+                rayon::ThreadPoolBuilder::new().num_threads(t).build_global()?;
             }
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
             let outcome = run_scene(&s)?;

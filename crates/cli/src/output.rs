@@ -22,19 +22,10 @@ pub struct Centreline {
 
 impl Centreline {
     pub fn to_csv(&self) -> String {
-        let mut s = self
-            .columns
-            .iter()
-            .map(|c| c.0.as_str())
-            .collect::<Vec<_>>()
-            .join(",");
+        let mut s = self.columns.iter().map(|c| c.0.as_str()).collect::<Vec<_>>().join(",");
         s.push('\n');
         for k in 0..self.columns[0].1.len() {
-            let row: Vec<String> = self
-                .columns
-                .iter()
-                .map(|c| format!("{:e}", c.1[k]))
-                .collect();
+            let row: Vec<String> = self.columns.iter().map(|c| format!("{:e}", c.1[k])).collect();
             s.push_str(&row.join(","));
             s.push('\n');
         }
@@ -117,10 +108,7 @@ fn dry_summary(o: &DryOutcome) -> Value {
     put("max_pressure", q(s.p_si(h.p_max), "Pa"));
     put("contact_radius", q(s.x_si(h.contact_radius), "m"));
     put("approach", q(s.h_si(h.approach), "m"));
-    put(
-        "load",
-        q(o.p.sum() * o.grid.cell_area() * s.p_h * s.a * s.a, "N"),
-    );
+    put("load", q(o.p.sum() * o.grid.cell_area() * s.p_h * s.a * s.a, "N"));
     let mut hertz_ref = Map::new();
     hertz_ref.insert("contact_radius_a".into(), q(s.a, "m"));
     hertz_ref.insert("max_pressure_p_h".into(), q(s.p_h, "Pa"));
@@ -164,23 +152,15 @@ fn dry_centreline(o: &DryOutcome) -> Centreline {
     Centreline {
         columns: vec![
             ("x_m".into(), xs.iter().map(|&x| s.x_si(x)).collect()),
-            (
-                "pressure_pa".into(),
-                o.p.row(j).iter().map(|&v| s.p_si(v)).collect(),
-            ),
-            (
-                "gap_m".into(),
-                o.gap.row(j).iter().map(|&v| s.h_si(v)).collect(),
-            ),
+            ("pressure_pa".into(), o.p.row(j).iter().map(|&v| s.p_si(v)).collect()),
+            ("gap_m".into(), o.gap.row(j).iter().map(|&v| s.h_si(v)).collect()),
             (
                 "pressure_hertz_pa".into(),
                 xs.iter().map(|&x| s.p_si(hertz::pressure(x, y))).collect(),
             ),
             (
                 "gap_hertz_m".into(),
-                xs.iter()
-                    .map(|&x| s.h_si(hertz::gap((x * x + y * y).sqrt())))
-                    .collect(),
+                xs.iter().map(|&x| s.h_si(hertz::gap((x * x + y * y).sqrt()))).collect(),
             ),
         ],
     }
@@ -206,18 +186,12 @@ fn dry_figures(o: &DryOutcome, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>
     let line = dry_centreline(o);
     let x: Vec<f64> = line.columns[0].1.iter().map(|&v| v / o.scales.a).collect();
     let col = |k: usize, scale: f64| -> Vec<(f64, f64)> {
-        x.iter()
-            .cloned()
-            .zip(line.columns[k].1.iter().map(|v| v / scale))
-            .collect()
+        x.iter().cloned().zip(line.columns[k].1.iter().map(|v| v / scale)).collect()
     };
     let fine_x: Vec<f64> = (0..=400)
         .map(|k| o.grid.x_min + (o.grid.x_max - o.grid.x_min) * k as f64 / 400.0)
         .collect();
-    let hertz_p: Vec<(f64, f64)> = fine_x
-        .iter()
-        .map(|&x| (x, hertz::pressure(x, 0.0)))
-        .collect();
+    let hertz_p: Vec<(f64, f64)> = fine_x.iter().map(|&x| (x, hertz::pressure(x, 0.0))).collect();
     let hertz_h: Vec<(f64, f64)> = fine_x.iter().map(|&x| (x, hertz::gap(x.abs()))).collect();
     let centre = dir.join(format!("{prefix}centreline.png"));
     plot::charts(
@@ -293,10 +267,7 @@ fn write_into(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
     let outputs = outcome.scene().outputs;
     let mut files = vec![];
     let summary = dir.join("summary.json");
-    std::fs::write(
-        &summary,
-        serde_json::to_string_pretty(&outcome.summary())? + "\n",
-    )?;
+    std::fs::write(&summary, serde_json::to_string_pretty(&outcome.summary())? + "\n")?;
     files.push(summary);
     if let Outcome::Layer(o) = outcome {
         if let Some(csv) = o.time_series_csv() {

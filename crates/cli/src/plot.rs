@@ -35,11 +35,7 @@ pub struct Series {
 
 impl Series {
     pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, mark: Mark) -> Self {
-        Self {
-            label: label.into(),
-            points,
-            mark,
-        }
+        Self { label: label.into(), points, mark }
     }
 }
 
@@ -123,20 +119,8 @@ fn draw_panel<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    let xs = range(
-        panel
-            .series
-            .iter()
-            .flat_map(|s| s.points.iter().map(|p| p.0)),
-        panel.log_x,
-    );
-    let ys = range(
-        panel
-            .series
-            .iter()
-            .flat_map(|s| s.points.iter().map(|p| p.1)),
-        panel.log_y,
-    );
+    let xs = range(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.0)), panel.log_x);
+    let ys = range(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)), panel.log_y);
     let mut builder = ChartBuilder::on(area);
     builder
         .caption(&panel.title, (FONT, 20))
@@ -226,28 +210,18 @@ pub fn charts(path: &Path, panels: &[Panel], footnote: &str) -> Result<()> {
     let root = BitMapBackend::new(path, (width, 520)).into_drawing_area();
     root.fill(&WHITE)?;
     let (main, foot) = root.split_vertically(490);
-    foot.draw(&Text::new(
-        footnote.to_string(),
-        (12, 6),
-        (FONT, 14).into_font().color(&BLACK),
-    ))?;
+    foot.draw(&Text::new(footnote.to_string(), (12, 6), (FONT, 14).into_font().color(&BLACK)))?;
     for (area, panel) in main.split_evenly((1, panels.len())).iter().zip(panels) {
         draw_panel(area, panel)?;
     }
-    root.present()
-        .with_context(|| format!("writing {}", path.display()))?;
+    root.present().with_context(|| format!("writing {}", path.display()))?;
     Ok(())
 }
 
 /// Colour for `t ∈ [0, 1]`: a perceptually ordered blue–green–yellow ramp (viridis-like).
 fn ramp(t: f64) -> RGBColor {
-    const STOPS: [(f64, f64, f64); 5] = [
-        (68., 1., 84.),
-        (59., 82., 139.),
-        (33., 145., 140.),
-        (94., 201., 98.),
-        (253., 231., 37.),
-    ];
+    const STOPS: [(f64, f64, f64); 5] =
+        [(68., 1., 84.), (59., 82., 139.), (33., 145., 140.), (94., 201., 98.), (253., 231., 37.)];
     let t = t.clamp(0.0, 1.0) * 4.0;
     let k = (t.floor() as usize).min(3);
     let f = t - k as f64;
@@ -278,16 +252,11 @@ pub fn heat_maps(
     let root = BitMapBackend::new(path, (width, 640)).into_drawing_area();
     root.fill(&WHITE)?;
     let (main, foot) = root.split_vertically(610);
-    foot.draw(&Text::new(
-        footnote.to_string(),
-        (12, 6),
-        (FONT, 14).into_font().color(&BLACK),
-    ))?;
+    foot.draw(&Text::new(footnote.to_string(), (12, 6), (FONT, 14).into_font().color(&BLACK)))?;
     for (area, panel) in main.split_evenly((1, panels.len())).iter().zip(panels) {
         draw_map(area, panel, xr, yr, x_label, y_label)?;
     }
-    root.present()
-        .with_context(|| format!("writing {}", path.display()))?;
+    root.present().with_context(|| format!("writing {}", path.display()))?;
     Ok(())
 }
 
@@ -304,16 +273,8 @@ where
 {
     let field = panel.field;
     let (ny, nx) = field.dim();
-    let lo = field
-        .iter()
-        .cloned()
-        .filter(|v| v.is_finite())
-        .fold(f64::INFINITY, f64::min);
-    let hi = field
-        .iter()
-        .cloned()
-        .filter(|v| v.is_finite())
-        .fold(f64::NEG_INFINITY, f64::max);
+    let lo = field.iter().cloned().filter(|v| v.is_finite()).fold(f64::INFINITY, f64::min);
+    let hi = field.iter().cloned().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
     let span = if hi > lo { hi - lo } else { 1.0 };
     let (left, right) = area.split_horizontally(630);
     let mut chart = ChartBuilder::on(&left)
@@ -330,10 +291,7 @@ where
         .label_style((FONT, 14))
         .axis_desc_style((FONT, 16))
         .draw()?;
-    let (dx, dy) = (
-        (xr.1 - xr.0) / (nx - 1).max(1) as f64,
-        (yr.1 - yr.0) / (ny - 1).max(1) as f64,
-    );
+    let (dx, dy) = ((xr.1 - xr.0) / (nx - 1).max(1) as f64, (yr.1 - yr.0) / (ny - 1).max(1) as f64);
     chart.draw_series(field.indexed_iter().map(|((j, i), &v)| {
         let (x, y) = (xr.0 + i as f64 * dx, yr.0 + j as f64 * dy);
         Rectangle::new(
@@ -360,10 +318,7 @@ where
     bar.draw_series((0..steps).map(|k| {
         let v0 = lo + span * k as f64 / steps as f64;
         let v1 = lo + span * (k + 1) as f64 / steps as f64;
-        Rectangle::new(
-            [(0.0, v0), (1.0, v1)],
-            ramp((k as f64 + 0.5) / steps as f64).filled(),
-        )
+        Rectangle::new([(0.0, v0), (1.0, v1)], ramp((k as f64 + 0.5) / steps as f64).filled())
     }))?;
     Ok(())
 }

@@ -58,11 +58,8 @@ fn run_dry(scene: &Scene) -> Result<DryOutcome> {
     let solver = DrySolver::new(grid, scene.solver);
     let setup_time_s = t0.elapsed().as_secs_f64();
     let shape = grid.paraboloid();
-    let problem = DryProblem {
-        rigid_gap: shape.view(),
-        compliance: None,
-        load: scales.load_dimensionless(),
-    };
+    let problem =
+        DryProblem { rigid_gap: shape.view(), compliance: None, load: scales.load_dimensionless() };
     let (mut p, mut w) = (grid.zeros(), grid.zeros());
     let t1 = Instant::now();
     let report = solver

@@ -10,17 +10,10 @@ fn ehl() -> Command {
 fn run_writes_every_output_in_si() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("hertz");
-    let o = ehl()
-        .args(["run", "hertz", "--grid", "33", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = ehl().args(["run", "hertz", "--grid", "33", "--out"]).arg(&out).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        stdout.contains("wrote") && stdout.contains(out.to_str().unwrap()),
-        "{stdout}"
-    );
+    assert!(stdout.contains("wrote") && stdout.contains(out.to_str().unwrap()), "{stdout}");
     for f in [
         "summary.json",
         "centreline.csv",
@@ -53,32 +46,16 @@ fn run_writes_every_output_in_si() {
 fn bad_scene_is_refused_before_anything_is_written() {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("bad.json");
-    let text = ehl_scene::builtin("hertz")
-        .unwrap()
-        .to_json()
-        .replace("0.009525", "-0.009525");
+    let text = ehl_scene::builtin("hertz").unwrap().to_json().replace("0.009525", "-0.009525");
     std::fs::write(&scene, text).unwrap();
     let out = dir.path().join("out");
-    let o = ehl()
-        .arg("run")
-        .arg(&scene)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = ehl().arg("run").arg(&scene).arg("--out").arg(&out).output().unwrap();
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        err.contains("conditions.ball_radius_m") && err.contains("> 0"),
-        "{err}"
-    );
+    assert!(err.contains("conditions.ball_radius_m") && err.contains("> 0"), "{err}");
     assert!(!out.exists(), "output folder created for a refused scene");
 
-    let o = ehl()
-        .args(["run", "hertz", "--grid", "4", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = ehl().args(["run", "hertz", "--grid", "4", "--out"]).arg(&out).output().unwrap();
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("grid.nx"));
     assert!(!out.exists());

@@ -22,16 +22,8 @@ use std::sync::{Arc, Mutex};
 /// cancellation in `v + r` for negative `v`.
 pub fn rectangle_influence(x: f64, y: f64, hx: f64, hy: f64) -> f64 {
     fn g(u: f64, v: f64) -> f64 {
-        let a = if u == 0.0 {
-            0.0
-        } else {
-            u * (v / u.abs()).asinh()
-        };
-        let b = if v == 0.0 {
-            0.0
-        } else {
-            v * (u / v.abs()).asinh()
-        };
+        let a = if u == 0.0 { 0.0 } else { u * (v / u.abs()).asinh() };
+        let b = if v == 0.0 { 0.0 } else { v * (u / v.abs()).asinh() };
         a + b
     }
     g(x + hx, y + hy) - g(x + hx, y - hy) - g(x - hx, y + hy) + g(x - hx, y - hy)
@@ -155,9 +147,7 @@ impl Deformation {
                     }
                 }
             }
-            self.r2c
-                .process(&mut line, &mut rows[j * kx..(j + 1) * kx])
-                .unwrap();
+            self.r2c.process(&mut line, &mut rows[j * kx..(j + 1) * kx]).unwrap();
         }
         let mut symbol = vec![0.0; kx * my];
         let mut col = vec![Complex::new(0.0, 0.0); my];
@@ -191,10 +181,7 @@ impl Deformation {
         assert_eq!(input.dim(), (ny, nx), "input field does not match the grid");
         assert_eq!(out.dim(), (ny, nx), "output field does not match the grid");
         let (mut rows, mut cols) = self.buffers.lock().unwrap().pop().unwrap_or_else(|| {
-            (
-                vec![Complex::new(0.0, 0.0); ny * kx],
-                vec![Complex::new(0.0, 0.0); kx * my],
-            )
+            (vec![Complex::new(0.0, 0.0); ny * kx], vec![Complex::new(0.0, 0.0); kx * my])
         });
         let norm = 1.0 / (mx * my) as f64;
 
@@ -202,10 +189,7 @@ impl Deformation {
         rows.par_chunks_mut(kx).enumerate().for_each_init(
             || (vec![0.0; mx], self.r2c.make_scratch_vec()),
             |(line, scratch), (j, spec)| {
-                line[..nx]
-                    .iter_mut()
-                    .zip(input.row(j))
-                    .for_each(|(l, &v)| *l = v);
+                line[..nx].iter_mut().zip(input.row(j)).for_each(|(l, &v)| *l = v);
                 line[nx..].iter_mut().for_each(|l| *l = 0.0);
                 self.r2c.process_with_scratch(line, spec, scratch).unwrap();
             },
@@ -218,9 +202,7 @@ impl Deformation {
                 for j in 0..ny {
                     col[j] = rows_ref[j * kx + k];
                 }
-                col[ny..]
-                    .iter_mut()
-                    .for_each(|c| *c = Complex::new(0.0, 0.0));
+                col[ny..].iter_mut().for_each(|c| *c = Complex::new(0.0, 0.0));
                 self.fft_y.process_with_scratch(col, scratch);
                 let s = &self.symbol[k * my..(k + 1) * my];
                 match symbol {
@@ -228,9 +210,7 @@ impl Deformation {
                         col.iter_mut().zip(s).for_each(|(c, &s)| *c *= s * norm);
                     }
                     Symbol::InverseShifted(shift) => {
-                        col.iter_mut()
-                            .zip(s)
-                            .for_each(|(c, &s)| *c *= norm / (s + shift));
+                        col.iter_mut().zip(s).for_each(|(c, &s)| *c *= norm / (s + shift));
                     }
                 }
                 self.ifft_y.process_with_scratch(col, scratch);
@@ -238,33 +218,21 @@ impl Deformation {
         );
         // C: per output row: gather the spectrum, inverse real FFT, keep the first nx values.
         let cols_ref = &cols;
-        out.axis_iter_mut(ndarray::Axis(0))
-            .into_par_iter()
-            .enumerate()
-            .for_each_init(
-                || {
-                    (
-                        vec![Complex::new(0.0, 0.0); kx],
-                        vec![0.0; mx],
-                        self.c2r.make_scratch_vec(),
-                    )
-                },
-                |(spec, line, scratch), (j, mut out_row)| {
-                    for k in 0..kx {
-                        spec[k] = cols_ref[k * my + j];
-                    }
-                    // The result is real: the imaginary parts at 0 and Nyquist are rounding noise.
-                    spec[0].im = 0.0;
-                    if mx % 2 == 0 {
-                        spec[kx - 1].im = 0.0;
-                    }
-                    self.c2r.process_with_scratch(spec, line, scratch).unwrap();
-                    out_row
-                        .iter_mut()
-                        .zip(&line[..nx])
-                        .for_each(|(o, &l)| *o = l);
-                },
-            );
+        out.axis_iter_mut(ndarray::Axis(0)).into_par_iter().enumerate().for_each_init(
+            || (vec![Complex::new(0.0, 0.0); kx], vec![0.0; mx], self.c2r.make_scratch_vec()),
+            |(spec, line, scratch), (j, mut out_row)| {
+                for k in 0..kx {
+                    spec[k] = cols_ref[k * my + j];
+                }
+                // The result is real: the imaginary parts at 0 and Nyquist are rounding noise.
+                spec[0].im = 0.0;
+                if mx % 2 == 0 {
+                    spec[kx - 1].im = 0.0;
+                }
+                self.c2r.process_with_scratch(spec, line, scratch).unwrap();
+                out_row.iter_mut().zip(&line[..nx]).for_each(|(o, &l)| *o = l);
+            },
+        );
         self.buffers.lock().unwrap().push((rows, cols));
     }
 

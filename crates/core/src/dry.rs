@@ -38,12 +38,7 @@ pub struct DrySettings {
 
 impl Default for DrySettings {
     fn default() -> Self {
-        Self {
-            tolerance: 1e-8,
-            max_iterations: 2000,
-            preconditioned: true,
-            nested: true,
-        }
+        Self { tolerance: 1e-8, max_iterations: 2000, preconditioned: true, nested: true }
     }
 }
 
@@ -131,16 +126,11 @@ impl DrySolver {
             )));
         }
         if !(problem.load > 0.0 && problem.load.is_finite()) {
-            return Err(NumericError::Invalid(format!(
-                "load must be > 0, got {}",
-                problem.load
-            )));
+            return Err(NumericError::Invalid(format!("load must be > 0, got {}", problem.load)));
         }
         if let Some(c) = problem.compliance {
             if c.iter().any(|&v| !(v >= 0.0 && v.is_finite())) {
-                return Err(NumericError::Invalid(
-                    "compliance must be finite and >= 0".into(),
-                ));
+                return Err(NumericError::Invalid("compliance must be finite and >= 0".into()));
             }
         }
         let s = &self.settings;
@@ -217,9 +207,7 @@ impl DrySolver {
 /// Warm start for a sequence of solves: linear extrapolation `max(2 p1 − p0, 0)` from the last
 /// two solutions.
 pub fn extrapolate(p1: &Array2<f64>, p0: &Array2<f64>) -> Array2<f64> {
-    Zip::from(p1)
-        .and(p0)
-        .map_collect(|&a, &b| (2.0 * a - b).max(0.0))
+    Zip::from(p1).and(p0).map_collect(|&a, &b| (2.0 * a - b).max(0.0))
 }
 
 struct LevelOutcome {
@@ -251,10 +239,7 @@ fn pcg(
     let g0 = g0.as_slice().unwrap();
     let comp_owned = comp.map(|c| c.as_standard_layout().into_owned());
     let zero = vec![0.0; n];
-    let c: &[f64] = comp_owned
-        .as_ref()
-        .map(|c| c.as_slice().unwrap())
-        .unwrap_or(&zero);
+    let c: &[f64] = comp_owned.as_ref().map(|c| c.as_slice().unwrap()).unwrap_or(&zero);
 
     if !p_arr.is_standard_layout() || !w_arr.is_standard_layout() {
         *p_arr = p_arr.as_standard_layout().into_owned();
@@ -350,11 +335,7 @@ fn pcg(
             }
         }
         if preconditioned {
-            op.convolve(
-                rc.view(),
-                z.view_mut(),
-                Symbol::InverseShifted(csum / nc as f64),
-            );
+            op.convolve(rc.view(), z.view_mut(), Symbol::InverseShifted(csum / nc as f64));
         } else {
             z.assign(&rc);
         }
@@ -369,11 +350,7 @@ fn pcg(
         g_old = gnew;
         let ts = t.as_slice_mut().unwrap();
         for i in 0..n {
-            ts[i] = if p[i] > 0.0 {
-                zs[i] + beta * ts[i]
-            } else {
-                0.0
-            };
+            ts[i] = if p[i] > 0.0 { zs[i] + beta * ts[i] } else { 0.0 };
         }
         op.apply(t.view(), q.view_mut());
         applies += 1;
@@ -459,27 +436,13 @@ mod tests {
 
     #[test]
     fn plain_and_preconditioned_agree() {
-        let s = DrySettings {
-            nested: false,
-            ..DrySettings::default()
-        };
-        let (p1, r1, _) = hertz_solve(
-            33,
-            DrySettings {
-                preconditioned: false,
-                ..s
-            },
-        );
+        let s = DrySettings { nested: false, ..DrySettings::default() };
+        let (p1, r1, _) = hertz_solve(33, DrySettings { preconditioned: false, ..s });
         let (p2, r2, _) = hertz_solve(33, s);
         // Both solve the same discrete problem to 1e-8 in gap: pressures agree to ~1e-6.
         let d = (&p1 - &p2).iter().fold(0.0f64, |m, v| m.max(v.abs()));
         assert!(d < 1e-5, "max |Δp| = {d}");
-        assert!(
-            r2.iterations < r1.iterations,
-            "{} vs {}",
-            r2.iterations,
-            r1.iterations
-        );
+        assert!(r2.iterations < r1.iterations, "{} vs {}", r2.iterations, r1.iterations);
     }
 
     #[test]
@@ -488,11 +451,7 @@ mod tests {
         let solver = DrySolver::new(g, DrySettings::default());
         let rigid = g.field(|x, y| 0.5 * (x * x + y * y) + 0.05 * (-(x * x + y * y) / 0.05).exp());
         let comp = g.field(|x, _| 0.01 * (1.0 + x).max(0.0));
-        let prob = DryProblem {
-            rigid_gap: rigid.view(),
-            compliance: Some(comp.view()),
-            load: 2.0,
-        };
+        let prob = DryProblem { rigid_gap: rigid.view(), compliance: Some(comp.view()), load: 2.0 };
         let (mut p, mut w) = (g.zeros(), g.zeros());
         let rep = solver.solve(&prob, &mut p, &mut w, Start::Flat).unwrap();
         let h = DrySolver::gap(&prob, rep.h0, &p, &w);
@@ -515,23 +474,13 @@ mod tests {
         let solver = DrySolver::new(g, DrySettings::default());
         let f = g.paraboloid();
         let load = 2.0 * std::f64::consts::PI / 3.0;
-        let prob = DryProblem {
-            rigid_gap: f.view(),
-            compliance: None,
-            load,
-        };
+        let prob = DryProblem { rigid_gap: f.view(), compliance: None, load };
         let (mut p, mut w) = (g.zeros(), g.zeros());
         let cold = solver.solve(&prob, &mut p, &mut w, Start::Flat).unwrap();
         let f2 = &f + &g.field(|x, y| 1e-3 * (-((x - 0.3).powi(2) + y * y) / 0.01).exp());
-        let prob2 = DryProblem {
-            rigid_gap: f2.view(),
-            ..prob
-        };
+        let prob2 = DryProblem { rigid_gap: f2.view(), ..prob };
         let warm = solver.solve(&prob2, &mut p, &mut w, Start::Warm).unwrap();
-        assert!(
-            warm.iterations < cold.iterations + cold.coarse_iterations.len(),
-            "{warm:?}"
-        );
+        assert!(warm.iterations < cold.iterations + cold.coarse_iterations.len(), "{warm:?}");
     }
 
     #[test]
@@ -539,23 +488,13 @@ mod tests {
         let g = Grid::square(17, 1.25);
         let solver = DrySolver::new(g, DrySettings::default());
         let f = g.paraboloid();
-        let prob = DryProblem {
-            rigid_gap: f.view(),
-            compliance: None,
-            load: -1.0,
-        };
+        let prob = DryProblem { rigid_gap: f.view(), compliance: None, load: -1.0 };
         let (mut p, mut w) = (g.zeros(), g.zeros());
         assert!(solver.solve(&prob, &mut p, &mut w, Start::Flat).is_err());
         let mut nan = f.clone();
         nan[[3, 4]] = f64::NAN;
-        let prob = DryProblem {
-            rigid_gap: nan.view(),
-            compliance: None,
-            load: 1.0,
-        };
-        let err = solver
-            .solve(&prob, &mut p, &mut w, Start::Flat)
-            .unwrap_err();
+        let prob = DryProblem { rigid_gap: nan.view(), compliance: None, load: 1.0 };
+        let err = solver.solve(&prob, &mut p, &mut w, Start::Flat).unwrap_err();
         assert!(err.to_string().contains("non-finite"), "{err}");
     }
 }

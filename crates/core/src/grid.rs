@@ -18,18 +18,8 @@ pub struct Grid {
 
 impl Grid {
     pub fn new(nx: usize, ny: usize, x: (f64, f64), y: (f64, f64)) -> Self {
-        assert!(
-            nx >= 2 && ny >= 2 && x.1 > x.0 && y.1 > y.0,
-            "degenerate grid"
-        );
-        Self {
-            nx,
-            ny,
-            x_min: x.0,
-            x_max: x.1,
-            y_min: y.0,
-            y_max: y.1,
-        }
+        assert!(nx >= 2 && ny >= 2 && x.1 > x.0 && y.1 > y.0, "degenerate grid");
+        Self { nx, ny, x_min: x.0, x_max: x.1, y_min: y.0, y_max: y.1 }
     }
     /// Square `n × n` grid over `[-half, half]²`.
     pub fn square(n: usize, half: f64) -> Self {
@@ -96,9 +86,7 @@ impl Grid {
 /// Injection of a fine field onto the grid with every other point.
 pub fn inject(fine: &Array2<f64>) -> Array2<f64> {
     let (ny, nx) = fine.dim();
-    Array2::from_shape_fn(((ny - 1) / 2 + 1, (nx - 1) / 2 + 1), |(j, i)| {
-        fine[[2 * j, 2 * i]]
-    })
+    Array2::from_shape_fn(((ny - 1) / 2 + 1, (nx - 1) / 2 + 1), |(j, i)| fine[[2 * j, 2 * i]])
 }
 
 /// Bilinear interpolation of a coarse field onto the grid with twice the points per side.

@@ -30,10 +30,7 @@ pub const APPROACH: f64 = -1.0;
 mod tests {
     #[test]
     fn deflection_is_continuous_and_gap_opens_outside() {
-        let (i, o) = (
-            super::deflection(1.0 - 1e-12),
-            super::deflection(1.0 + 1e-12),
-        );
+        let (i, o) = (super::deflection(1.0 - 1e-12), super::deflection(1.0 + 1e-12));
         assert!((i - o).abs() < 1e-5);
         assert!(super::gap(0.5) == 0.0 && super::gap(1.2) > 0.0);
     }

@@ -25,23 +25,11 @@ pub enum NumericError {
     #[error(
         "{quantity} became non-finite ({value}) at grid point (i={i}, j={j}) in iteration {iteration}"
     )]
-    NonFinite {
-        quantity: &'static str,
-        value: f64,
-        i: usize,
-        j: usize,
-        iteration: usize,
-    },
+    NonFinite { quantity: &'static str, value: f64, i: usize, j: usize, iteration: usize },
     #[error(
         "dry contact solve did not converge: residual {residual:.3e} > tolerance {tolerance:.1e} after {iterations} iterations on {nx}x{ny}"
     )]
-    NotConverged {
-        residual: f64,
-        tolerance: f64,
-        iterations: usize,
-        nx: usize,
-        ny: usize,
-    },
+    NotConverged { residual: f64, tolerance: f64, iterations: usize, nx: usize, ny: usize },
     #[error("{0}")]
     Invalid(String),
 }
@@ -53,13 +41,7 @@ pub fn check_finite(
     iteration: usize,
 ) -> Result<(), NumericError> {
     if let Some(((j, i), &value)) = a.indexed_iter().find(|(_, v)| !v.is_finite()) {
-        return Err(NumericError::NonFinite {
-            quantity,
-            value,
-            i,
-            j,
-            iteration,
-        });
+        return Err(NumericError::NonFinite { quantity, value, i, j, iteration });
     }
     Ok(())
 }

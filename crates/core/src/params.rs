@@ -58,13 +58,7 @@ impl HertzScales {
     pub fn new(c: &Contact) -> Self {
         let a = (3.0 * c.load * c.ball_radius / (2.0 * c.reduced_modulus)).cbrt();
         let p_h = 3.0 * c.load / (2.0 * PI * a * a);
-        Self {
-            a,
-            p_h,
-            delta: a * a / c.ball_radius,
-            r: c.ball_radius,
-            f: c.load,
-        }
+        Self { a, p_h, delta: a * a / c.ball_radius, r: c.ball_radius, f: c.load }
     }
     /// The load in dimensionless form, `∬ P dX dY = F / (p_h a²) = 2π/3`.
     pub fn load_dimensionless(&self) -> f64 {
@@ -156,16 +150,8 @@ mod tests {
     /// Seed Table 1.
     fn table1() -> (Contact, Lubricant) {
         (
-            Contact {
-                ball_radius: 9.525e-3,
-                load: 20.0,
-                reduced_modulus: 1.17e11,
-            },
-            Lubricant {
-                eta0: 44.7e-3,
-                alpha: 2.25e-8,
-                p0_roelands: 1.96e8,
-            },
+            Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 },
+            Lubricant { eta0: 44.7e-3, alpha: 2.25e-8, p0_roelands: 1.96e8 },
         )
     }
 

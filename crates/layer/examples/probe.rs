@@ -9,16 +9,8 @@ fn main() {
         Scheme::Implicit
     };
     let nt: f64 = args.get(3).map(|s| s.parse().unwrap()).unwrap_or(10.0);
-    let contact = Contact {
-        ball_radius: 9.525e-3,
-        load: 20.0,
-        reduced_modulus: 1.17e11,
-    };
-    let lub = Lubricant {
-        eta0: 44.7e-3,
-        alpha: 2.25e-8,
-        p0_roelands: 1.96e8,
-    };
+    let contact = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
+    let lub = Lubricant { eta0: 44.7e-3, alpha: 2.25e-8, p0_roelands: 1.96e8 };
     let spec = LayerSpec {
         supply_thickness_m: 25e-9,
         modulus_pa: 1e8,
@@ -52,11 +44,7 @@ fn main() {
     println!("squeeze steady {n}: {:?}\n  {:?}", rep, mon);
     let mut st = uniform_state(&m).unwrap();
     let mut stepper = Stepper::new(scheme, 0);
-    let time = TimeSettings {
-        scheme,
-        steps_per_cell: nt,
-        ..TimeSettings::default()
-    };
+    let time = TimeSettings { scheme, steps_per_cell: nt, ..TimeSettings::default() };
     let stop = StopSettings {
         steady_tolerance: 1e-3,
         window_travel_a: 0.5,
@@ -74,10 +62,8 @@ fn main() {
             );
             println!("  ms/step {:.2}", rec.wall_time_s / rec.steps as f64 * 1e3);
             let ((j, i), pm) =
-                st.p.indexed_iter().fold(
-                    ((0, 0), 0.0),
-                    |a, (ix, &v)| if v > a.1 { (ix, v) } else { a },
-                );
+                st.p.indexed_iter()
+                    .fold(((0, 0), 0.0), |a, (ix, &v)| if v > a.1 { (ix, v) } else { a });
             println!("  max P {pm:.4} at x={:.4} y={:.4}", grid.x(i), grid.y(j));
             let l = st.thickness(&m);
             for di in -3i64..=3 {

@@ -86,25 +86,15 @@ mod tests {
     #[test]
     fn modulus_laws_meet_the_papers_constraints() {
         let (eo, p_ref) = (0.2557, 1.0); // Eo/p_h for the seed: 0.1346 / 0.5265
-        for law in [
-            ModulusLaw::Power,
-            ModulusLaw::PowerLinear,
-            ModulusLaw::Geometric,
-        ] {
+        for law in [ModulusLaw::Power, ModulusLaw::PowerLinear, ModulusLaw::Geometric] {
             // E = Eo for p <= Eo, whatever the strain.
             for eps in [0.0, 0.3, 1.0] {
                 assert_eq!(law.modulus(0.2, eps, eo, p_ref), eo, "{law:?}");
             }
             // E -> p as eps -> 1, and E = Eo at eps = 0.
             for p in [0.3, 1.0, 1.5] {
-                assert!(
-                    (law.modulus(p, 1.0, eo, p_ref) - p).abs() < 1e-12,
-                    "{law:?}"
-                );
-                assert!(
-                    (law.modulus(p, 0.0, eo, p_ref) - eo).abs() < 1e-12,
-                    "{law:?}"
-                );
+                assert!((law.modulus(p, 1.0, eo, p_ref) - p).abs() < 1e-12, "{law:?}");
+                assert!((law.modulus(p, 0.0, eo, p_ref) - eo).abs() < 1e-12, "{law:?}");
                 // Monotone in strain: the layer stiffens as it is compressed.
                 assert!(law.modulus(p, 0.6, eo, p_ref) <= law.modulus(p, 0.7, eo, p_ref));
             }
@@ -115,17 +105,10 @@ mod tests {
     fn steady_strain_never_exceeds_one() {
         // E(p, eps) eps = p has no root below 1 for p > Eo: the strain rises towards 1.
         let (eo, p_ref) = (0.2557, 1.0);
-        for law in [
-            ModulusLaw::Power,
-            ModulusLaw::PowerLinear,
-            ModulusLaw::Geometric,
-        ] {
+        for law in [ModulusLaw::Power, ModulusLaw::PowerLinear, ModulusLaw::Geometric] {
             for k in 0..100 {
                 let eps = k as f64 / 100.0;
-                assert!(
-                    law.modulus(0.8, eps, eo, p_ref) * eps < 0.8,
-                    "{law:?} at {eps}"
-                );
+                assert!(law.modulus(0.8, eps, eo, p_ref) * eps < 0.8, "{law:?} at {eps}");
             }
         }
     }

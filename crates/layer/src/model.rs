@@ -121,10 +121,7 @@ impl LayerModel {
     }
     pub fn rate_field(&self, p: &Array2<f64>, eps: &Array2<f64>) -> Array2<f64> {
         let pc = self.coefficient_pressure(p);
-        Zip::from(p)
-            .and(&pc)
-            .and(eps)
-            .par_map_collect(|&p, &pc, &e| self.rate(p, pc, e))
+        Zip::from(p).and(&pc).and(eps).par_map_collect(|&p, &pc, &e| self.rate(p, pc, e))
     }
 
     /// The pressure the material coefficients see: `p` itself, or its Gaussian smoothing when
@@ -134,27 +131,37 @@ impl LayerModel {
         if sigma <= 0.0 {
             return p.clone();
         }
-        let blur = |f: &Array2<f64>, axis: usize, h: f64| -> Array2<f64> {
+        let weights = |h: f64| -> Vec<f64> {
             let r = (3.0 * sigma / h).ceil() as isize;
-            let w: Vec<f64> = (-r..=r)
-                .map(|k| (-0.5 * (k as f64 * h / sigma).powi(2)).exp())
-                .collect();
+            let w: Vec<f64> = (-r..=r).map(|k| (-0.5 * (k as f64 * h / sigma).powi(2)).exp()).collect();
             let norm: f64 = w.iter().sum();
-            let (ny, nx) = f.dim();
-            Array2::from_shape_fn((ny, nx), |(j, i)| {
-                let mut s = 0.0;
-                for (k, wk) in (-r..=r).zip(&w) {
-                    let (jj, ii) = if axis == 0 {
-                        ((j as isize + k).clamp(0, ny as isize - 1) as usize, i)
-                    } else {
-                        (j, (i as isize + k).clamp(0, nx as isize - 1) as usize)
-                    };
-                    s += wk * f[[jj, ii]];
-                }
-                s / norm
-            })
+            w.into_iter().map(|v| v / norm).collect()
         };
-        blur(&blur(p, 1, self.grid.dx()), 0, self.grid.dy())
+        let (ny, nx) = p.dim();
+        // Along x: each row on its own.
+        let wx = weights(self.grid.dx());
+        let rx = (wx.len() / 2) as isize;
+        let mut tmp = Array2::zeros((ny, nx));
+        Zip::from(tmp.rows_mut()).and(p.rows()).par_for_each(|mut o, f| {
+            for i in 0..nx as isize {
+                let mut s = 0.0;
+                for (k, w) in (-rx..=rx).zip(&wx) {
+                    s += w * f[(i + k).clamp(0, nx as isize - 1) as usize];
+                }
+                o[i as usize] = s;
+            }
+        });
+        // Along y: each output row is a weighted sum of whole rows.
+        let wy = weights(self.grid.dy());
+        let ry = (wy.len() / 2) as isize;
+        let mut out = Array2::zeros((ny, nx));
+        Zip::indexed(out.rows_mut()).par_for_each(|j, mut o| {
+            for (k, w) in (-ry..=ry).zip(&wy) {
+                let jj = (j as isize + k).clamp(0, ny as isize - 1) as usize;
+                o.scaled_add(*w, &tmp.row(jj));
+            }
+        });
+        out
     }
 
     /// Local growth indicator of lateral short waves (from linearising the strain law with the
@@ -185,13 +192,11 @@ impl LayerModel {
                 _ => None,
             })
             .collect();
-        self.grid.field(|x, y| {
-            if holes.iter().any(|(h, xc)| h.inside(x, y, *xc)) {
-                0.0
-            } else {
-                self.l0
-            }
-        })
+        self.grid.field(
+            |x, y| {
+                if holes.iter().any(|(h, xc)| h.inside(x, y, *xc)) { 0.0 } else { self.l0 }
+            },
+        )
     }
 
     /// Rigid gap of the ball: `f + b(t)` [a²/R].
@@ -275,8 +280,8 @@ pub struct Monitor {
     pub approach: f64,
     /// Pressure at the contact centre [Pa].
     pub central_pressure: f64,
-    /// Largest row-to-row wiggle of the pressure, `max |p_j − (p_{j−1} + p_{j+1})/2|` [Pa]:
-    /// the signature of the lateral short-wave instability (smooth fields give ~p_h ΔY²).
+    /// Row-to-row odd-even wiggle of the pressure [Pa] (see [`lateral_wiggle`]): the signature
+    /// of the lateral short-wave instability; ~0 for smooth fields.
     pub lateral_wiggle: f64,
     /// Contact-solver iterations spent on the step that led here.
     pub iterations: usize,
@@ -284,25 +289,27 @@ pub struct Monitor {
 
 /// Extent `(last − first + 1) ΔX` of the points of `row` where `pred` holds [a].
 fn extent(row: impl Iterator<Item = bool>, dx: f64) -> f64 {
-    let idx: Vec<usize> = row
-        .enumerate()
-        .filter(|(_, b)| *b)
-        .map(|(i, _)| i)
-        .collect();
+    let idx: Vec<usize> = row.enumerate().filter(|(_, b)| *b).map(|(i, _)| i).collect();
     match (idx.first(), idx.last()) {
         (Some(a), Some(b)) => (b - a + 1) as f64 * dx,
         _ => 0.0,
     }
 }
 
-/// `max |p_j − (p_{j−1} + p_{j+1})/2|` over the grid, in the units of `p`.
+/// Row-to-row odd-even wiggle of `p`: with `w_j = p_j − (p_{j−1} + p_{j+1})/2`, the largest
+/// `min(|w_j|, |w_{j+1}|)` where `w_j` and `w_{j+1}` have opposite signs. A smooth field, even
+/// with the square-root edge of a contact, gives same-signed neighbours and ~0; the lateral
+/// short-wave instability gives alternating signs. In the units of `p`.
 pub fn lateral_wiggle(p: &Array2<f64>) -> f64 {
     let ny = p.nrows();
+    let w = |j: usize, i: usize| p[[j, i]] - 0.5 * (p[[j - 1, i]] + p[[j + 1, i]]);
     let mut m = 0.0f64;
-    for j in 1..ny.saturating_sub(1) {
-        let (a, b, c) = (p.row(j - 1), p.row(j), p.row(j + 1));
+    for j in 1..ny.saturating_sub(2) {
         for i in 0..p.ncols() {
-            m = m.max((b[i] - 0.5 * (a[i] + c[i])).abs());
+            let (a, b) = (w(j, i), w(j + 1, i));
+            if a * b < 0.0 {
+                m = m.max(a.abs().min(b.abs()));
+            }
         }
     }
     m
@@ -334,9 +341,7 @@ impl Monitor {
             max_pressure: sc.p_si(s.p.iter().cloned().fold(0.0, f64::max)),
             contact_diameter: sc.x_si(extent(prow.iter().map(|&p| p > 0.0), g.dx())),
             dry_diameter: sc.x_si(extent(
-                prow.iter()
-                    .zip(lrow.iter())
-                    .map(|(&p, &l)| p > 0.0 && l <= dry_tol),
+                prow.iter().zip(lrow.iter()).map(|(&p, &l)| p > 0.0 && l <= dry_tol),
                 g.dx(),
             )),
             approach: sc.h_si(-s.h0),

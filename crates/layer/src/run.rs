@@ -13,20 +13,12 @@ pub fn uniform_state(m: &LayerModel) -> Result<LayerState, LayerError> {
     let eps = m.grid.zeros();
     let g0 = m.ball(0.0) - m.thickness(&eps, 0.0);
     let (mut p, mut w) = (m.grid.zeros(), m.grid.zeros());
-    let r = m
-        .contact(&g0, None, &mut p, &mut w, Start::Flat)
-        .map_err(|e| LayerError::Contact {
-            step: 0,
-            t: 0.0,
-            source: e,
-        })?;
-    Ok(LayerState {
+    let r = m.contact(&g0, None, &mut p, &mut w, Start::Flat).map_err(|e| LayerError::Contact {
+        step: 0,
         t: 0.0,
-        eps,
-        p,
-        w,
-        h0: r.h0,
-    })
+        source: e,
+    })?;
+    Ok(LayerState { t: 0.0, eps, p, w, h0: r.h0 })
 }
 
 /// What the direct steady-squeeze solve did.
@@ -54,38 +46,27 @@ pub fn squeeze_steady(m: &LayerModel) -> Result<(LayerState, SqueezeReport), Lay
     let h0 = loop {
         let mut g0 = ball.clone();
         let mut c = m.grid.zeros();
-        Zip::from(&mut g0)
-            .and(&mut c)
-            .and(&supply)
-            .and(&dry)
-            .for_each(|g, c, &l0, &d| {
-                if !d {
-                    *g -= l0;
-                    *c = l0 / m.eo;
-                }
-            });
+        Zip::from(&mut g0).and(&mut c).and(&supply).and(&dry).for_each(|g, c, &l0, &d| {
+            if !d {
+                *g -= l0;
+                *c = l0 / m.eo;
+            }
+        });
         let r = m
             .contact(&g0, Some(&c), &mut p, &mut w, start)
-            .map_err(|e| LayerError::Contact {
-                step: passes,
-                t: 0.0,
-                source: e,
-            })?;
+            .map_err(|e| LayerError::Contact { step: passes, t: 0.0, source: e })?;
         start = Start::Warm;
         passes += 1;
         iterations += r.iterations;
         let h0 = r.h0;
         let mut changed = 0;
-        Zip::from(&mut dry)
-            .and(&p)
-            .and(&supply)
-            .for_each(|d, &p, &l0| {
-                let now = p >= m.eo && l0 > 0.0;
-                if now != *d {
-                    *d = now;
-                    changed += 1;
-                }
-            });
+        Zip::from(&mut dry).and(&p).and(&supply).for_each(|d, &p, &l0| {
+            let now = p >= m.eo && l0 > 0.0;
+            if now != *d {
+                *d = now;
+                changed += 1;
+            }
+        });
         if changed == 0 {
             break h0;
         }
@@ -96,21 +77,8 @@ pub fn squeeze_steady(m: &LayerModel) -> Result<(LayerState, SqueezeReport), Lay
         }
     };
     let eps = p.mapv(|p| (p / m.eo).min(1.0));
-    let state = LayerState {
-        t: 0.0,
-        eps,
-        p,
-        w,
-        h0,
-    };
-    Ok((
-        state,
-        SqueezeReport {
-            passes,
-            iterations,
-            wall_time_s: t0.elapsed().as_secs_f64(),
-        },
-    ))
+    let state = LayerState { t: 0.0, eps, p, w, h0 };
+    Ok((state, SqueezeReport { passes, iterations, wall_time_s: t0.elapsed().as_secs_f64() }))
 }
 
 /// How time advances.
@@ -236,22 +204,10 @@ pub fn run(
     let t_begin = state.t;
     let rolling = m.u1 > 0.0;
     let a = m.scales.a;
-    let dt_roll = if rolling {
-        m.grid.dx() * a / (time.steps_per_cell * m.u1)
-    } else {
-        f64::NAN
-    };
-    let window = if rolling {
-        stop.window_travel_a * a / m.u1
-    } else {
-        stop.window_time_s
-    };
+    let dt_roll = if rolling { m.grid.dx() * a / (time.steps_per_cell * m.u1) } else { f64::NAN };
+    let window = if rolling { stop.window_travel_a * a / m.u1 } else { stop.window_time_s };
     // Rolling from any start: the whole domain's material must have been replaced once.
-    let min_time = if rolling {
-        (m.grid.x_max - m.grid.x_min) * a / m.u1
-    } else {
-        window
-    };
+    let min_time = if rolling { (m.grid.x_max - m.grid.x_min) * a / m.u1 } else { window };
     let mut dt = match (rolling, time.dt_s) {
         (true, _) => dt_roll,
         (false, Some(dt)) => dt,
@@ -266,12 +222,8 @@ pub fn run(
     pending.sort_by(|a, b| a.partial_cmp(b).unwrap());
     let (mut steps, mut rejected, mut solves, mut iterations) = (0, 0, 0, 0);
     let mut dt_range = (f64::INFINITY, 0.0f64);
-    let take = |s: &LayerState| Snapshot {
-        t: s.t,
-        eps: s.eps.clone(),
-        p: s.p.clone(),
-        l: s.thickness(m),
-    };
+    let take =
+        |s: &LayerState| Snapshot { t: s.t, eps: s.eps.clone(), p: s.p.clone(), l: s.thickness(m) };
     while let Some(&ts) = pending.first() {
         if ts <= 0.0 {
             snaps.push(take(state));
@@ -283,21 +235,14 @@ pub fn run(
     let (steady, reason) = loop {
         let elapsed = state.t - t_begin;
         if elapsed >= stop.max_time_s {
-            break (
-                false,
-                format!("not steady by the time limit {} s", stop.max_time_s),
-            );
+            break (false, format!("not steady by the time limit {} s", stop.max_time_s));
         }
         let info: StepInfo = if adaptive {
             loop {
                 let (save_s, save_st) = (state.clone(), stepper.clone());
                 let info = stepper.step(m, state, dt)?;
                 let err = info.error_estimate.unwrap_or(0.0);
-                let order = if stepper.scheme == Scheme::Implicit {
-                    3.0
-                } else {
-                    2.0
-                };
+                let order = if stepper.scheme == Scheme::Implicit { 3.0 } else { 2.0 };
                 let factor = if err > 0.0 {
                     0.9 * (time.error_tolerance / err).powf(1.0 / order)
                 } else {
@@ -340,10 +285,8 @@ pub fn run(
         }
         progress(elapsed);
         if stop.until_features_passed {
-            let passed = m
-                .features
-                .iter()
-                .all(|f| m.feature_x(f, state.t) - f.reach() > m.grid.x_max);
+            let passed =
+                m.features.iter().all(|f| m.feature_x(f, state.t) - f.reach() > m.grid.x_max);
             if passed {
                 break (true, "every feature has left the domain".into());
             }

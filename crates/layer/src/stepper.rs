@@ -31,11 +31,7 @@ pub enum Scheme {
 #[derive(Debug, Clone, thiserror::Error, PartialEq)]
 pub enum LayerError {
     #[error("at step {step} (t = {t:.6e} s): {source}")]
-    Contact {
-        step: usize,
-        t: f64,
-        source: NumericError,
-    },
+    Contact { step: usize, t: f64, source: NumericError },
     #[error(
         "explicit stepping is unstable at step {step} (t = {t:.6e} s): the strain at (x = {x:.4} a, y = {y:.4} a) oscillates with growing amplitude ({amplitude:.3e}) for {count} steps; Δt = {dt:.3e} s exceeds the stability limit (estimate {limit:.3e} s). Use a smaller step (more steps per cell) or the implicit scheme."
     )]
@@ -96,14 +92,7 @@ pub fn stability_estimate(m: &LayerModel) -> f64 {
 
 impl Stepper {
     pub fn new(scheme: Scheme, picard: usize) -> Self {
-        Self {
-            scheme,
-            picard,
-            history: vec![],
-            flips: None,
-            steps: 0,
-            estimate_error: false,
-        }
+        Self { scheme, picard, history: vec![], flips: None, steps: 0, estimate_error: false }
     }
 
     /// Forget the history (after a change of motion, e.g. a sudden stop): the next step starts
@@ -133,11 +122,7 @@ impl Stepper {
         self.steps += 1;
         check_finite("strain", &s.eps, self.steps)
             .and_then(|_| check_finite("pressure", &s.p, self.steps))
-            .map_err(|e| LayerError::Contact {
-                step: self.steps,
-                t: s.t,
-                source: e,
-            })?;
+            .map_err(|e| LayerError::Contact { step: self.steps, t: s.t, source: e })?;
         if self.scheme == Scheme::Explicit {
             self.watch(m, &before, s, dt)?;
         }
@@ -149,23 +134,14 @@ impl Stepper {
         match self.history.first() {
             Some(prev) => {
                 let om = dt / prev.dt;
-                Zip::from(&s.p)
-                    .and(&prev.p)
-                    .par_map_collect(|&a, &b| (a + om * (a - b)).max(0.0))
+                Zip::from(&s.p).and(&prev.p).par_map_collect(|&a, &b| (a + om * (a - b)).max(0.0))
             }
             None => s.p.clone(),
         }
     }
 
     fn push_history(&mut self, s: &LayerState, dt: f64) {
-        self.history.insert(
-            0,
-            Level {
-                eps: s.eps.clone(),
-                p: s.p.clone(),
-                dt,
-            },
-        );
+        self.history.insert(0, Level { eps: s.eps.clone(), p: s.p.clone(), dt });
         self.history.truncate(2);
     }
 
@@ -181,20 +157,15 @@ impl Stepper {
         let rate = m.rate_field(&s.p, &s.eps);
         let eps_d = shift_strain(&s.eps, k);
         let rate_d = shift(&rate, k, 0.0);
-        let eps_star = Zip::from(&eps_d)
-            .and(&rate_d)
-            .par_map_collect(|&e, &r| (e + dt * r).clamp(0.0, 1.0));
+        let eps_star =
+            Zip::from(&eps_d).and(&rate_d).par_map_collect(|&e, &r| (e + dt * r).clamp(0.0, 1.0));
         let ball = m.ball(t1);
         let mut p = self.p_predict(s, dt);
         let mut w = s.w.clone();
         let g0 = &ball - &m.thickness(&eps_star, t1);
         let r1 = m
             .contact(&g0, None, &mut p, &mut w, Start::Warm)
-            .map_err(|e| LayerError::Contact {
-                step,
-                t: t1,
-                source: e,
-            })?;
+            .map_err(|e| LayerError::Contact { step, t: t1, source: e })?;
         let rate_star = m.rate_field(&p, &eps_star);
         let eps_new = Zip::from(&eps_d)
             .and(&rate_d)
@@ -203,28 +174,12 @@ impl Stepper {
         let g0 = &ball - &m.thickness(&eps_new, t1);
         let r2 = m
             .contact(&g0, None, &mut p, &mut w, Start::Warm)
-            .map_err(|e| LayerError::Contact {
-                step,
-                t: t1,
-                source: e,
-            })?;
+            .map_err(|e| LayerError::Contact { step, t: t1, source: e })?;
         // Heun minus Euler: the local error of the Euler stage, a conservative estimate.
-        let err = self
-            .estimate_error
-            .then(|| rms_active(&eps_new, &eps_star, &p));
+        let err = self.estimate_error.then(|| rms_active(&eps_new, &eps_star, &p));
         self.push_history(s, dt);
-        *s = LayerState {
-            t: t1,
-            eps: eps_new,
-            p,
-            w,
-            h0: r2.h0,
-        };
-        Ok(StepInfo {
-            solves: 2,
-            iterations: r1.iterations + r2.iterations,
-            error_estimate: err,
-        })
+        *s = LayerState { t: t1, eps: eps_new, p, w, h0: r2.h0 };
+        Ok(StepInfo { solves: 2, iterations: r1.iterations + r2.iterations, error_estimate: err })
     }
 
     fn implicit(
@@ -266,66 +221,46 @@ impl Stepper {
             // ε = A + B p with E, η frozen at (coef_p, coef_eps).
             let mut a = Array2::zeros(p.dim());
             let mut b = Array2::zeros(p.dim());
-            Zip::from(&mut a)
-                .and(&mut b)
-                .and(&rhs)
-                .and(&coef_p)
-                .and(&coef_eps)
-                .par_for_each(|a, b, &r, &pc, &ec| {
+            Zip::from(&mut a).and(&mut b).and(&rhs).and(&coef_p).and(&coef_eps).par_for_each(
+                |a, b, &r, &pc, &ec| {
                     let eta = m.eta(pc);
                     let d = a0 + dt * m.modulus(pc, ec) / eta;
                     *a = r / d;
                     *b = dt / eta / d;
-                });
+                },
+            );
             // Points already at ε ≥ 1 for any p ≥ 0 start dry.
             let mut dry = a.mapv(|v| v >= 1.0);
             let mut dry_passes = 0;
             loop {
                 let mut g0 = ball.clone();
                 let mut c = Array2::zeros(p.dim());
-                Zip::from(&mut g0)
-                    .and(&mut c)
-                    .and(&supply)
-                    .and(&a)
-                    .and(&b)
-                    .and(&dry)
-                    .par_for_each(|g, c, &l0, &a, &b, &d| {
+                Zip::from(&mut g0).and(&mut c).and(&supply).and(&a).and(&b).and(&dry).par_for_each(
+                    |g, c, &l0, &a, &b, &d| {
                         if !d {
                             *g -= l0 * (1.0 - a);
                             *c = l0 * b;
                         }
-                    });
+                    },
+                );
                 let r = m
                     .contact(&g0, Some(&c), &mut p, &mut w, Start::Warm)
-                    .map_err(|e| LayerError::Contact {
-                        step,
-                        t: t1,
-                        source: e,
-                    })?;
+                    .map_err(|e| LayerError::Contact { step, t: t1, source: e })?;
                 solves += 1;
                 iterations += r.iterations;
                 h0 = r.h0;
                 eps_new =
-                    Zip::from(&a)
-                        .and(&b)
-                        .and(&p)
-                        .and(&dry)
-                        .par_map_collect(
-                            |&a, &b, &p, &d| {
-                                if d { 1.0 } else { (a + b * p).max(0.0) }
-                            },
-                        );
+                    Zip::from(&a).and(&b).and(&p).and(&dry).par_map_collect(|&a, &b, &p, &d| {
+                        if d { 1.0 } else { (a + b * p).max(0.0) }
+                    });
                 // Where the layer would be squeezed past nothing, fix it at nothing and re-solve.
                 let mut grew = false;
-                Zip::from(&mut dry)
-                    .and(&eps_new)
-                    .and(&supply)
-                    .for_each(|d, &e, &l0| {
-                        if !*d && e > 1.0 && l0 > 0.0 {
-                            *d = true;
-                            grew = true;
-                        }
-                    });
+                Zip::from(&mut dry).and(&eps_new).and(&supply).for_each(|d, &e, &l0| {
+                    if !*d && e > 1.0 && l0 > 0.0 {
+                        *d = true;
+                        grew = true;
+                    }
+                });
                 dry_passes += 1;
                 if !grew || dry_passes >= 8 {
                     break;
@@ -360,18 +295,8 @@ impl Stepper {
             None
         };
         self.push_history(s, dt);
-        *s = LayerState {
-            t: t1,
-            eps: eps_new,
-            p,
-            w,
-            h0,
-        };
-        Ok(StepInfo {
-            solves,
-            iterations,
-            error_estimate: err,
-        })
+        *s = LayerState { t: t1, eps: eps_new, p, w, h0 };
+        Ok(StepInfo { solves, iterations, error_estimate: err })
     }
 
     /// Explicit instability: a point whose strain change flips sign and grows, step after step.
@@ -383,19 +308,15 @@ impl Stepper {
         dt: f64,
     ) -> Result<(), LayerError> {
         let d = s.eps.clone() - before;
-        let (prev_d, count) = self
-            .flips
-            .get_or_insert_with(|| (Array2::zeros(d.dim()), Array2::zeros(d.dim())));
-        Zip::from(&mut *count)
-            .and(&d)
-            .and(&*prev_d)
-            .for_each(|c, &dn, &dp| {
-                if dn * dp < 0.0 && dn.abs() > dp.abs() && dn.abs() > 1e-3 {
-                    *c += 1;
-                } else {
-                    *c = 0;
-                }
-            });
+        let (prev_d, count) =
+            self.flips.get_or_insert_with(|| (Array2::zeros(d.dim()), Array2::zeros(d.dim())));
+        Zip::from(&mut *count).and(&d).and(&*prev_d).for_each(|c, &dn, &dp| {
+            if dn * dp < 0.0 && dn.abs() > dp.abs() && dn.abs() > 1e-3 {
+                *c += 1;
+            } else {
+                *c = 0;
+            }
+        });
         *prev_d = d;
         const LIMIT: u32 = 4;
         if let Some(((j, i), &c)) = count.indexed_iter().find(|(_, c)| **c >= LIMIT) {

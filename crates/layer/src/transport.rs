@@ -21,27 +21,25 @@ pub fn shift(field: &Array2<f64>, s: f64, inflow: f64) -> Array2<f64> {
     ];
     let mut out = Array2::zeros(field.dim());
     let nx = field.ncols() as isize;
-    Zip::from(out.axis_iter_mut(Axis(0)))
-        .and(field.axis_iter(Axis(0)))
-        .par_for_each(|mut o, f| {
-            let at = |m: isize| -> f64 {
-                if m < 0 {
-                    inflow
-                } else if m >= nx {
-                    f[(nx - 1) as usize]
-                } else {
-                    f[m as usize]
-                }
-            };
-            for i in 0..nx {
-                let j = i - k;
-                o[i as usize] = if theta == 0.0 {
-                    at(j)
-                } else {
-                    w[0] * at(j - 2) + w[1] * at(j - 1) + w[2] * at(j) + w[3] * at(j + 1)
-                };
+    Zip::from(out.axis_iter_mut(Axis(0))).and(field.axis_iter(Axis(0))).par_for_each(|mut o, f| {
+        let at = |m: isize| -> f64 {
+            if m < 0 {
+                inflow
+            } else if m >= nx {
+                f[(nx - 1) as usize]
+            } else {
+                f[m as usize]
             }
-        });
+        };
+        for i in 0..nx {
+            let j = i - k;
+            o[i as usize] = if theta == 0.0 {
+                at(j)
+            } else {
+                w[0] * at(j - 2) + w[1] * at(j - 1) + w[2] * at(j) + w[3] * at(j + 1)
+            };
+        }
+    });
     out
 }
 

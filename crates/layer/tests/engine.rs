@@ -6,16 +6,8 @@ use ehl_core::{Contact, DrySettings, Grid, Lubricant};
 use ehl_layer::*;
 
 fn model(n: usize, u1: f64) -> LayerModel {
-    let contact = Contact {
-        ball_radius: 9.525e-3,
-        load: 20.0,
-        reduced_modulus: 1.17e11,
-    };
-    let lub = Lubricant {
-        eta0: 44.7e-3,
-        alpha: 2.25e-8,
-        p0_roelands: 1.96e8,
-    };
+    let contact = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
+    let lub = Lubricant { eta0: 44.7e-3, alpha: 2.25e-8, p0_roelands: 1.96e8 };
     let spec = LayerSpec {
         supply_thickness_m: 25e-9,
         modulus_pa: 1e8,
@@ -26,19 +18,8 @@ fn model(n: usize, u1: f64) -> LayerModel {
         reference_pressure_pa: None,
         coefficient_smoothing_a: 0.0,
     };
-    let settings = DrySettings {
-        tolerance: 1e-11,
-        ..DrySettings::default()
-    };
-    LayerModel::new(
-        &contact,
-        &lub,
-        &spec,
-        u1,
-        Grid::square(n, 1.25),
-        settings,
-        vec![],
-    )
+    let settings = DrySettings { tolerance: 1e-11, ..DrySettings::default() };
+    LayerModel::new(&contact, &lub, &spec, u1, Grid::square(n, 1.25), settings, vec![])
 }
 
 /// Squeeze from a uniform layer for `t_end` with `k` equal steps; returns the strain field.
@@ -61,29 +42,18 @@ fn both_schemes_are_second_order_in_squeeze_and_agree() {
     // 2 ms of squeeze from a uniform layer: the strain rises by ~0.3 in the contact.
     let t_end = 2e-3;
     for scheme in [Scheme::Implicit, Scheme::Explicit] {
-        let (a, b, c) = (
-            squeeze(scheme, 20, t_end),
-            squeeze(scheme, 40, t_end),
-            squeeze(scheme, 80, t_end),
-        );
+        let (a, b, c) =
+            (squeeze(scheme, 20, t_end), squeeze(scheme, 40, t_end), squeeze(scheme, 80, t_end));
         let order = (max_diff(&a, &b) / max_diff(&b, &c)).log2();
         // Second order: the ratio of successive differences is 4; contact-set changes between
         // steps (cells entering the loaded zone) cost a little. 1.7 leaves no room for order 1.
         assert!(order > 1.7, "{scheme:?}: observed order {order:.2}");
     }
-    let d = max_diff(
-        &squeeze(Scheme::Implicit, 80, t_end),
-        &squeeze(Scheme::Explicit, 80, t_end),
-    );
+    let d = max_diff(&squeeze(Scheme::Implicit, 80, t_end), &squeeze(Scheme::Explicit, 80, t_end));
     // Both at Δt = 25 µs: their difference must be of the size of their own time error.
-    let own = max_diff(
-        &squeeze(Scheme::Implicit, 40, t_end),
-        &squeeze(Scheme::Implicit, 80, t_end),
-    );
-    assert!(
-        d < 10.0 * own.max(1e-6),
-        "schemes differ by {d:e}, own error {own:e}"
-    );
+    let own =
+        max_diff(&squeeze(Scheme::Implicit, 40, t_end), &squeeze(Scheme::Implicit, 80, t_end));
+    assert!(d < 10.0 * own.max(1e-6), "schemes differ by {d:e}, own error {own:e}");
 }
 
 #[test]

@@ -166,11 +166,7 @@ pub struct Outputs {
 
 impl Default for Outputs {
     fn default() -> Self {
-        Self {
-            centreline: true,
-            fields: true,
-            figures: true,
-        }
+        Self { centreline: true, fields: true, figures: true }
     }
 }
 
@@ -178,18 +174,9 @@ impl Default for Outputs {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SceneError {
     #[error("scene {origin}: {path}: {message}")]
-    Parse {
-        origin: String,
-        path: String,
-        message: String,
-    },
+    Parse { origin: String, path: String, message: String },
     #[error("scene {origin}: field `{field}` = {value} is out of range: {allowed}")]
-    Range {
-        origin: String,
-        field: String,
-        value: String,
-        allowed: String,
-    },
+    Range { origin: String, field: String, value: String, allowed: String },
     #[error("no built-in scene or file named `{0}` (built-ins: {list})", list = builtin_names().join(", "))]
     Unknown(String),
     #[error("scene file {path}: {message}")]
@@ -220,10 +207,7 @@ pub fn builtin_names() -> Vec<&'static str> {
 
 /// All built-in scenes, parsed and checked.
 pub fn builtins() -> Vec<Scene> {
-    BUILTINS
-        .iter()
-        .map(|(n, _)| builtin(n).expect("built-in scenes are valid"))
-        .collect()
+    BUILTINS.iter().map(|(n, _)| builtin(n).expect("built-in scenes are valid")).collect()
 }
 
 /// A built-in scene by name.
@@ -244,10 +228,8 @@ pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
     if !path.exists() {
         return Err(SceneError::Unknown(name_or_path.into()));
     }
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
-        path: name_or_path.into(),
-        message: e.to_string(),
-    })?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| SceneError::Io { path: name_or_path.into(), message: e.to_string() })?;
     Scene::from_json(&text, &format!("file {name_or_path}"))
 }
 
@@ -259,11 +241,7 @@ impl Scene {
             let path = e.path().to_string();
             SceneError::Parse {
                 origin: origin.into(),
-                path: if path == "." {
-                    "(top level)".into()
-                } else {
-                    format!("field `{path}`")
-                },
+                path: if path == "." { "(top level)".into() } else { format!("field `{path}`") },
                 message: e.into_inner().to_string(),
             }
         })?;
@@ -304,18 +282,11 @@ impl Scene {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(err(
-                    field,
-                    format!("{v}"),
-                    &format!("must be finite and > 0 ({unit})"),
-                ))
+                Err(err(field, format!("{v}"), &format!("must be finite and > 0 ({unit})")))
             }
         };
         if self.name.trim().is_empty()
-            || !self
-                .name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+            || !self.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
         {
             return Err(err(
                 "name",
@@ -327,10 +298,7 @@ impl Scene {
         positive("conditions.ball_radius_m", c.ball_radius_m, "m")?;
         positive("conditions.load_n", c.load_n, "N")?;
         positive("conditions.reduced_modulus_pa", c.reduced_modulus_pa, "Pa")?;
-        for (field, r) in [
-            ("domain.x_a", self.domain.x_a),
-            ("domain.y_a", self.domain.y_a),
-        ] {
+        for (field, r) in [("domain.x_a", self.domain.x_a), ("domain.y_a", self.domain.y_a)] {
             if !(r[0].is_finite() && r[1].is_finite() && r[0] < r[1]) {
                 return Err(err(
                     field,
@@ -339,11 +307,7 @@ impl Scene {
                 ));
             }
             if !(r[0] <= 0.0 && r[1] >= 0.0) {
-                return Err(err(
-                    field,
-                    format!("{r:?}"),
-                    "must contain 0 (the contact centre)",
-                ));
+                return Err(err(field, format!("{r:?}"), "must contain 0 (the contact centre)"));
             }
         }
         // 5 points is the least that resolves anything; 4097² fields are 128 MiB each.
@@ -367,11 +331,7 @@ impl Scene {
             if v.is_finite() && v >= 0.0 {
                 Ok(())
             } else {
-                Err(err(
-                    field,
-                    format!("{v}"),
-                    &format!("must be finite and >= 0 ({unit})"),
-                ))
+                Err(err(field, format!("{v}"), &format!("must be finite and >= 0 ({unit})")))
             }
         };
         if let Some(u) = c.rolling_velocity_m_s {
@@ -392,11 +352,7 @@ impl Scene {
                     "must be in [0, 0.5) (the oedometric modulus diverges at 0.5)",
                 ));
             }
-            positive(
-                "layer.damper_constant",
-                l.damper_constant,
-                "1, or Pa s when literal",
-            )?;
+            positive("layer.damper_constant", l.damper_constant, "1, or Pa s when literal")?;
             if let Some(p) = l.reference_pressure_pa {
                 positive("layer.reference_pressure_pa", p, "Pa")?;
             }
@@ -444,11 +400,7 @@ impl Scene {
                 ));
             }
             if t.picard > 10 {
-                return Err(err(
-                    "run.time.picard",
-                    t.picard.to_string(),
-                    "must be 0 ..= 10",
-                ));
+                return Err(err("run.time.picard", t.picard.to_string(), "must be 0 ..= 10"));
             }
             let st = &r.stop;
             if !(st.steady_tolerance.is_finite()
@@ -552,10 +504,7 @@ mod tests {
     #[test]
     fn out_of_range_values_are_named_with_their_range() {
         let m = refused(&hertz_text().replace("9.525e-3", "-9.525e-3"));
-        assert!(
-            m.contains("conditions.ball_radius_m") && m.contains("> 0"),
-            "{m}"
-        );
+        assert!(m.contains("conditions.ball_radius_m") && m.contains("> 0"), "{m}");
         let m = refused(&hertz_text().replace("\"nx\": 129", "\"nx\": 4"));
         assert!(m.contains("grid.nx") && m.contains("5 ..= 4097"), "{m}");
         let m = refused(&hertz_text().replace("[-1.25, 1.25], \"y_a\"", "[1.25, -1.25], \"y_a\""));
