@@ -62,3 +62,20 @@ fn rolling_from_squeezed_and_from_uniform_reach_the_same_steady_state() {
     assert!((fa.central_thickness - fb.central_thickness).abs() < 5e-3 * 25e-9);
     assert!((fa.minimum_thickness - fb.minimum_thickness).abs() < 5e-3 * 25e-9);
 }
+
+#[test]
+fn squeeze_after_stop_ends_in_the_direct_steady_squeeze() {
+    // The time-dependent squeeze (error-controlled BDF2) must end where the direct solve of
+    // eps = min(p/Eo, 1) is: the steady squeeze is independent of the damper and of history.
+    let dynamic = layer("squeeze-after-stop", 33, |_| {});
+    let direct = layer("squeeze-steady", 33, |_| {});
+    assert!(dynamic.record.as_ref().unwrap().steady);
+    let (a, b) = (&dynamic.final_monitor, &direct.final_monitor);
+    // The run stops when nothing changes by 1e-3 (per p_h) over 0.5 s; the remaining relaxation
+    // is below that, so 2e-3 p_h bounds the difference of maximum pressures.
+    assert!((a.max_pressure - b.max_pressure).abs() < 2e-3 * dynamic.scales.p_h);
+    assert!((a.contact_diameter - b.contact_diameter).abs() < 1e-12);
+    assert!(
+        (a.dry_diameter - b.dry_diameter).abs() <= dynamic.grid.dx() * dynamic.scales.a + 1e-12
+    );
+}

@@ -78,6 +78,17 @@ fn figures(out: &std::path::Path) -> Result<()> {
     for scene in ehl_scene::builtins() {
         let outcome = ehl_cli::run_scene(&scene)?;
         written.extend(outcome.figures(out, &format!("{}_", scene.name))?);
+        // The numbers behind the figures, for the validation table.
+        let f = out.join(format!("{}_summary.json", scene.name));
+        std::fs::write(&f, serde_json::to_string_pretty(&outcome.summary())? + "\n")?;
+        written.push(f);
+        if let ehl_cli::Outcome::Layer(o) = &outcome {
+            if let Some(csv) = o.time_series_csv() {
+                let f = out.join(format!("{}_timeseries.csv", scene.name));
+                std::fs::write(&f, csv)?;
+                written.push(f);
+            }
+        }
     }
     written.extend(convergence::dry(out, 513)?);
     written.push(layer::modulus_figure(out)?);

@@ -133,7 +133,8 @@ impl LayerModel {
         }
         let weights = |h: f64| -> Vec<f64> {
             let r = (3.0 * sigma / h).ceil() as isize;
-            let w: Vec<f64> = (-r..=r).map(|k| (-0.5 * (k as f64 * h / sigma).powi(2)).exp()).collect();
+            let w: Vec<f64> =
+                (-r..=r).map(|k| (-0.5 * (k as f64 * h / sigma).powi(2)).exp()).collect();
             let norm: f64 = w.iter().sum();
             w.into_iter().map(|v| v / norm).collect()
         };
