@@ -408,7 +408,7 @@ pub fn modulus_figure(out: &Path) -> Result<PathBuf> {
 /// steady-squeeze solve, on 65² … max².
 pub fn bench(max: usize) -> Result<Vec<serde_json::Value>> {
     println!(
-        "Layer model benchmark: implicit and explicit steps of steady rolling (n_t = 10), steady squeeze"
+        "Layer model benchmark: 40 rolling steps (n_t = 10) right after a restart from the squeezed layer (the hardest phase), and the direct steady squeeze"
     );
     println!(
         "{:>5} {:>12} {:>10} {:>12} {:>10} {:>14} {:>8}",
