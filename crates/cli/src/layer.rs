@@ -365,6 +365,32 @@ impl LayerOutcome {
         )
     }
 
+    /// Layer thickness [nm] and pressure [p_h] maps side by side.
+    fn maps(&self, f: &Path, l: &Array2<f64>, p: &Array2<f64>, when: &str) -> Result<()> {
+        let g = &self.grid;
+        let lnm = l.mapv(|v| v * self.scales.delta * 1e9);
+        plot::heat_maps(
+            f,
+            &[
+                MapPanel {
+                    field: &lnm,
+                    title: format!("l [nm] {when}"),
+                    bar_label: "l [nm]".into(),
+                },
+                MapPanel {
+                    field: p,
+                    title: format!("p / p_h {when}"),
+                    bar_label: "p / p_h".into(),
+                },
+            ],
+            (g.x_min, g.x_max),
+            (g.y_min, g.y_max),
+            "x / a",
+            "y / a",
+            &self.note(),
+        )
+    }
+
     pub fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
         let mut out = vec![];
         let (s, g) = (&self.scales, &self.grid);
@@ -400,27 +426,7 @@ impl LayerOutcome {
         )?;
         out.push(f);
         let f = dir.join(format!("{prefix}maps.png"));
-        let lnm = self.l.mapv(|v| v * s.delta * 1e9);
-        plot::heat_maps(
-            &f,
-            &[
-                MapPanel {
-                    field: &lnm,
-                    title: format!("Layer thickness l [nm] (l0 = {l0_nm} nm)"),
-                    bar_label: "l [nm]".into(),
-                },
-                MapPanel {
-                    field: &self.final_state.p,
-                    title: "Pressure p / p_h".into(),
-                    bar_label: "p / p_h".into(),
-                },
-            ],
-            (g.x_min, g.x_max),
-            (g.y_min, g.y_max),
-            "x / a",
-            "y / a",
-            &self.note(),
-        )?;
+        self.maps(&f, &self.l, &self.final_state.p, &format!("(final, l0 = {l0_nm} nm)"))?;
         out.push(f);
         if let Some(rec) = &self.record {
             let ser = |k: fn(&Monitor) -> f64, scale: f64| -> Vec<(f64, f64)> {
@@ -498,27 +504,7 @@ impl LayerOutcome {
                 out.push(f);
                 for (k, sn) in rec.snapshots.iter().enumerate() {
                     let f = dir.join(format!("{prefix}snapshot{k:02}_maps.png"));
-                    let lnm = sn.l.mapv(|v| v * s.delta * 1e9);
-                    plot::heat_maps(
-                        &f,
-                        &[
-                            MapPanel {
-                                field: &lnm,
-                                title: format!("l [nm] at t = {:.4} s", sn.t),
-                                bar_label: "l [nm]".into(),
-                            },
-                            MapPanel {
-                                field: &sn.p,
-                                title: format!("p / p_h at t = {:.4} s", sn.t),
-                                bar_label: "p / p_h".into(),
-                            },
-                        ],
-                        (g.x_min, g.x_max),
-                        (g.y_min, g.y_max),
-                        "x / a",
-                        "y / a",
-                        &self.note(),
-                    )?;
+                    self.maps(&f, &sn.l, &sn.p, &format!("at t = {:.4} s", sn.t))?;
                     out.push(f);
                 }
             }

@@ -162,19 +162,18 @@ impl Stepper {
         let ball = m.ball(t1);
         let mut p = self.p_predict(s, dt);
         let mut w = s.w.clone();
-        let g0 = &ball - &m.thickness(&eps_star, t1);
-        let r1 = m
-            .contact(&g0, None, &mut p, &mut w, Start::Warm)
-            .map_err(|e| LayerError::Contact { step, t: t1, source: e })?;
+        // The contact with the layer of strain `eps` at the new time, from the pressure in `p`.
+        let mut solve = |eps: &Array2<f64>, p: &mut Array2<f64>| {
+            m.contact(&(&ball - &m.thickness(eps, t1)), None, p, &mut w, Start::Warm)
+                .map_err(|e| LayerError::Contact { step, t: t1, source: e })
+        };
+        let r1 = solve(&eps_star, &mut p)?;
         let rate_star = m.rate_field(&p, &eps_star);
         let eps_new = Zip::from(&eps_d)
             .and(&rate_d)
             .and(&rate_star)
             .par_map_collect(|&e, &r0, &r1| (e + 0.5 * dt * (r0 + r1)).clamp(0.0, 1.0));
-        let g0 = &ball - &m.thickness(&eps_new, t1);
-        let r2 = m
-            .contact(&g0, None, &mut p, &mut w, Start::Warm)
-            .map_err(|e| LayerError::Contact { step, t: t1, source: e })?;
+        let r2 = solve(&eps_new, &mut p)?;
         // Heun minus Euler: the local error of the Euler stage, a conservative estimate.
         let err = self.estimate_error.then(|| rms_active(&eps_new, &eps_star, &p));
         self.push_history(s, dt);
