@@ -1,0 +1,399 @@
+//! One grid of the multigrid hierarchy: pressure, film, the FAS right-hand side, the discrete
+//! Reynolds operator and its line relaxation.
+//!
+//! Discretisation (Venner & Lubrecht): the Poiseuille term central with `ε̄` averaged to the
+//! half points, the wedge term `∂(ρ̄H)/∂X` second-order upwind (first order next to the inflow
+//! boundary), `P = 0` on the boundary, cavitation as `P ≥ 0`.
+//!
+//! Relaxation: for every line along `X`, changes `δ` of all its interior points are solved
+//! together from a banded (pentadiagonal) system. Where the Poiseuille coefficients are large a
+//! point's change is its own (Gauss–Seidel); where they are small compared with the wedge term's
+//! elastic coupling (the stiff Hertzian zone) the change is distributed (Jacobi distributive):
+//! `+δ` at the point and `−δ/4` at its four neighbours, so that the film change it causes is
+//! local. The wedge term's dependence on `P` enters through the (distributed) influence kernel.
+
+use crate::params::ReynoldsParams;
+use ehl_core::deformation::influence_coefficient;
+use ehl_core::{Deformation, Grid};
+use ndarray::{Array2, Zip};
+
+/// Relaxation controls.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RelaxSettings {
+    /// Points where (Poiseuille diagonal) / (wedge diagonal) falls below this relax
+    /// distributively.
+    pub distributive_threshold: f64,
+    /// Under-relaxation of Gauss–Seidel changes.
+    pub omega_gs: f64,
+    /// Under-relaxation of distributive changes.
+    pub omega_jd: f64,
+}
+
+impl Default for RelaxSettings {
+    fn default() -> Self {
+        Self { distributive_threshold: 0.3, omega_gs: 0.7, omega_jd: 0.3 }
+    }
+}
+
+pub struct Level {
+    pub grid: Grid,
+    pub op: Deformation,
+    /// Spacing (equal in X and Y) [a].
+    pub h: f64,
+    /// Pressure `P` [p_h].
+    pub p: Array2<f64>,
+    /// Film `H` [a²/R].
+    pub film: Array2<f64>,
+    /// FAS right-hand side (zero on the finest grid).
+    pub rhs: Array2<f64>,
+    /// Influence kernel rows `K(|di|, dj)` for `dj = 0, 1, 2`, `di = 0 … nx+2`.
+    kernel: [Vec<f64>; 3],
+    /// Rigid film `X²/2 + Y²/2`.
+    shape: Array2<f64>,
+}
+
+impl Level {
+    pub fn new(grid: Grid) -> Self {
+        assert!((grid.dx() - grid.dy()).abs() < 1e-12 * grid.dx(), "square cells required");
+        let kernel = [0, 1, 2].map(|dj| {
+            (0..grid.nx as i64 + 3).map(|di| influence_coefficient(&grid, di, dj)).collect()
+        });
+        Self {
+            op: Deformation::new(grid),
+            h: grid.dx(),
+            p: grid.zeros(),
+            film: grid.zeros(),
+            rhs: grid.zeros(),
+            kernel,
+            shape: grid.paraboloid(),
+            grid,
+        }
+    }
+
+    #[inline]
+    fn k(&self, di: i64, dj: i64) -> f64 {
+        self.kernel[dj.unsigned_abs() as usize][di.unsigned_abs() as usize]
+    }
+
+    /// Kernel seen by a distributed change (+1 at the origin, −1/4 at the four neighbours).
+    #[inline]
+    fn kd(&self, di: i64, dj: i64) -> f64 {
+        self.k(di, dj)
+            - 0.25
+                * (self.k(di - 1, dj)
+                    + self.k(di + 1, dj)
+                    + self.k(di, dj - 1)
+                    + self.k(di, dj + 1))
+    }
+
+    /// `H = H00 + X²/2 + Y²/2 + W[P]`.
+    pub fn update_film(&mut self, h00: f64) {
+        self.op.apply(self.p.view(), self.film.view_mut());
+        Zip::from(&mut self.film).and(&self.shape).par_for_each(|f, &s| *f += s + h00);
+    }
+
+    /// `ε̄ = ρ̄ H³ / (η̄ λ̄)` (with `H ≥ 0`) and `ρ̄`.
+    pub fn coefficients(&self, prm: &ReynoldsParams) -> (Array2<f64>, Array2<f64>) {
+        let rho = self.p.mapv(|p| prm.density.rho(p));
+        let eps = Zip::from(&self.p).and(&self.film).and(&rho).par_map_collect(|&p, &h, &r| {
+            r * h.max(0.0).powi(3) / (prm.viscosity.eta(p) * prm.lambda_bar)
+        });
+        (eps, rho)
+    }
+
+    /// `L(P)` at interior point `(i, j)`.
+    #[inline]
+    fn operator_at(&self, eps: &Array2<f64>, rho: &Array2<f64>, i: usize, j: usize) -> f64 {
+        let (p, h) = (&self.p, self.h);
+        let e = eps[[j, i]];
+        let (ee, ew) = (0.5 * (e + eps[[j, i + 1]]), 0.5 * (e + eps[[j, i - 1]]));
+        let (en, es) = (0.5 * (e + eps[[j + 1, i]]), 0.5 * (e + eps[[j - 1, i]]));
+        let pc = p[[j, i]];
+        let a = (ee * (p[[j, i + 1]] - pc) - ew * (pc - p[[j, i - 1]]) + en * (p[[j + 1, i]] - pc)
+            - es * (pc - p[[j - 1, i]]))
+            / (h * h);
+        let rh = |ii: usize| rho[[j, ii]] * self.film[[j, ii]];
+        let b = if i >= 2 {
+            (1.5 * rh(i) - 2.0 * rh(i - 1) + 0.5 * rh(i - 2)) / h
+        } else {
+            (rh(i) - rh(i - 1)) / h
+        };
+        a - b
+    }
+
+    /// Residual `f − L(P)` (zero on the boundary and at cavitated points).
+    pub fn residual(&self, prm: &ReynoldsParams) -> Array2<f64> {
+        let (eps, rho) = self.coefficients(prm);
+        self.residual_with(&eps, &rho)
+    }
+
+    pub fn residual_with(&self, eps: &Array2<f64>, rho: &Array2<f64>) -> Array2<f64> {
+        let (ny, nx) = self.p.dim();
+        let mut r = Array2::zeros((ny, nx));
+        for j in 1..ny - 1 {
+            for i in 1..nx - 1 {
+                if self.p[[j, i]] > 0.0 || self.rhs[[j, i]] != 0.0 {
+                    r[[j, i]] = self.rhs[[j, i]] - self.operator_at(eps, rho, i, j);
+                }
+            }
+        }
+        r
+    }
+
+    /// `L(P)` on the whole grid (interior), for the FAS coarse right-hand side.
+    pub fn operator(&self, prm: &ReynoldsParams) -> Array2<f64> {
+        let (eps, rho) = self.coefficients(prm);
+        let (ny, nx) = self.p.dim();
+        let mut l = Array2::zeros((ny, nx));
+        for j in 1..ny - 1 {
+            for i in 1..nx - 1 {
+                l[[j, i]] = self.operator_at(&eps, &rho, i, j);
+            }
+        }
+        l
+    }
+
+    /// One sweep of line relaxation over all lines, then the film recomputed.
+    pub fn relax(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
+        let (ny, nx) = self.p.dim();
+        let h = self.h;
+        let m = nx - 2; // unknowns per line
+        // Wedge coefficients of a point's own change on its own equation: compare with the
+        // Poiseuille diagonal to choose the relaxation.
+        let wedge_diag = (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs() / h;
+        for j in 1..ny - 1 {
+            let (eps, rho) = self.line_coefficients(prm, j);
+            // Which points distribute.
+            let dist: Vec<bool> = (1..nx - 1)
+                .map(|i| {
+                    let e = eps[1][i];
+                    let pois = 4.0 * e / (h * h);
+                    pois < s.distributive_threshold * rho[1][i] * wedge_diag
+                })
+                .collect();
+            // Residuals on the line.
+            let r: Vec<f64> = (1..nx - 1)
+                .map(|i| {
+                    if self.p[[j, i]] > 0.0 || self.rhs[[j, i]] != 0.0 || true {
+                        self.rhs[[j, i]] - self.op_line(&eps, &rho, i, j)
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            // Banded matrix: row q (point i = q+1), columns q-2..q+2.
+            let mut band = vec![[0.0f64; 5]; m];
+            for q in 0..m {
+                let i = q + 1;
+                // Effect of unknown at column c (point ic) on equation at i.
+                for d in -2i64..=2 {
+                    let c = q as i64 + d;
+                    if c < 0 || c >= m as i64 {
+                        continue;
+                    }
+                    let ic = (c + 1) as usize;
+                    band[q][(d + 2) as usize] = self.dl_ddelta(&eps, &rho, i, ic, dist[c as usize]);
+                }
+            }
+            let delta = solve_banded(&mut band, r);
+            // Apply changes (cavitation: no negative pressures).
+            let mut changes: Vec<(usize, usize, f64)> = Vec::with_capacity(3 * m);
+            for q in 0..m {
+                let i = q + 1;
+                let d = delta[q] * if dist[q] { s.omega_jd } else { s.omega_gs };
+                if !d.is_finite() {
+                    continue;
+                }
+                if dist[q] {
+                    changes.push((i, j, d));
+                    for (ii, jj) in [(i - 1, j), (i + 1, j), (i, j - 1), (i, j + 1)] {
+                        if ii >= 1 && ii < nx - 1 && jj >= 1 && jj < ny - 1 {
+                            changes.push((ii, jj, -0.25 * d));
+                        }
+                    }
+                } else {
+                    changes.push((i, j, d));
+                }
+            }
+            let mut applied = Vec::with_capacity(changes.len());
+            for (i, jj, d) in changes {
+                let old = self.p[[jj, i]];
+                let new = (old + d).max(0.0);
+                self.p[[jj, i]] = new;
+                if new != old {
+                    applied.push((i, jj, new - old));
+                }
+            }
+            // The next line sees the film change of these changes at once.
+            if j + 1 < ny - 1 {
+                for ii in 0..nx {
+                    let mut dh = 0.0;
+                    for &(i, jj, d) in &applied {
+                        dh += d * self.k(ii as i64 - i as i64, (j + 1) as i64 - jj as i64);
+                    }
+                    self.film[[j + 1, ii]] += dh;
+                }
+            }
+        }
+        self.update_film(h00);
+    }
+
+    /// `ε̄` and `ρ̄` on lines `j−1, j, j+1` (index 0, 1, 2).
+    fn line_coefficients(&self, prm: &ReynoldsParams, j: usize) -> ([Vec<f64>; 3], [Vec<f64>; 3]) {
+        let nx = self.grid.nx;
+        let row = |jj: usize| -> (Vec<f64>, Vec<f64>) {
+            let rho: Vec<f64> = (0..nx).map(|i| prm.density.rho(self.p[[jj, i]])).collect();
+            let eps = (0..nx)
+                .map(|i| {
+                    rho[i] * self.film[[jj, i]].max(0.0).powi(3)
+                        / (prm.viscosity.eta(self.p[[jj, i]]) * prm.lambda_bar)
+                })
+                .collect();
+            (eps, rho)
+        };
+        let (e0, r0) = row(j - 1);
+        let (e1, r1) = row(j);
+        let (e2, r2) = row(j + 1);
+        ([e0, e1, e2], [r0, r1, r2])
+    }
+
+    /// `L(P)` at `(i, j)` with line coefficients.
+    fn op_line(&self, eps: &[Vec<f64>; 3], rho: &[Vec<f64>; 3], i: usize, j: usize) -> f64 {
+        let (p, h) = (&self.p, self.h);
+        let e = eps[1][i];
+        let (ee, ew) = (0.5 * (e + eps[1][i + 1]), 0.5 * (e + eps[1][i - 1]));
+        let (en, es) = (0.5 * (e + eps[2][i]), 0.5 * (e + eps[0][i]));
+        let pc = p[[j, i]];
+        let a = (ee * (p[[j, i + 1]] - pc) - ew * (pc - p[[j, i - 1]]) + en * (p[[j + 1, i]] - pc)
+            - es * (pc - p[[j - 1, i]]))
+            / (h * h);
+        let rh = |ii: usize| rho[1][ii] * self.film[[j, ii]];
+        let b = if i >= 2 {
+            (1.5 * rh(i) - 2.0 * rh(i - 1) + 0.5 * rh(i - 2)) / h
+        } else {
+            (rh(i) - rh(i - 1)) / h
+        };
+        a - b
+    }
+
+    /// `∂L_i/∂δ_ic` on line `j`: the change at `ic` is `+δ` there, and `−δ/4` at its neighbours
+    /// when distributive.
+    fn dl_ddelta(
+        &self,
+        eps: &[Vec<f64>; 3],
+        rho: &[Vec<f64>; 3],
+        i: usize,
+        ic: usize,
+        dist: bool,
+    ) -> f64 {
+        let h = self.h;
+        let e = eps[1][i];
+        let (ee, ew) = (0.5 * (e + eps[1][i + 1]), 0.5 * (e + eps[1][i - 1]));
+        let (en, es) = (0.5 * (e + eps[2][i]), 0.5 * (e + eps[0][i]));
+        // Poiseuille stencil coefficient of P at (i + d, same line) in L_i.
+        let pois = |d: i64| -> f64 {
+            match d {
+                0 => -(ee + ew + en + es) / (h * h),
+                1 => ee / (h * h),
+                -1 => ew / (h * h),
+                _ => 0.0,
+            }
+        };
+        let d = ic as i64 - i as i64;
+        let mut a = pois(d);
+        if dist {
+            // Neighbours on the line at ic ± 1 each get −1/4; those off the line (ic, j ± 1)
+            // enter L_i only when ic = i, through en, es.
+            a -= 0.25 * (pois(d - 1) + pois(d + 1));
+            if d == 0 {
+                a -= 0.25 * (en + es) / (h * h);
+            }
+        }
+        // Wedge: −∂(ρH)_x/∂δ, H at (ii, j) changes by K(ii − ic, 0) (or the distributed kernel).
+        let kk = |ii: usize| -> f64 {
+            let di = ii as i64 - ic as i64;
+            if dist { self.kd(di, 0) } else { self.k(di, 0) }
+        };
+        let w = if i >= 2 {
+            (1.5 * rho[1][i] * kk(i) - 2.0 * rho[1][i - 1] * kk(i - 1)
+                + 0.5 * rho[1][i - 2] * kk(i - 2))
+                / h
+        } else {
+            (rho[1][i] * kk(i) - rho[1][i - 1] * kk(i - 1)) / h
+        };
+        a - w
+    }
+}
+
+/// Solves the pentadiagonal system `band · x = r` (row q holds columns q−2 … q+2) by Gaussian
+/// elimination without pivoting.
+fn solve_banded(band: &mut [[f64; 5]], mut r: Vec<f64>) -> Vec<f64> {
+    let m = band.len();
+    // Full banded elimination with lower bandwidth 2, upper bandwidth 2 (fill-in stays inside).
+    for q in 0..m {
+        let piv = band[q][2];
+        if piv == 0.0 || !piv.is_finite() {
+            continue;
+        }
+        for below in 1..=2 {
+            let row = q + below;
+            if row >= m {
+                break;
+            }
+            let f = band[row][2 - below] / piv;
+            if f == 0.0 {
+                continue;
+            }
+            for col in 0..=2 {
+                // column q + col in row q sits at index 2 + col; in row `row` at 2 + col − below.
+                let idx = 2 + col - below;
+                band[row][idx] -= f * band[q][2 + col];
+            }
+            r[row] -= f * r[q];
+        }
+    }
+    let mut x = vec![0.0; m];
+    for q in (0..m).rev() {
+        let mut s = r[q];
+        for col in 1..=2 {
+            if q + col < m {
+                s -= band[q][2 + col] * x[q + col];
+            }
+        }
+        x[q] = if band[q][2] != 0.0 { s / band[q][2] } else { 0.0 };
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn banded_solver_matches_dense() {
+        let m = 7;
+        let mut band = vec![[0.0; 5]; m];
+        let mut dense = vec![vec![0.0; m]; m];
+        for q in 0..m {
+            for d in -2i64..=2 {
+                let c = q as i64 + d;
+                if c >= 0 && c < m as i64 {
+                    let v = if d == 0 {
+                        6.0 + q as f64
+                    } else {
+                        1.0 / (1.0 + (d * d) as f64 + q as f64)
+                    };
+                    band[q][(d + 2) as usize] = v;
+                    dense[q][c as usize] = v;
+                }
+            }
+        }
+        let x_true: Vec<f64> = (0..m).map(|k| (k as f64).sin() + 1.0).collect();
+        let r: Vec<f64> = (0..m).map(|q| (0..m).map(|c| dense[q][c] * x_true[c]).sum()).collect();
+        let x = solve_banded(&mut band, r);
+        for k in 0..m {
+            assert!((x[k] - x_true[k]).abs() < 1e-12);
+        }
+    }
+}

@@ -1,0 +1,12 @@
+//! Conventional Reynolds EHL point-contact solver in Hertz units (Venner & Lubrecht's
+//! formulation): `∂/∂X(ε̄ ∂P/∂X) + ∂/∂Y(ε̄ ∂P/∂Y) − ∂(ρ̄H)/∂X = 0`, `ε̄ = ρ̄H³/(η̄λ̄)`,
+//! `H = H00 + X²/2 + Y²/2 + W[P]` (the shared core's deformation operator on every level),
+//! `∬ P = 2π/3`, `P ≥ 0`.
+
+pub mod formulas;
+pub mod laws;
+pub mod level;
+pub mod params;
+
+pub use level::{Level, RelaxSettings};
+pub use params::{DensityLaw, ReynoldsParams, ViscosityLaw};

@@ -1,0 +1,82 @@
+//! The Reynolds problem's dimensionless parameters, from SI conditions or from Moes' `M`, `L`.
+
+use crate::laws::{Density, Viscosity};
+use ehl_core::{Contact, HertzScales, Lubricant, Moes};
+use serde::Serialize;
+
+/// Which laws a scene asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, Serialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ViscosityLaw {
+    #[default]
+    Roelands,
+    Barus,
+    Isoviscous,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, Serialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum DensityLaw {
+    #[default]
+    DowsonHigginson,
+    Incompressible,
+}
+
+/// Everything the dimensionless Reynolds equation needs.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ReynoldsParams {
+    pub scales: HertzScales,
+    pub moes: Moes,
+    /// `λ̄ = 12 η0 u_m R² / (a³ p_h)`, `u_m` the mean velocity.
+    pub lambda_bar: f64,
+    pub viscosity: Viscosity,
+    pub density: Density,
+}
+
+impl ReynoldsParams {
+    /// From SI: `u_sum = u1 + u2` [m/s].
+    pub fn from_si(
+        c: &Contact,
+        lub: &Lubricant,
+        u_sum: f64,
+        visc: ViscosityLaw,
+        dens: DensityLaw,
+    ) -> Self {
+        let scales = HertzScales::new(c);
+        let moes = Moes::from_si(c, lub, u_sum);
+        let viscosity = match visc {
+            ViscosityLaw::Roelands => Viscosity::Roelands {
+                s: lub.eta0.ln() + 9.67,
+                z: lub.roelands_z(),
+                p0: lub.p0_roelands / scales.p_h,
+            },
+            ViscosityLaw::Barus => Viscosity::Barus { alpha_bar: lub.alpha * scales.p_h },
+            ViscosityLaw::Isoviscous => Viscosity::Isoviscous,
+        };
+        let density = match dens {
+            DensityLaw::DowsonHigginson => Density::DowsonHigginson { p_h: scales.p_h },
+            DensityLaw::Incompressible => Density::Incompressible,
+        };
+        Self { scales, moes, lambda_bar: moes.lambda_bar(), viscosity, density }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn seed_conditions_give_the_notes_values() {
+        let c = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
+        let lub = Lubricant { eta0: 44.7e-3, alpha: 2.25e-8, p0_roelands: 1.96e8 };
+        let p = ReynoldsParams::from_si(
+            &c,
+            &lub,
+            0.02,
+            ViscosityLaw::Roelands,
+            DensityLaw::DowsonHigginson,
+        );
+        assert!((p.lambda_bar - 3.784e-4).abs() < 0.001e-4);
+        assert!((p.moes.m - 2223.0).abs() < 1.0);
+    }
+}
