@@ -7,6 +7,8 @@ pub mod formulas;
 pub mod laws;
 pub mod level;
 pub mod params;
+pub mod solver;
 
 pub use level::{Level, RelaxSettings};
 pub use params::{DensityLaw, ReynoldsParams, ViscosityLaw};
+pub use solver::{CycleLog, ReynoldsError, ReynoldsReport, ReynoldsSettings, ReynoldsSolver};

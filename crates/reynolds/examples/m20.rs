@@ -1,0 +1,70 @@
+//! Development probe: M = 20, L = 10 (Roelands, Dowson-Higginson) on a chosen grid.
+use ehl_core::{Contact, Grid, Lubricant, Moes};
+use ehl_reynolds::*;
+fn main() {
+    let n: usize = std::env::args().nth(1).map(|s| s.parse().unwrap()).unwrap_or(65);
+    let contact = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
+    let eta0 = 40e-3;
+    let moes = Moes { m: 20.0, l: 10.0 };
+    // Keep F, R, E', eta0; velocity from M, alpha from L.
+    let (u_sum, alpha) = moes.to_velocity_and_alpha(&contact, eta0);
+    let lub = Lubricant { eta0, alpha, p0_roelands: 1.96e8 };
+    let prm = ReynoldsParams::from_si(
+        &contact,
+        &lub,
+        u_sum,
+        ViscosityLaw::Roelands,
+        DensityLaw::DowsonHigginson,
+    );
+    println!("M {:.2} L {:.2} lambda {:.4e}", prm.moes.m, prm.moes.l, prm.lambda_bar);
+    let grid = Grid::new(n, n, (-4.5, 1.5), (-3.0, 3.0));
+    let mut settings = ReynoldsSettings::default();
+    if let Some(v) = std::env::args().nth(3) {
+        settings.relax.omega_jd = v.parse().unwrap();
+    }
+    if let Some(v) = std::env::args().nth(4) {
+        settings.relax.distributive_threshold = v.parse().unwrap();
+    }
+    if let Some(v) = std::env::args().nth(5) {
+        settings.relax.omega_gs = v.parse().unwrap();
+    }
+    let mut s = ReynoldsSolver::new(grid, prm, settings);
+    println!("levels {}", s.levels.len());
+    if std::env::args().nth(2).as_deref() == Some("relax") {
+        let h00 = s.h00;
+        let rs = s.settings.relax;
+        for k in 0..=400 {
+            if k % 40 == 0 {
+                let r = s.levels[0].residual(&s.prm);
+                let pos: Vec<f64> = r
+                    .iter()
+                    .zip(s.levels[0].p.iter())
+                    .filter(|(_, p)| **p > 0.0)
+                    .map(|(r, _)| *r)
+                    .collect();
+                let rms = (pos.iter().map(|v| v * v).sum::<f64>() / pos.len() as f64).sqrt();
+                let ((j, i), mx) = r.indexed_iter().fold(((0, 0), 0.0f64), |a, (ix, v)| {
+                    if v.abs() > a.1 { (ix, v.abs()) } else { a }
+                });
+                println!(
+                    "sweep {k:>4} rms(P>0) {rms:.3e} max {mx:.3e} at x={:.3} y={:.3} P={:.4}",
+                    s.levels[0].grid.x(i),
+                    s.levels[0].grid.y(j),
+                    s.levels[0].p[[j, i]]
+                );
+            }
+            s.levels[0].relax(&s.prm, h00, &rs);
+        }
+        return;
+    }
+    let rep = s.solve(&mut |c| {
+        println!(
+            "{:>4} res {:.3e} load {:+.3e} H00 {:.5} Hc {:.5} Hmin {:.5}",
+            c.cycle, c.residual, c.load_error, c.h00, c.central_film, c.minimum_film
+        )
+    });
+    println!("{:?}", rep.map(|r| (r.converged, r.cycles, r.wall_time_s)));
+}
+
+#[allow(dead_code)]
+fn relax_only() {}
