@@ -164,7 +164,7 @@ pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Ve
     orders["time_explicit"] = json!(print_orders("n_t", &exp_t));
     let (a, b) = (imp_t.last().unwrap(), exp_t.last().unwrap());
     println!(
-        "Explicit against implicit at n_t = {} on {}^2: central {:+.2e} nm, minimum {:+.2e} nm, p_max {:+.2e} p_h (implicit's own n_t 20 -> 40 change: central {:.2e}, minimum {:.2e})",
+        "Explicit against implicit at n_t = {} on {}^2: central {:+.2e} nm, minimum {:+.2e} nm, p_max {:+.2e} p_h (implicit's own change over its last refinement: central {:.2e}, minimum {:.2e})",
         a.nt,
         nt_points,
         b.central_nm - a.central_nm,
