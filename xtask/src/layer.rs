@@ -277,7 +277,7 @@ pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Ve
             ],
         )
         .legend(SeriesLabelPosition::UpperLeft)],
-        "steady rolling, implicit, n_t = 10: streaks grow where alpha_eff (p - E eps) > 1 - eps dE/dp; smoothing the coefficients' pressure removes them",
+        "steady rolling, implicit, n_t = 10; streaks grow where alpha_eff (p - E eps) > 1 - eps dE/dp",
     )?;
     let json_path = out.join("layer_convergence.json");
     std::fs::write(
