@@ -1,18 +1,16 @@
 //! Development probe: M = 20, L = 10 (Roelands, Dowson-Higginson) on a chosen grid.
-use ehl_core::{Contact, Grid, Lubricant, Moes};
+use ehl_core::{Contact, Grid, Moes};
 use ehl_reynolds::*;
 fn main() {
     let n: usize = std::env::args().nth(1).map(|s| s.parse().unwrap()).unwrap_or(65);
     let contact = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
-    let eta0 = 40e-3;
     let moes = Moes { m: 20.0, l: 10.0 };
     // Keep F, R, E', eta0; velocity from M, alpha from L.
-    let (u_sum, alpha) = moes.to_velocity_and_alpha(&contact, eta0);
-    let lub = Lubricant { eta0, alpha, p0_roelands: 1.96e8 };
-    let prm = ReynoldsParams::from_si(
+    let prm = ReynoldsParams::from_moes(
+        &moes,
         &contact,
-        &lub,
-        u_sum,
+        40e-3,
+        1.96e8,
         ViscosityLaw::Roelands,
         DensityLaw::DowsonHigginson,
     );

@@ -61,6 +61,23 @@ impl ReynoldsParams {
     }
 }
 
+impl ReynoldsParams {
+    /// From Moes' `M`, `L`, keeping the load, `R`, `E'` and `η0` of `c`, `eta0`: the sum
+    /// velocity follows from `M`, `α` from `L` (see [`Moes::to_velocity_and_alpha`]).
+    pub fn from_moes(
+        moes: &Moes,
+        c: &Contact,
+        eta0: f64,
+        p0_roelands: f64,
+        visc: ViscosityLaw,
+        dens: DensityLaw,
+    ) -> Self {
+        let (u_sum, alpha) = moes.to_velocity_and_alpha(c, eta0);
+        let lub = Lubricant { eta0, alpha, p0_roelands };
+        Self::from_si(c, &lub, u_sum, visc, dens)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -2,7 +2,7 @@
 //! a coarse grid: it must converge (central film settled to 1e-4 per cycle, force balance to
 //! 1e-6) and land near the Nijenbanning–Venner–Moes fit.
 
-use ehl_core::{Contact, Grid, Lubricant, Moes};
+use ehl_core::{Contact, Grid, Moes};
 use ehl_reynolds::formulas::{moes_to_hertz_film, nvm_central_moes};
 use ehl_reynolds::*;
 
@@ -10,12 +10,11 @@ use ehl_reynolds::*;
 fn m20_l10_converges_on_65_and_is_near_nvm() {
     let contact = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
     let moes = Moes { m: 20.0, l: 10.0 };
-    let (u_sum, alpha) = moes.to_velocity_and_alpha(&contact, 40e-3);
-    let lub = Lubricant { eta0: 40e-3, alpha, p0_roelands: 1.96e8 };
-    let prm = ReynoldsParams::from_si(
+    let prm = ReynoldsParams::from_moes(
+        &moes,
         &contact,
-        &lub,
-        u_sum,
+        40e-3,
+        1.96e8,
         ViscosityLaw::Roelands,
         DensityLaw::DowsonHigginson,
     );
