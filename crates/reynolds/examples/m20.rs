@@ -26,8 +26,51 @@ fn main() {
     if let Some(v) = std::env::args().nth(5) {
         settings.relax.omega_gs = v.parse().unwrap();
     }
+    let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<usize>().ok());
+    if let Some(v) = env("GAMMA") {
+        settings.gamma = v;
+    }
+    if let Some(v) = env("PRE") {
+        settings.pre_sweeps = v;
+    }
+    if let Some(v) = env("POST") {
+        settings.post_sweeps = v;
+    }
+    if let Some(v) = env("COARSEST") {
+        settings.coarsest_points = v;
+    }
     let mut s = ReynoldsSolver::new(grid, prm, settings);
     println!("levels {}", s.levels.len());
+    if std::env::args().nth(2).as_deref() == Some("freeze") {
+        s.settings.max_cycles = 30;
+        let _ = s.solve(&mut |_| {});
+        s.settings.h00_gain = 0.0;
+        s.settings.max_cycles = 1;
+        for _ in 0..4 {
+            let _ = s.solve(&mut |c| {
+                print!(
+                    "frozen res {:.3e} load {:+.4e} Hc {:.6} Hmin {:.6}",
+                    c.residual, c.load_error, c.central_film, c.minimum_film
+                )
+            });
+            let r = s.levels[0].residual(&s.prm);
+            let g = s.levels[0].grid;
+            let mut v: Vec<((usize, usize), f64)> =
+                r.indexed_iter().map(|(ix, v)| (ix, v.abs())).collect();
+            v.sort_by(|a, b| b.1.partial_cmp(&a.1).unwrap());
+            for ((j, i), m) in v.iter().take(3) {
+                print!(
+                    " | {:.2e} at x={:.3} y={:.3} P={:.2e}",
+                    m,
+                    g.x(*i),
+                    g.y(*j),
+                    s.levels[0].p[[*j, *i]]
+                );
+            }
+            println!();
+        }
+        return;
+    }
     if std::env::args().nth(2).as_deref() == Some("relax") {
         let h00 = s.h00;
         let rs = s.settings.relax;

@@ -17,6 +17,9 @@ use ehl_core::deformation::influence_coefficient;
 use ehl_core::{Deformation, Grid};
 use ndarray::{Array2, Zip};
 
+/// Pressure [p_h] below which a point counts as cavitated.
+pub const CAVITATION_FLOOR: f64 = 1e-10;
+
 /// Relaxation controls.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -196,7 +199,34 @@ impl Level {
                     band[q][(d + 2) as usize] = self.dl_ddelta(&eps, &rho, i, ic, dist[c as usize]);
                 }
             }
-            let delta = solve_banded(&mut band, r);
+            // Complementarity on the line: points whose pressure the solve would drive negative
+            // are fixed at P = 0 (their row becomes δ = −P) and the line solved again, so that
+            // the others' changes account for it; clamping afterwards instead makes the
+            // cavitation boundary flip from cycle to cycle.
+            let omega = |q: usize| if dist[q] { s.omega_jd } else { s.omega_gs };
+            let mut fixed = vec![false; m];
+            let mut delta = solve_banded(&mut band.clone(), r.clone());
+            for _pass in 0..4 {
+                let mut grew = false;
+                for q in 0..m {
+                    if !fixed[q] && self.p[[j, q + 1]] + omega(q) * delta[q] < 0.0 {
+                        fixed[q] = true;
+                        grew = true;
+                    }
+                }
+                if !grew {
+                    break;
+                }
+                let mut b2 = band.clone();
+                let mut r2 = r.clone();
+                for q in 0..m {
+                    if fixed[q] {
+                        b2[q] = [0.0, 0.0, 1.0, 0.0, 0.0];
+                        r2[q] = -self.p[[j, q + 1]] / omega(q);
+                    }
+                }
+                delta = solve_banded(&mut b2, r2);
+            }
             // Apply changes (cavitation: no negative pressures).
             let mut changes: Vec<(usize, usize, f64)> = Vec::with_capacity(3 * m);
             for q in 0..m {
@@ -219,7 +249,9 @@ impl Level {
             let mut applied = Vec::with_capacity(changes.len());
             for (i, jj, d) in changes {
                 let old = self.p[[jj, i]];
-                let new = (old + d).max(0.0);
+                // Pressures below 1e-10 p_h are cavitation, not load: left positive they carry
+                // equations they cannot satisfy and keep the free boundary moving.
+                let new = if old + d > CAVITATION_FLOOR { old + d } else { 0.0 };
                 self.p[[jj, i]] = new;
                 if new != old {
                     applied.push((i, jj, new - old));

@@ -171,7 +171,7 @@ impl ReynoldsSolver {
             // boundary is, and correcting there flips points in and out every cycle.
             ndarray::Zip::from(&mut f.p).and(&corr).for_each(|p, &c| {
                 if *p > 0.0 {
-                    *p = (*p + c).max(0.0);
+                    *p = if *p + c > crate::level::CAVITATION_FLOOR { *p + c } else { 0.0 };
                 }
             });
             // Boundary stays at zero pressure.
