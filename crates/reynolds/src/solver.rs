@@ -72,6 +72,8 @@ pub struct CycleLog {
 #[derive(Clone, Debug, Serialize)]
 pub struct ReynoldsReport {
     pub converged: bool,
+    /// Why not converged: what, where, at which cycle.
+    pub diagnosis: Option<String>,
     pub cycles: usize,
     pub history: Vec<CycleLog>,
     pub wall_time_s: f64,
@@ -191,6 +193,42 @@ impl ReynoldsSolver {
         }
     }
 
+    /// What keeps the solve from converging, in words: a closed film (where), or which criterion
+    /// is missed and by how much.
+    fn diagnose(&self, history: &[CycleLog]) -> String {
+        let last = history.last().expect("at least one cycle");
+        let f = &self.levels[0];
+        let ((j, i), hmin) = f
+            .film
+            .indexed_iter()
+            .fold(((0, 0), f64::INFINITY), |a, (ix, &v)| if v < a.1 { (ix, v) } else { a });
+        if hmin < 0.0 {
+            return format!(
+                "the film closed at cycle {}: H = {hmin:.3e} a²/R at (x = {:.3} a, y = {:.3} a) where P = {:.3} p_h; the lubricated solution broke down (too high a load for this grid and method)",
+                last.cycle,
+                f.grid.x(i),
+                f.grid.y(j),
+                f.p[[j, i]]
+            );
+        }
+        // A limit cycle shows as the load error changing sign from cycle to cycle.
+        let tail = &history[history.len().saturating_sub(8)..];
+        let flips = tail.windows(2).filter(|w| w[0].load_error * w[1].load_error < 0.0).count();
+        let how = if tail.len() >= 4 && flips + 1 >= tail.len() {
+            "the load error changes sign every cycle: a limit cycle, not slow convergence"
+        } else {
+            "still converging, or stalled"
+        };
+        format!(
+            "after {} cycles: force balance off by {:.2e} (tolerance {:.0e}), residual {:.2e}, central film {:.5e} a²/R; {how}",
+            last.cycle,
+            last.load_error,
+            self.settings.load_tolerance,
+            last.residual,
+            last.central_film
+        )
+    }
+
     /// Central and minimum film of the finest grid.
     pub fn films(&self) -> (f64, f64) {
         let f = &self.levels[0];
@@ -244,6 +282,7 @@ impl ReynoldsSolver {
             if settled && load_error.abs() < self.settings.load_tolerance {
                 return Ok(ReynoldsReport {
                     converged: true,
+                    diagnosis: None,
                     cycles: cycle,
                     history,
                     wall_time_s: t0.elapsed().as_secs_f64(),
@@ -253,6 +292,7 @@ impl ReynoldsSolver {
         }
         Ok(ReynoldsReport {
             converged: false,
+            diagnosis: Some(self.diagnose(&history)),
             cycles: self.settings.max_cycles,
             history,
             wall_time_s: t0.elapsed().as_secs_f64(),
