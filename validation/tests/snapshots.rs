@@ -41,6 +41,19 @@ fn builtin_scene_centrelines() {
                 }
                 s
             }
+            Outcome::Reynolds(o) => {
+                let j = o.grid.row_nearest(0.0);
+                let mut s = String::from("x/a, p/p_h, H (a^2/R)\n");
+                for i in 0..o.grid.nx {
+                    s += &format!(
+                        "{}, {}, {}\n",
+                        fmt4(o.grid.x(i)),
+                        fmt4(o.p[[j, i]]),
+                        fmt4(o.film[[j, i]])
+                    );
+                }
+                s
+            }
             Outcome::Layer(o) => {
                 let j = o.grid.row_nearest(0.0);
                 let st = &o.final_state;

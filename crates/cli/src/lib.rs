@@ -6,6 +6,7 @@ pub mod layer;
 pub mod output;
 pub mod plot;
 pub mod progress;
+pub mod reynolds;
 pub mod run;
 
 pub use run::{DryOutcome, Outcome, run_scene};

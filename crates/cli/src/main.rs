@@ -108,6 +108,34 @@ fn print_result(outcome: &ehl_cli::Outcome) {
             );
             println!("  pressure L2 error vs Hertz {:.2e}", h.pressure_l2_error);
         }
+        ehl_cli::Outcome::Reynolds(o) => {
+            let (hc, hmin, pmax) = o.films();
+            let s = &o.prm.scales;
+            println!(
+                "scene {} ({}x{}): converged in {} cycles, {:.2} s (setup {:.2} s); M = {:.2}, L = {:.3}",
+                o.scene.name,
+                o.grid.nx,
+                o.grid.ny,
+                o.report.cycles,
+                o.report.wall_time_s,
+                o.setup_time_s,
+                o.prm.moes.m,
+                o.prm.moes.l
+            );
+            println!(
+                "  central film {:.4e} m (H = {:.5}), minimum film {:.4e} m (H = {:.5}), max pressure {:.4e} Pa ({:.4} p_h)",
+                s.h_si(hc),
+                hc,
+                s.h_si(hmin),
+                hmin,
+                s.p_si(pmax),
+                pmax
+            );
+            println!(
+                "  formulas: Hamrock-Dowson {:.4e} m, Nijenbanning-Venner-Moes {:.4e} m",
+                o.formulas.0, o.formulas.1
+            );
+        }
         ehl_cli::Outcome::Layer(o) => {
             let f = &o.final_monitor;
             let s = &o.scales;

@@ -39,6 +39,7 @@ impl Outcome {
         match self {
             Outcome::Dry(o) => dry_summary(o),
             Outcome::Layer(o) => o.summary(),
+            Outcome::Reynolds(o) => o.summary(),
         }
     }
     /// The fields along the grid row nearest to `y = 0`.
@@ -46,6 +47,7 @@ impl Outcome {
         match self {
             Outcome::Dry(o) => dry_centreline(o),
             Outcome::Layer(o) => o.centreline(),
+            Outcome::Reynolds(o) => o.centreline(),
         }
     }
     /// Full fields in SI, with file stems.
@@ -60,26 +62,25 @@ impl Outcome {
                 ]
             }
             Outcome::Layer(o) => o.fields(),
+            Outcome::Reynolds(o) => o.fields(),
         }
     }
     /// Grid coordinates `x`, `y` [m] of the field columns and rows.
     pub fn axes(&self) -> (ndarray::Array1<f64>, ndarray::Array1<f64>) {
-        match self {
-            Outcome::Dry(o) => {
-                let to_si = |v: Vec<f64>| ndarray::Array1::from(v).mapv(|v| o.scales.x_si(v));
-                (to_si(o.grid.xs()), to_si(o.grid.ys()))
-            }
-            Outcome::Layer(o) => {
-                let to_si = |v: Vec<f64>| ndarray::Array1::from(v).mapv(|v| o.scales.x_si(v));
-                (to_si(o.grid.xs()), to_si(o.grid.ys()))
-            }
-        }
+        let (grid, a) = match self {
+            Outcome::Dry(o) => (&o.grid, o.scales.a),
+            Outcome::Layer(o) => (&o.grid, o.scales.a),
+            Outcome::Reynolds(o) => (&o.grid, o.prm.scales.a),
+        };
+        let to_si = |v: Vec<f64>| ndarray::Array1::from(v).mapv(|v| v * a);
+        (to_si(grid.xs()), to_si(grid.ys()))
     }
     /// Draws the figures into `dir`, file names starting with `prefix`.
     pub fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
         match self {
             Outcome::Dry(o) => dry_figures(o, dir, prefix),
             Outcome::Layer(o) => o.figures(dir, prefix),
+            Outcome::Reynolds(o) => o.figures(dir, prefix),
         }
     }
 }

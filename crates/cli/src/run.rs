@@ -11,6 +11,7 @@ use std::time::Instant;
 pub enum Outcome {
     Dry(DryOutcome),
     Layer(Box<crate::layer::LayerOutcome>),
+    Reynolds(Box<crate::reynolds::ReynoldsOutcome>),
 }
 
 impl Outcome {
@@ -18,6 +19,7 @@ impl Outcome {
         match self {
             Outcome::Dry(o) => &o.scene,
             Outcome::Layer(o) => &o.scene,
+            Outcome::Reynolds(o) => &o.scene,
         }
     }
 }
@@ -47,6 +49,7 @@ pub fn run_scene(scene: &Scene) -> Result<Outcome> {
     match scene.model {
         Model::Dry => Ok(Outcome::Dry(run_dry(scene)?)),
         Model::Layer => Ok(Outcome::Layer(Box::new(crate::layer::run_layer(scene)?))),
+        Model::Reynolds => Ok(Outcome::Reynolds(Box::new(crate::reynolds::run_reynolds(scene)?))),
     }
 }
 

@@ -121,6 +121,19 @@ impl Moes {
         let alpha = self.l / (c.reduced_modulus * u.powf(0.25));
         (u_sum, alpha)
     }
+    /// The other way with the lubricant fixed (`R`, `E'`, `η0`, `α` kept): `U` follows from `L`,
+    /// then the load from `M`. Returns `(load [N], u_sum [m/s])`.
+    pub fn to_load_and_velocity(
+        &self,
+        radius: f64,
+        e_prime: f64,
+        eta0: f64,
+        alpha: f64,
+    ) -> (f64, f64) {
+        let u = (self.l / (alpha * e_prime)).powi(4);
+        let load = self.m * e_prime * radius * radius * u.powf(0.75);
+        (load, u * e_prime * radius / eta0)
+    }
     /// Hertzian `λ̄ = (128 π³ / (3 M⁴))^(1/3)` (equals `12 η0 u_m R² / (a³ p_h)` with the mean
     /// velocity `u_m = u_s / 2`).
     pub fn lambda_bar(&self) -> f64 {
@@ -182,6 +195,9 @@ mod tests {
         let (u_sum, alpha) = moes.to_velocity_and_alpha(&c, lub.eta0);
         assert!((u_sum / 0.02 - 1.0).abs() < 1e-12);
         assert!((alpha / lub.alpha - 1.0).abs() < 1e-12);
+        let (load, u_sum) =
+            moes.to_load_and_velocity(c.ball_radius, c.reduced_modulus, lub.eta0, lub.alpha);
+        assert!((load / c.load - 1.0).abs() < 1e-12 && (u_sum / 0.02 - 1.0).abs() < 1e-12);
     }
 
     #[test]

@@ -5,6 +5,7 @@
 
 use ehl_core::{Contact, DrySettings, Grid, Lubricant};
 use ehl_layer::{Feature, LayerSpec, StopSettings, TimeSettings};
+use ehl_reynolds::{DensityLaw, ReynoldsSettings, ViscosityLaw};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -29,6 +30,9 @@ pub struct Scene {
     /// What happens in time: start, motion, features, steps, stop rule, snapshots (layer model).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub run: Option<RunSpec>,
+    /// The Reynolds model's laws, optional Moes input and solver settings.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reynolds: Option<ReynoldsSpec>,
     pub domain: Domain,
     pub grid: GridSpec,
     #[serde(default)]
@@ -45,6 +49,45 @@ pub enum Model {
     Dry,
     /// The oedometric viscoelastic layer model.
     Layer,
+    /// The conventional Reynolds EHL model (steady).
+    Reynolds,
+}
+
+/// The Reynolds model's block.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReynoldsSpec {
+    #[serde(default)]
+    pub viscosity: ViscosityLaw,
+    #[serde(default)]
+    pub density: DensityLaw,
+    /// Moes' `M`, `L`: when given, they set the load and the (pure-rolling) velocity, with `R`,
+    /// `E'`, `η0` and `α` kept; `conditions.load_n` and `rolling_velocity_m_s` are then ignored.
+    #[serde(default)]
+    pub moes: Option<ehl_core::Moes>,
+    #[serde(default)]
+    pub solver: ReynoldsSettings,
+}
+
+impl Scene {
+    /// Contact and sum velocity [m/s] a Reynolds scene runs with (Moes input resolved).
+    pub fn reynolds_conditions(&self) -> (Contact, f64) {
+        let mut c = self.conditions.contact();
+        let mut u_sum = 2.0 * self.conditions.rolling_velocity_m_s.unwrap_or(0.0);
+        if let (Some(r), Some(l)) = (&self.reynolds, &self.lubricant) {
+            if let Some(m) = &r.moes {
+                let (load, u) = m.to_load_and_velocity(
+                    c.ball_radius,
+                    c.reduced_modulus,
+                    l.eta0_pa_s,
+                    l.alpha_per_pa,
+                );
+                c.load = load;
+                u_sum = u;
+            }
+        }
+        (c, u_sum)
+    }
 }
 
 /// Conditions in SI; each field's unit is in its name.
@@ -197,7 +240,8 @@ const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "squeeze-after-stop",
     "dent-deep",
     "dent-shallow",
-    "hole"
+    "hole",
+    "reynolds-m20-l10"
 );
 
 /// Names of the built-in scenes.
@@ -355,6 +399,50 @@ impl Scene {
             positive("layer.damper_constant", l.damper_constant, "1, or Pa s when literal")?;
             if let Some(p) = l.reference_pressure_pa {
                 positive("layer.reference_pressure_pa", p, "Pa")?;
+            }
+        }
+        if self.model == Model::Reynolds {
+            let missing = |f: &str| err(f, "(missing)".into(), "required by the Reynolds model");
+            let l = self.lubricant.ok_or_else(|| missing("lubricant"))?;
+            let r = self.reynolds.ok_or_else(|| missing("reynolds"))?;
+            match r.moes {
+                Some(m) => {
+                    positive("reynolds.moes.m", m.m, "1")?;
+                    positive("reynolds.moes.l", m.l, "1")?;
+                    positive(
+                        "lubricant.alpha_per_pa",
+                        l.alpha_per_pa,
+                        "1/Pa (Moes input derives U from L)",
+                    )?;
+                }
+                None => {
+                    let u = c.rolling_velocity_m_s.unwrap_or(0.0);
+                    positive(
+                        "conditions.rolling_velocity_m_s",
+                        u,
+                        "m/s (a Reynolds film needs motion)",
+                    )?;
+                }
+            }
+            let s = &r.solver;
+            if s.max_cycles == 0 || s.gamma == 0 || s.gamma > 2 {
+                return Err(err(
+                    "reynolds.solver",
+                    format!("max_cycles {}, gamma {}", s.max_cycles, s.gamma),
+                    "max_cycles >= 1, gamma 1 (V) or 2 (W)",
+                ));
+            }
+            if self.grid.nx != self.grid.ny
+                || ((self.domain.x_a[1] - self.domain.x_a[0]) / (self.grid.nx - 1) as f64
+                    - (self.domain.y_a[1] - self.domain.y_a[0]) / (self.grid.ny - 1) as f64)
+                    .abs()
+                    > 1e-12
+            {
+                return Err(err(
+                    "grid",
+                    format!("{}x{}", self.grid.nx, self.grid.ny),
+                    "the Reynolds solver needs square cells (equal spacing in x and y)",
+                ));
             }
         }
         if self.model == Model::Layer {
