@@ -5,6 +5,7 @@
 mod bench;
 mod convergence;
 mod layer;
+mod reynolds;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -38,6 +39,16 @@ enum Command {
         #[arg(long, default_value_t = 129)]
         nt_points: usize,
     },
+    /// Stability studies: `reynolds` (converged or not, and cycles, over Moes' M and L).
+    Stability {
+        /// Which: `reynolds`.
+        which: Which,
+        #[arg(long, default_value = "out/stability")]
+        out: PathBuf,
+        /// Points per side.
+        #[arg(long, default_value_t = 65)]
+        points: usize,
+    },
     /// Time the deformation operator and the dry solver, 65² … 513².
     Bench {
         #[arg(long, default_value = "out/bench")]
@@ -46,6 +57,11 @@ enum Command {
         #[arg(long, default_value_t = 513)]
         max_points: usize,
     },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Which {
+    Reynolds,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -64,6 +80,9 @@ fn main() -> Result<()> {
             layer::convergence(&out, max_points, nt_points).map(|_| ())
         }
         Command::Bench { out, max_points } => bench::run(&out, max_points),
+        Command::Stability { which: Which::Reynolds, out, points } => {
+            reynolds::stability(&out, points).map(|_| ())
+        }
     }
 }
 

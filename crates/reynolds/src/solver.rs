@@ -271,9 +271,38 @@ impl ReynoldsSolver {
             log(&rec);
             history.push(rec);
             if !(hc.is_finite() && residual.is_finite() && load.is_finite()) {
+                let f = &self.levels[0];
+                let bad = |a: &ndarray::Array2<f64>| {
+                    a.indexed_iter().find(|(_, v)| !v.is_finite()).map(|(ix, _)| ix)
+                };
+                let what = match (bad(&f.p), bad(&f.film)) {
+                    (Some((j, i)), _) => format!(
+                        "pressure non-finite at (x = {:.3} a, y = {:.3} a)",
+                        f.grid.x(i),
+                        f.grid.y(j)
+                    ),
+                    (None, Some((j, i))) => format!(
+                        "film non-finite at (x = {:.3} a, y = {:.3} a)",
+                        f.grid.x(i),
+                        f.grid.y(j)
+                    ),
+                    _ => "load or residual non-finite".into(),
+                };
+                return Err(ReynoldsError::Diverged { cycle, what, film: hc, load: load_error });
+            }
+            // Growth by orders of magnitude is divergence too, before it reaches infinity.
+            if load_error.abs() > 1e3 {
+                let f = &self.levels[0];
+                let ((j, i), pm) =
+                    f.p.indexed_iter()
+                        .fold(((0, 0), 0.0f64), |a, (ix, &v)| if v > a.1 { (ix, v) } else { a });
                 return Err(ReynoldsError::Diverged {
                     cycle,
-                    what: "non-finite film, residual or load".into(),
+                    what: format!(
+                        "pressure grows without bound: P = {pm:.3e} p_h at (x = {:.3} a, y = {:.3} a)",
+                        f.grid.x(i),
+                        f.grid.y(j)
+                    ),
                     film: hc,
                     load: load_error,
                 });
