@@ -1,4 +1,7 @@
-//! Development probe: M = 20, L = 10 (Roelands, Dowson-Higginson) on a chosen grid.
+//! Diagnostic probe for M = 20, L = 10 (Roelands, Dowson-Higginson): `m20 N` solves on N²,
+//! `m20 N relax` watches single-grid relaxation, `m20 N freeze` runs cycles with H00 frozen and
+//! prints where the largest residuals sit. Extra arguments: omega_jd, threshold, omega_gs; env
+//! GAMMA, PRE, POST, COARSEST override the cycle.
 use ehl_core::{Contact, Grid, Moes};
 use ehl_reynolds::*;
 fn main() {
@@ -106,6 +109,3 @@ fn main() {
     });
     println!("{:?}", rep.map(|r| (r.converged, r.cycles, r.wall_time_s)));
 }
-
-#[allow(dead_code)]
-fn relax_only() {}

@@ -96,65 +96,51 @@ impl Level {
         Zip::from(&mut self.film).and(&self.shape).par_for_each(|f, &s| *f += s + h00);
     }
 
-    /// `ε̄ = ρ̄ H³ / (η̄ λ̄)` (with `H ≥ 0`) and `ρ̄`.
-    pub fn coefficients(&self, prm: &ReynoldsParams) -> (Array2<f64>, Array2<f64>) {
-        let rho = self.p.mapv(|p| prm.density.rho(p));
-        let eps = Zip::from(&self.p).and(&self.film).and(&rho).par_map_collect(|&p, &h, &r| {
-            r * h.max(0.0).powi(3) / (prm.viscosity.eta(p) * prm.lambda_bar)
-        });
-        (eps, rho)
-    }
-
-    /// `L(P)` at interior point `(i, j)`.
+    /// `(ε̄, ρ̄)` at pressure `p` and film `h`: `ε̄ = ρ̄ H³ / (η̄ λ̄)` with `H ≥ 0`.
     #[inline]
-    fn operator_at(&self, eps: &Array2<f64>, rho: &Array2<f64>, i: usize, j: usize) -> f64 {
-        let (p, h) = (&self.p, self.h);
-        let e = eps[[j, i]];
-        let (ee, ew) = (0.5 * (e + eps[[j, i + 1]]), 0.5 * (e + eps[[j, i - 1]]));
-        let (en, es) = (0.5 * (e + eps[[j + 1, i]]), 0.5 * (e + eps[[j - 1, i]]));
-        let pc = p[[j, i]];
-        let a = (ee * (p[[j, i + 1]] - pc) - ew * (pc - p[[j, i - 1]]) + en * (p[[j + 1, i]] - pc)
-            - es * (pc - p[[j - 1, i]]))
-            / (h * h);
-        let rh = |ii: usize| rho[[j, ii]] * self.film[[j, ii]];
-        let b = if i >= 2 {
-            (1.5 * rh(i) - 2.0 * rh(i - 1) + 0.5 * rh(i - 2)) / h
-        } else {
-            (rh(i) - rh(i - 1)) / h
-        };
-        a - b
+    fn eps_rho(prm: &ReynoldsParams, p: f64, h: f64) -> (f64, f64) {
+        let rho = prm.density.rho(p);
+        (rho * h.max(0.0).powi(3) / (prm.viscosity.eta(p) * prm.lambda_bar), rho)
     }
 
-    /// Residual `f − L(P)` (zero on the boundary and at cavitated points).
-    pub fn residual(&self, prm: &ReynoldsParams) -> Array2<f64> {
+    /// `ε̄` and `ρ̄` on the whole grid.
+    pub fn coefficients(&self, prm: &ReynoldsParams) -> (Array2<f64>, Array2<f64>) {
+        let both =
+            Zip::from(&self.p).and(&self.film).par_map_collect(|&p, &h| Self::eps_rho(prm, p, h));
+        (both.mapv(|v| v.0), both.mapv(|v| v.1))
+    }
+
+    /// `L(P)` at every interior point, row by row, into `f(j, i, L)`.
+    fn for_each_operator(&self, prm: &ReynoldsParams, mut f: impl FnMut(usize, usize, f64)) {
         let (eps, rho) = self.coefficients(prm);
-        self.residual_with(&eps, &rho)
-    }
-
-    pub fn residual_with(&self, eps: &Array2<f64>, rho: &Array2<f64>) -> Array2<f64> {
         let (ny, nx) = self.p.dim();
-        let mut r = Array2::zeros((ny, nx));
         for j in 1..ny - 1 {
+            let rows = [eps.row(j - 1), eps.row(j), eps.row(j + 1)];
+            let e = rows.each_ref().map(|r| r.to_slice().expect("rows are contiguous"));
+            let r = rho.row(j);
+            let r = r.to_slice().expect("rows are contiguous");
             for i in 1..nx - 1 {
-                if self.p[[j, i]] > 0.0 || self.rhs[[j, i]] != 0.0 {
-                    r[[j, i]] = self.rhs[[j, i]] - self.operator_at(eps, rho, i, j);
-                }
+                f(j, i, self.op_line(e, r, i, j));
             }
         }
+    }
+
+    /// Residual `f − L(P)` (zero on the boundary and at cavitated points of the finest grid).
+    pub fn residual(&self, prm: &ReynoldsParams) -> Array2<f64> {
+        let mut r = self.grid.zeros();
+        self.for_each_operator(prm, |j, i, l| {
+            if self.p[[j, i]] > 0.0 || self.rhs[[j, i]] != 0.0 {
+                r[[j, i]] = self.rhs[[j, i]] - l;
+            }
+        });
         r
     }
 
     /// `L(P)` on the whole grid (interior), for the FAS coarse right-hand side.
     pub fn operator(&self, prm: &ReynoldsParams) -> Array2<f64> {
-        let (eps, rho) = self.coefficients(prm);
-        let (ny, nx) = self.p.dim();
-        let mut l = Array2::zeros((ny, nx));
-        for j in 1..ny - 1 {
-            for i in 1..nx - 1 {
-                l[[j, i]] = self.operator_at(&eps, &rho, i, j);
-            }
-        }
-        l
+        let mut out = self.grid.zeros();
+        self.for_each_operator(prm, |j, i, l| out[[j, i]] = l);
+        out
     }
 
     /// One sweep of line relaxation over all lines, then the film recomputed.
@@ -166,25 +152,15 @@ impl Level {
         // Poiseuille diagonal to choose the relaxation.
         let wedge_diag = (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs() / h;
         for j in 1..ny - 1 {
-            let (eps, rho) = self.line_coefficients(prm, j);
+            let (eps_rows, rho) = self.line_coefficients(prm, j);
+            let eps = eps_rows.each_ref().map(|r| r.as_slice());
             // Which points distribute.
             let dist: Vec<bool> = (1..nx - 1)
-                .map(|i| {
-                    let e = eps[1][i];
-                    let pois = 4.0 * e / (h * h);
-                    pois < s.distributive_threshold * rho[1][i] * wedge_diag
-                })
+                .map(|i| 4.0 * eps[1][i] / (h * h) < s.distributive_threshold * rho[i] * wedge_diag)
                 .collect();
-            // Residuals on the line.
-            let r: Vec<f64> = (1..nx - 1)
-                .map(|i| {
-                    if self.p[[j, i]] > 0.0 || self.rhs[[j, i]] != 0.0 || true {
-                        self.rhs[[j, i]] - self.op_line(&eps, &rho, i, j)
-                    } else {
-                        0.0
-                    }
-                })
-                .collect();
+            // Residuals on the line (cavitated points included: they may turn loaded).
+            let r: Vec<f64> =
+                (1..nx - 1).map(|i| self.rhs[[j, i]] - self.op_line(eps, &rho, i, j)).collect();
             // Banded matrix: row q (point i = q+1), columns q-2..q+2.
             let mut band = vec![[0.0f64; 5]; m];
             for q in 0..m {
@@ -196,7 +172,7 @@ impl Level {
                         continue;
                     }
                     let ic = (c + 1) as usize;
-                    band[q][(d + 2) as usize] = self.dl_ddelta(&eps, &rho, i, ic, dist[c as usize]);
+                    band[q][(d + 2) as usize] = self.dl_ddelta(eps, &rho, i, ic, dist[c as usize]);
                 }
             }
             // Complementarity on the line: points whose pressure the solve would drive negative
@@ -231,7 +207,7 @@ impl Level {
             let mut changes: Vec<(usize, usize, f64)> = Vec::with_capacity(3 * m);
             for q in 0..m {
                 let i = q + 1;
-                let d = delta[q] * if dist[q] { s.omega_jd } else { s.omega_gs };
+                let d = delta[q] * omega(q);
                 if !d.is_finite() {
                     continue;
                 }
@@ -274,36 +250,40 @@ impl Level {
         self.update_film(h00);
     }
 
-    /// `ε̄` and `ρ̄` on lines `j−1, j, j+1` (index 0, 1, 2).
-    fn line_coefficients(&self, prm: &ReynoldsParams, j: usize) -> ([Vec<f64>; 3], [Vec<f64>; 3]) {
-        let nx = self.grid.nx;
-        let row = |jj: usize| -> (Vec<f64>, Vec<f64>) {
-            let rho: Vec<f64> = (0..nx).map(|i| prm.density.rho(self.p[[jj, i]])).collect();
-            let eps = (0..nx)
-                .map(|i| {
-                    rho[i] * self.film[[jj, i]].max(0.0).powi(3)
-                        / (prm.viscosity.eta(self.p[[jj, i]]) * prm.lambda_bar)
-                })
-                .collect();
-            (eps, rho)
+    /// `ε̄` on lines `j−1, j, j+1` and `ρ̄` on line `j`, from the current pressure and film.
+    fn line_coefficients(&self, prm: &ReynoldsParams, j: usize) -> ([Vec<f64>; 3], Vec<f64>) {
+        let row = |jj: usize| -> Vec<(f64, f64)> {
+            (0..self.grid.nx)
+                .map(|i| Self::eps_rho(prm, self.p[[jj, i]], self.film[[jj, i]]))
+                .collect()
         };
-        let (e0, r0) = row(j - 1);
-        let (e1, r1) = row(j);
-        let (e2, r2) = row(j + 1);
-        ([e0, e1, e2], [r0, r1, r2])
+        let centre = row(j);
+        let eps = [row(j - 1), centre.clone(), row(j + 1)].map(|r| r.iter().map(|v| v.0).collect());
+        (eps, centre.iter().map(|v| v.1).collect())
     }
 
-    /// `L(P)` at `(i, j)` with line coefficients.
-    fn op_line(&self, eps: &[Vec<f64>; 3], rho: &[Vec<f64>; 3], i: usize, j: usize) -> f64 {
-        let (p, h) = (&self.p, self.h);
+    /// `ε̄` averaged to the half points east, west, north, south of `i` (rows `j−1, j, j+1`).
+    #[inline]
+    fn half_points(eps: [&[f64]; 3], i: usize) -> (f64, f64, f64, f64) {
         let e = eps[1][i];
-        let (ee, ew) = (0.5 * (e + eps[1][i + 1]), 0.5 * (e + eps[1][i - 1]));
-        let (en, es) = (0.5 * (e + eps[2][i]), 0.5 * (e + eps[0][i]));
+        (
+            0.5 * (e + eps[1][i + 1]),
+            0.5 * (e + eps[1][i - 1]),
+            0.5 * (e + eps[2][i]),
+            0.5 * (e + eps[0][i]),
+        )
+    }
+
+    /// The discrete operator `L(P)` at `(i, j)`, given `ε̄` on rows `j−1, j, j+1` and `ρ̄` on
+    /// row `j`: the one place the discretisation is written.
+    fn op_line(&self, eps: [&[f64]; 3], rho: &[f64], i: usize, j: usize) -> f64 {
+        let (p, h) = (&self.p, self.h);
+        let (ee, ew, en, es) = Self::half_points(eps, i);
         let pc = p[[j, i]];
         let a = (ee * (p[[j, i + 1]] - pc) - ew * (pc - p[[j, i - 1]]) + en * (p[[j + 1, i]] - pc)
             - es * (pc - p[[j - 1, i]]))
             / (h * h);
-        let rh = |ii: usize| rho[1][ii] * self.film[[j, ii]];
+        let rh = |ii: usize| rho[ii] * self.film[[j, ii]];
         let b = if i >= 2 {
             (1.5 * rh(i) - 2.0 * rh(i - 1) + 0.5 * rh(i - 2)) / h
         } else {
@@ -314,18 +294,9 @@ impl Level {
 
     /// `∂L_i/∂δ_ic` on line `j`: the change at `ic` is `+δ` there, and `−δ/4` at its neighbours
     /// when distributive.
-    fn dl_ddelta(
-        &self,
-        eps: &[Vec<f64>; 3],
-        rho: &[Vec<f64>; 3],
-        i: usize,
-        ic: usize,
-        dist: bool,
-    ) -> f64 {
+    fn dl_ddelta(&self, eps: [&[f64]; 3], rho: &[f64], i: usize, ic: usize, dist: bool) -> f64 {
         let h = self.h;
-        let e = eps[1][i];
-        let (ee, ew) = (0.5 * (e + eps[1][i + 1]), 0.5 * (e + eps[1][i - 1]));
-        let (en, es) = (0.5 * (e + eps[2][i]), 0.5 * (e + eps[0][i]));
+        let (ee, ew, en, es) = Self::half_points(eps, i);
         // Poiseuille stencil coefficient of P at (i + d, same line) in L_i.
         let pois = |d: i64| -> f64 {
             match d {
@@ -351,11 +322,9 @@ impl Level {
             if dist { self.kd(di, 0) } else { self.k(di, 0) }
         };
         let w = if i >= 2 {
-            (1.5 * rho[1][i] * kk(i) - 2.0 * rho[1][i - 1] * kk(i - 1)
-                + 0.5 * rho[1][i - 2] * kk(i - 2))
-                / h
+            (1.5 * rho[i] * kk(i) - 2.0 * rho[i - 1] * kk(i - 1) + 0.5 * rho[i - 2] * kk(i - 2)) / h
         } else {
-            (rho[1][i] * kk(i) - rho[1][i - 1] * kk(i - 1)) / h
+            (rho[i] * kk(i) - rho[i - 1] * kk(i - 1)) / h
         };
         a - w
     }

@@ -123,16 +123,12 @@ impl ReynoldsSolver {
             grids.push(c);
         }
         let mut levels: Vec<Level> = grids.into_iter().map(Level::new).collect();
+        // The finest grid starts from Hertz; coarse grids get the restricted pressure per cycle.
         levels[0].p = grid.field(hertz::pressure);
-        for l in 1..levels.len() {
-            levels[l].p = inject(&levels[l - 1].p);
-        }
         let hc = moes_to_hertz_film(nvm_central_moes(&prm.moes), &prm.moes);
         let h00 = hc - 1.0;
         let mut s = Self { levels, prm, h00, settings };
-        for l in 0..s.levels.len() {
-            s.levels[l].update_film(h00);
-        }
+        s.levels[0].update_film(h00);
         s
     }
 
@@ -253,10 +249,10 @@ impl ReynoldsSolver {
             let load_error = load / target - 1.0;
             // The contact's compliance to the approach is ~1/π per unit load (Hertz).
             self.h00 += self.settings.h00_gain * (load - target) / PI;
-            for l in 0..self.levels.len() {
-                let h00 = self.h00;
-                self.levels[l].update_film(h00);
-            }
+            // Only the finest film is read between cycles; coarse films are rebuilt from the
+            // restricted pressure before each use.
+            let h00 = self.h00;
+            self.levels[0].update_film(h00);
             let (hc, hmin) = self.films();
             let res = self.levels[0].residual(&self.prm);
             let residual = (res.iter().map(|v| v * v).sum::<f64>() / res.len() as f64).sqrt();
