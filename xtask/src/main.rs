@@ -101,12 +101,10 @@ fn figures(out: &std::path::Path) -> Result<()> {
         let f = out.join(format!("{}_summary.json", scene.name));
         std::fs::write(&f, serde_json::to_string_pretty(&outcome.summary())? + "\n")?;
         written.push(f);
-        if let ehl_cli::Outcome::Layer(o) = &outcome {
-            if let Some(csv) = o.time_series_csv() {
-                let f = out.join(format!("{}_timeseries.csv", scene.name));
-                std::fs::write(&f, csv)?;
-                written.push(f);
-            }
+        if let Some(csv) = outcome.time_series_csv() {
+            let f = out.join(format!("{}_timeseries.csv", scene.name));
+            std::fs::write(&f, csv)?;
+            written.push(f);
         }
     }
     written.extend(convergence::dry(out, 513)?);

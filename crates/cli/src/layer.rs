@@ -176,7 +176,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     spin.finish_and_clear();
     let final_monitor = Monitor::of(&m, &state, 0);
     let l = state.thickness(&m);
-    let gap = m.ball(state.t) + &state.w - &l + state.h0;
+    let gap = state.gap(&m);
     Ok(LayerOutcome {
         scene: scene.clone(),
         scales: m.scales,

@@ -65,6 +65,14 @@ impl Outcome {
             Outcome::Reynolds(o) => o.fields(),
         }
     }
+    /// Time series as CSV (SI), for models that step in time.
+    pub fn time_series_csv(&self) -> Option<String> {
+        match self {
+            Outcome::Layer(o) => o.time_series_csv(),
+            Outcome::Dry(_) | Outcome::Reynolds(_) => None,
+        }
+    }
+
     /// Grid coordinates `x`, `y` [m] of the field columns and rows.
     pub fn axes(&self) -> (ndarray::Array1<f64>, ndarray::Array1<f64>) {
         let (grid, a) = match self {
@@ -270,12 +278,10 @@ fn write_into(outcome: &Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
     let summary = dir.join("summary.json");
     std::fs::write(&summary, serde_json::to_string_pretty(&outcome.summary())? + "\n")?;
     files.push(summary);
-    if let Outcome::Layer(o) = outcome {
-        if let Some(csv) = o.time_series_csv() {
-            let f = dir.join("timeseries.csv");
-            std::fs::write(&f, csv)?;
-            files.push(f);
-        }
+    if let Some(csv) = outcome.time_series_csv() {
+        let f = dir.join("timeseries.csv");
+        std::fs::write(&f, csv)?;
+        files.push(f);
     }
     if outputs.centreline {
         let f = dir.join("centreline.csv");

@@ -120,8 +120,14 @@ impl LayerModel {
         (p - self.modulus(pc, eps) * eps) / self.eta(pc)
     }
     pub fn rate_field(&self, p: &Array2<f64>, eps: &Array2<f64>) -> Array2<f64> {
-        let pc = self.coefficient_pressure(p);
-        Zip::from(p).and(&pc).and(eps).par_map_collect(|&p, &pc, &e| self.rate(p, pc, e))
+        let smoothed;
+        let pc = if self.spec.coefficient_smoothing_a > 0.0 {
+            smoothed = self.coefficient_pressure(p);
+            &smoothed
+        } else {
+            p
+        };
+        Zip::from(p).and(pc).and(eps).par_map_collect(|&p, &pc, &e| self.rate(p, pc, e))
     }
 
     /// The pressure the material coefficients see: `p` itself, or its Gaussian smoothing when
@@ -259,6 +265,11 @@ impl LayerState {
     /// Layer thickness `L` [a²/R].
     pub fn thickness(&self, model: &LayerModel) -> Array2<f64> {
         model.thickness(&self.eps, self.t)
+    }
+
+    /// Gap `H = H0 + f + b(t) + W − L` [a²/R] (zero where the surfaces carry pressure).
+    pub fn gap(&self, model: &LayerModel) -> Array2<f64> {
+        model.ball(self.t) + &self.w - &self.thickness(model) + self.h0
     }
 }
 
