@@ -39,6 +39,9 @@ fn main() {
     if let Some(v) = env("POST") {
         settings.post_sweeps = v;
     }
+    if let Some(v) = env("FMG") {
+        settings.fmg_cycles = v;
+    }
     if let Some(v) = env("COARSEST") {
         settings.coarsest_points = v;
     }
@@ -49,6 +52,7 @@ fn main() {
         let _ = s.solve(&mut |_| {});
         s.settings.h00_gain = 0.0;
         s.settings.max_cycles = 1;
+        s.settings.fmg_cycles = 0;
         for _ in 0..4 {
             let _ = s.solve(&mut |c| {
                 print!(
@@ -71,6 +75,33 @@ fn main() {
                 );
             }
             println!();
+        }
+        return;
+    }
+    if std::env::args().nth(2).as_deref() == Some("diff") {
+        s.settings.max_cycles = 40;
+        let _ = s.solve(&mut |_| {});
+        s.settings.max_cycles = 1;
+        s.settings.fmg_cycles = 0;
+        for _ in 0..3 {
+            let before = s.levels[0].p.clone();
+            let _ = s.solve(&mut |c| print!("load {:+.4e}", c.load_error));
+            let d = &s.levels[0].p - &before;
+            println!(" sum dP h^2 {:.3e}", d.sum() * s.levels[0].h * s.levels[0].h);
+            let g = s.levels[0].grid;
+            let mut v: Vec<((usize, usize), f64)> =
+                d.indexed_iter().map(|(ix, v)| (ix, *v)).collect();
+            v.sort_by(|a, b| b.1.abs().partial_cmp(&a.1.abs()).unwrap());
+            for ((j, i), m) in v.iter().take(6) {
+                println!(
+                    "   dP {:+.2e} at x={:.3} y={:.3} P={:.3e} H={:.4}",
+                    m,
+                    g.x(*i),
+                    g.y(*j),
+                    s.levels[0].p[[*j, *i]],
+                    s.levels[0].film[[*j, *i]]
+                );
+            }
         }
         return;
     }
@@ -103,8 +134,8 @@ fn main() {
     }
     let rep = s.solve(&mut |c| {
         println!(
-            "{:>4} res {:.3e} load {:+.3e} H00 {:.5} Hc {:.5} Hmin {:.5}",
-            c.cycle, c.residual, c.load_error, c.h00, c.central_film, c.minimum_film
+            "{:>4} {:>4}² res {:.3e} load {:+.3e} H00 {:.5} Hc {:.5} Hmin {:.5}",
+            c.cycle, c.points, c.residual, c.load_error, c.h00, c.central_film, c.minimum_film
         )
     });
     println!("{:?}", rep.map(|r| (r.converged, r.cycles, r.wall_time_s)));

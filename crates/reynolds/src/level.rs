@@ -27,7 +27,9 @@ pub struct RelaxSettings {
     /// Points where (Poiseuille diagonal) / (wedge diagonal) falls below this relax
     /// distributively.
     pub distributive_threshold: f64,
-    /// Under-relaxation of Gauss–Seidel changes.
+    /// Under-relaxation of Gauss–Seidel changes. At 0.7 the outlet pressure spike on 513²
+    /// (M = 20, L = 10) keeps a period-2 limit cycle (load ±1.5e-5); 0.5 converges in 18
+    /// cycles, 0.4 in 15.
     pub omega_gs: f64,
     /// Under-relaxation of distributive changes.
     pub omega_jd: f64,
@@ -35,7 +37,7 @@ pub struct RelaxSettings {
 
 impl Default for RelaxSettings {
     fn default() -> Self {
-        Self { distributive_threshold: 0.3, omega_gs: 0.7, omega_jd: 0.3 }
+        Self { distributive_threshold: 0.3, omega_gs: 0.4, omega_jd: 0.3 }
     }
 }
 
@@ -88,6 +90,11 @@ impl Level {
                     + self.k(di + 1, dj)
                     + self.k(di, dj - 1)
                     + self.k(di, dj + 1))
+    }
+
+    /// `∬ P dX dY` (trapezoidal; `P = 0` on the boundary).
+    pub fn load(&self) -> f64 {
+        self.p.sum() * self.h * self.h
     }
 
     /// `H = H00 + X²/2 + Y²/2 + W[P]`.
