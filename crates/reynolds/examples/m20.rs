@@ -17,8 +17,26 @@ fn main() {
         ViscosityLaw::Roelands,
         DensityLaw::DowsonHigginson,
     );
+    // SEED=1: the seed's Table 1 conditions instead (M ≈ 2223, L ≈ 2.49).
+    let prm = if std::env::var("SEED").is_ok() {
+        let lub = ehl_core::Lubricant { eta0: 44.7e-3, alpha: 2.25e-8, p0_roelands: 1.96e8 };
+        ReynoldsParams::from_si(
+            &contact,
+            &lub,
+            0.02,
+            ViscosityLaw::Roelands,
+            DensityLaw::DowsonHigginson,
+        )
+    } else {
+        prm
+    };
     println!("M {:.2} L {:.2} lambda {:.4e}", prm.moes.m, prm.moes.l, prm.lambda_bar);
-    let grid = Grid::new(n, n, (-4.5, 1.5), (-3.0, 3.0));
+    // NARROW=1: the layer model's domain [-1.25, 1.25]² instead.
+    let grid = if std::env::var("NARROW").is_ok() {
+        Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25))
+    } else {
+        Grid::new(n, n, (-4.5, 1.5), (-3.0, 3.0))
+    };
     let mut settings = ReynoldsSettings::default();
     if let Some(v) = std::env::args().nth(3) {
         settings.relax.omega_jd = v.parse().unwrap();
@@ -38,6 +56,9 @@ fn main() {
     }
     if let Some(v) = env("POST") {
         settings.post_sweeps = v;
+    }
+    if let Some(v) = env("MAXC") {
+        settings.max_cycles = v;
     }
     if let Some(v) = env("FMG") {
         settings.fmg_cycles = v;
