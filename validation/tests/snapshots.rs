@@ -20,7 +20,10 @@ fn fmt4(v: f64) -> String {
 #[test]
 fn builtin_scene_centrelines() {
     for scene in ehl_scene::builtins() {
-        let mut scene = scene.with_points(33).unwrap();
+        // The seed's Reynolds case needs its full grid: on 33² its 12 nm film closes
+        // (`crates/reynolds/tests/moderate.rs`); it is printed every 8th point.
+        let (points, every) = if scene.name == "reynolds-seed" { (257, 8) } else { (33, 1) };
+        let mut scene = scene.with_points(points).unwrap();
         scene.solver.tolerance = 1e-11;
         scene.outputs.figures = false;
         if let Some(r) = scene.run.as_mut() {
@@ -43,13 +46,14 @@ fn builtin_scene_centrelines() {
             }
             Outcome::Reynolds(o) => {
                 let j = o.grid.row_nearest(0.0);
+                // The film to 4 significant digits (the seed's is 0.006 a²/R).
                 let mut s = String::from("x/a, p/p_h, H (a^2/R)\n");
-                for i in 0..o.grid.nx {
+                for i in (0..o.grid.nx).step_by(every) {
                     s += &format!(
-                        "{}, {}, {}\n",
+                        "{}, {}, {:.3e}\n",
                         fmt4(o.grid.x(i)),
                         fmt4(o.p[[j, i]]),
-                        fmt4(o.film[[j, i]])
+                        o.film[[j, i]]
                     );
                 }
                 s

@@ -177,7 +177,10 @@ impl ReynoldsOutcome {
         let mut out = vec![];
         // Seed Fig. 4 analogue: pressure and film maps.
         let f = dir.join(format!("{prefix}maps.png"));
-        let film_nm = self.film.mapv(|v| v * nm);
+        // The colour scale stops at 3 h_c: the open gap outside the contact is two orders
+        // thicker and would hide the horseshoe.
+        let cap = 3.0 * self.films().0 * nm;
+        let film_nm = self.film.mapv(|v| (v * nm).min(cap));
         plot::heat_maps(
             &f,
             &[
@@ -188,7 +191,7 @@ impl ReynoldsOutcome {
                 },
                 MapPanel {
                     field: &film_nm,
-                    title: "Film h [nm]".into(),
+                    title: "Film h [nm] (scale capped at 3 h_c)".into(),
                     bar_label: "h [nm]".into(),
                 },
             ],

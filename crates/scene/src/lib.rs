@@ -241,7 +241,8 @@ const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "dent-deep",
     "dent-shallow",
     "hole",
-    "reynolds-m20-l10"
+    "reynolds-m20-l10",
+    "reynolds-seed"
 );
 
 /// Names of the built-in scenes.
