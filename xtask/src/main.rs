@@ -1,8 +1,10 @@
-//! The workbench's harness: `cargo xtask figures | convergence dry | bench`.
+//! The workbench's harness: `cargo xtask figures | convergence dry|layer|reynolds |
+//! stability reynolds | bench`.
 //!
 //! Fine grids live here, not in the tests: these commands take seconds to minutes.
 
 mod bench;
+mod compare;
 mod convergence;
 mod layer;
 mod reynolds;
@@ -28,7 +30,8 @@ enum Command {
     /// Grid (and, for time-dependent models, time-step) convergence studies.
     Convergence {
         /// Which study: `dry` (Hertz grid study) or `layer` (steady rolling: grids, time steps,
-        /// explicit stability, speed against accuracy).
+        /// explicit stability, speed against accuracy) or `reynolds` (grid studies of the
+        /// built-in Reynolds scenes, speed against accuracy, side by side with the layer's).
         study: Study,
         #[arg(long, default_value = "out/convergence")]
         out: PathBuf,
@@ -46,8 +49,11 @@ enum Command {
         #[arg(long, default_value = "out/stability")]
         out: PathBuf,
         /// Points per side.
-        #[arg(long, default_value_t = 65)]
+        #[arg(long, default_value_t = 257)]
         points: usize,
+        /// From this load parameter M on, the layer model's narrow domain.
+        #[arg(long, default_value_t = 500.0)]
+        narrow_from_m: f64,
     },
     /// Time the deformation operator and the dry solver, 65² … 513².
     Bench {
@@ -68,6 +74,7 @@ enum Which {
 enum Study {
     Dry,
     Layer,
+    Reynolds,
 }
 
 fn main() -> Result<()> {
@@ -79,9 +86,12 @@ fn main() -> Result<()> {
         Command::Convergence { study: Study::Layer, out, max_points, nt_points } => {
             layer::convergence(&out, max_points, nt_points).map(|_| ())
         }
+        Command::Convergence { study: Study::Reynolds, out, max_points, .. } => {
+            reynolds::convergence(&out, max_points).map(|_| ())
+        }
         Command::Bench { out, max_points } => bench::run(&out, max_points),
-        Command::Stability { which: Which::Reynolds, out, points } => {
-            reynolds::stability(&out, points).map(|_| ())
+        Command::Stability { which: Which::Reynolds, out, points, narrow_from_m } => {
+            reynolds::stability(&out, points, narrow_from_m).map(|_| ())
         }
     }
 }
@@ -94,6 +104,8 @@ pub fn grid_sizes(max: usize) -> Vec<usize> {
 fn figures(out: &std::path::Path) -> Result<()> {
     std::fs::create_dir_all(out)?;
     let mut written = vec![];
+    // Fig. 7: the layer model's steady rolling beside the Reynolds solution of the same scene.
+    let (mut layer, mut reynolds) = (None, None);
     for scene in ehl_scene::builtins() {
         let outcome = ehl_cli::run_scene(&scene)?;
         written.extend(outcome.figures(out, &format!("{}_", scene.name))?);
@@ -106,6 +118,14 @@ fn figures(out: &std::path::Path) -> Result<()> {
             std::fs::write(&f, csv)?;
             written.push(f);
         }
+        match (scene.name.as_str(), outcome) {
+            ("rolling-from-squeezed", ehl_cli::Outcome::Layer(o)) => layer = Some(o),
+            ("reynolds-seed", ehl_cli::Outcome::Reynolds(o)) => reynolds = Some(o),
+            _ => {}
+        }
+    }
+    if let (Some(l), Some(r)) = (&layer, &reynolds) {
+        written.extend(compare::fig7(l, r, out)?);
     }
     written.extend(convergence::dry(out, 513)?);
     written.push(layer::modulus_figure(out)?);

@@ -10,15 +10,19 @@ use plotters::prelude::SeriesLabelPosition;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 
-pub fn stability(out: &Path, n: usize) -> Result<Vec<PathBuf>> {
+/// `cargo xtask stability reynolds`: converged or not, and cycles, over (M, L); at
+/// `M ≥ narrow_from_m` on the layer model's domain `[-1.25, 1.25]²`, where the film is so thin
+/// that the inlet zone is a few hundredths of `a` wide and the wide domain's cells cannot hold it.
+pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(out)?;
     let cases: Value = serde_json::from_str(include_str!("../../reference/reynolds_cases.json"))?;
     let ms: Vec<f64> = cases["m"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
     let ls: Vec<f64> = cases["l"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
     let (r, e, eta0, alpha, p0) = (9.525e-3, 1.17e11, 40e-3, 2.2e-8, 1.96e8);
-    let grid = Grid::new(n, n, (-4.5, 1.5), (-3.0, 3.0));
+    let wide = Grid::new(n, n, (-4.5, 1.5), (-3.0, 3.0));
+    let narrow = Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
     println!(
-        "Reynolds stability map on {n}^2 over [-4.5, 1.5] x [-3, 3] (Roelands, Dowson-Higginson; R, E', eta0, alpha fixed)"
+        "Reynolds stability map on {n}^2 over [-4.5, 1.5] x [-3, 3], and [-1.25, 1.25]^2 from M = {narrow_from_m} (Roelands, Dowson-Higginson; R, E', eta0, alpha fixed)"
     );
     println!(
         "{:>7} {:>5} {:>10} {:>7} {:>12} {:>12} {:>12} {:>9} {:>9}",
@@ -38,6 +42,7 @@ pub fn stability(out: &Path, n: usize) -> Result<Vec<PathBuf>> {
                 ViscosityLaw::Roelands,
                 DensityLaw::DowsonHigginson,
             );
+            let grid = if m >= narrow_from_m { narrow } else { wide };
             let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
             let (converged, cycles, diagnosis) = match s.solve(&mut |_| {}) {
                 Ok(rep) => (rep.converged, rep.cycles, rep.diagnosis),
@@ -68,13 +73,15 @@ pub fn stability(out: &Path, n: usize) -> Result<Vec<PathBuf>> {
             }
             rows.push(json!({
                 "m": m, "l": l, "converged": ok, "cycles": cycles, "diagnosis": diagnosis,
+                "domain_a": [[grid.x_min, grid.x_max], [grid.y_min, grid.y_max]],
                 "central_film_m": if ok { Some(hc_m) } else { None }, "hamrock_dowson_m": hd, "nvm_m": nvm,
             }));
         }
     }
-    let pick = |ok: bool| -> Vec<(f64, f64)> {
+    let pick = |ok: bool, cycles: (u64, u64)| -> Vec<(f64, f64)> {
         rows.iter()
             .filter(|r| r["converged"].as_bool() == Some(ok))
+            .filter(|r| (cycles.0..=cycles.1).contains(&r["cycles"].as_u64().unwrap()))
             .map(|r| (r["m"].as_f64().unwrap(), r["l"].as_f64().unwrap()))
             .collect()
     };
@@ -86,13 +93,21 @@ pub fn stability(out: &Path, n: usize) -> Result<Vec<PathBuf>> {
             "M (load)",
             "L (lubricant)",
             vec![
-                Series::new("converged", pick(true), Mark::Points),
-                Series::new("not converged (see JSON for why)", pick(false), Mark::Points),
+                Series::new("converged in <= 15 cycles", pick(true, (0, 15)), Mark::Points),
+                Series::new("converged in 16-30 cycles", pick(true, (16, 30)), Mark::Points),
+                Series::new("converged in > 30 cycles", pick(true, (31, u64::MAX)), Mark::Points),
+                Series::new(
+                    "not converged (see JSON for why)",
+                    pick(false, (0, u64::MAX)),
+                    Mark::Points,
+                ),
             ],
         )
         .log_log()
         .legend(SeriesLabelPosition::UpperLeft)],
-        "up to 200 W-cycles; converged: central film settled to 1e-4 per cycle, force balance to 1e-6, film > 0",
+        &format!(
+            "cycles include the full-multigrid start; converged: central film settled to 1e-4 per cycle, force balance to 1e-6, film > 0; [-1.25, 1.25]^2 from M = {narrow_from_m}"
+        ),
     )?;
     let dev = |key: &str, l: f64| -> Vec<(f64, f64)> {
         rows.iter()
@@ -125,7 +140,7 @@ pub fn stability(out: &Path, n: usize) -> Result<Vec<PathBuf>> {
         &chart,
         &[p1, p2],
         &format!(
-            "converged cases only, {n}^2 over [-4.5, 1.5] x [-3, 3]; the formulas are fits good to several percent"
+            "converged cases only, {n}^2 over [-4.5, 1.5] x [-3, 3] ([-1.25, 1.25]^2 from M = {narrow_from_m}); the formulas are fits good to several percent"
         ),
     )?;
     let json_path = out.join("reynolds_stability.json");
@@ -134,4 +149,204 @@ pub fn stability(out: &Path, n: usize) -> Result<Vec<PathBuf>> {
         serde_json::to_string_pretty(&json!({"grid": n, "cases": rows}))? + "\n",
     )?;
     Ok(vec![map, chart, json_path])
+}
+
+/// One Reynolds solve of the grid study.
+#[derive(Clone, Debug, serde::Serialize)]
+struct Solve {
+    scene: String,
+    n: usize,
+    converged: bool,
+    cycles: usize,
+    wall_s: f64,
+    central_nm: f64,
+    minimum_nm: f64,
+    max_pressure_ph: f64,
+    /// Finest-grid cycles: (wall time [s], central [nm], minimum [nm]).
+    per_cycle: Vec<(f64, f64, f64)>,
+}
+
+fn solve_scene(name: &str, n: usize) -> Result<Solve> {
+    let scene = ehl_scene::builtin(name)?.with_points(n)?;
+    let (prm, mut s) = ehl_cli::reynolds::build_solver(&scene);
+    let nm = prm.scales.delta * 1e9;
+    let rep = s.solve(&mut |_| {})?;
+    let (hc, hmin) = s.films();
+    let pmax = s.levels[0].p.iter().cloned().fold(0.0, f64::max);
+    let per_cycle = rep
+        .history
+        .iter()
+        .filter(|c| c.points == n)
+        .map(|c| (c.wall_s, c.central_film * nm, c.minimum_film * nm))
+        .collect();
+    let r = Solve {
+        scene: name.into(),
+        n,
+        converged: rep.converged && hmin > 0.0,
+        cycles: rep.cycles,
+        wall_s: rep.wall_time_s,
+        central_nm: hc * nm,
+        minimum_nm: hmin * nm,
+        max_pressure_ph: pmax,
+        per_cycle,
+    };
+    println!(
+        "  {:<18} {:>5} {:>6} {:>4} cycles {:>8.3} s  h_c {:>10.4} nm  h_min {:>10.4} nm  p_max {:.4} p_h{}",
+        r.scene,
+        r.n,
+        if r.converged { "" } else { "NOT" },
+        r.cycles,
+        r.wall_s,
+        r.central_nm,
+        r.minimum_nm,
+        r.max_pressure_ph,
+        rep.diagnosis.map(|d| format!("  ({d})")).unwrap_or_default()
+    );
+    Ok(r)
+}
+
+/// `cargo xtask convergence reynolds`: grid studies of the two built-in Reynolds scenes with
+/// observed orders, speed against accuracy (grids and cycles), and, when the layer study's
+/// JSON sits in `out`, both models' cost against accuracy on one chart.
+pub fn convergence(out: &Path, max_points: usize) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(out)?;
+    let mut all: Vec<Vec<Solve>> = vec![];
+    let mut orders = vec![];
+    for name in ["reynolds-m20-l10", "reynolds-seed"] {
+        println!("Grid study, scene {name} (each solve from Hertz, full-multigrid start):");
+        let pts: Vec<Solve> = crate::grid_sizes(max_points)
+            .into_iter()
+            .map(|n| solve_scene(name, n))
+            .collect::<Result<_>>()?;
+        let ok: Vec<&Solve> = pts.iter().filter(|p| p.converged).collect();
+        for w in ok.windows(3) {
+            let o = |f: fn(&Solve) -> f64| {
+                ((f(w[0]) - f(w[1])).abs() / (f(w[1]) - f(w[2])).abs()).log2()
+            };
+            let (oc, om) = (o(|p| p.central_nm), o(|p| p.minimum_nm));
+            // Richardson with the observed order of the central film.
+            let extra =
+                w[2].central_nm + (w[2].central_nm - w[1].central_nm) / (2f64.powf(oc) - 1.0);
+            println!(
+                "  observed order {} -> {} -> {}: central {oc:.2}, minimum {om:.2}; extrapolated h_c {extra:.4} nm",
+                w[0].n, w[1].n, w[2].n
+            );
+            orders.push(json!({"scene": name, "grids": [w[0].n, w[1].n, w[2].n],
+                "central": oc, "minimum": om, "extrapolated_central_nm": extra}));
+        }
+        all.push(pts);
+    }
+    // Speed against accuracy: errors against each scene's finest converged solve, in nm, on the
+    // axes of the layer model's chart (wall time [s], |error| [nm]).
+    let mut series_c = vec![];
+    let mut series_m = vec![];
+    for pts in &all {
+        let Some(fin) = pts.iter().rev().find(|p| p.converged) else { continue };
+        let name = fin.scene.trim_start_matches("reynolds-");
+        let grids = |pick: fn(&Solve) -> f64| -> Vec<(f64, f64)> {
+            pts.iter()
+                .filter(|p| p.converged && p.n < fin.n)
+                .map(|p| (p.wall_s, (pick(p) - pick(fin)).abs()))
+                .collect()
+        };
+        series_c.push(Series::new(
+            format!("{name}: grids"),
+            grids(|p| p.central_nm),
+            Mark::LinePoints,
+        ));
+        series_m.push(Series::new(
+            format!("{name}: grids"),
+            grids(|p| p.minimum_nm),
+            Mark::LinePoints,
+        ));
+        // Cycle by cycle on the grid below the finest: where more cycles stop paying.
+        if let Some(below) = pts.iter().rev().find(|p| p.converged && p.n < fin.n) {
+            let cyc = |k: usize, reference: f64| -> Vec<(f64, f64)> {
+                below
+                    .per_cycle
+                    .iter()
+                    .map(|c| (c.0, ([c.1, c.2][k] - reference).abs()))
+                    .filter(|v| v.1 > 0.0)
+                    .collect()
+            };
+            let label = format!("{name}: cycles on {}^2", below.n);
+            series_c.push(Series::new(label.clone(), cyc(0, fin.central_nm), Mark::LinePoints));
+            series_m.push(Series::new(label, cyc(1, fin.minimum_nm), Mark::LinePoints));
+        }
+    }
+    let png = out.join("reynolds_speed_accuracy.png");
+    let panel = |title: &str, s: Vec<Series>| {
+        Panel::new(title, "wall time [s]", "|error| [nm] vs finest grid", s)
+            .log_log()
+            .legend(SeriesLabelPosition::UpperRight)
+    };
+    plot::charts(
+        &png,
+        &[panel("Central film", series_c.clone()), panel("Minimum film", series_m.clone())],
+        "Reynolds, errors against each scene's finest converged grid; cycles: the film after each W-cycle on the grid below it",
+    )?;
+    let mut written = vec![png];
+    // Both models on one chart, seed conditions, when the layer study has been run.
+    let layer_json = out.join("layer_convergence.json");
+    if let Ok(text) = std::fs::read_to_string(&layer_json) {
+        let v: Value = serde_json::from_str(&text)?;
+        let layer_pts: Vec<&Value> = v["grid_study"]
+            .as_array()
+            .map(|a| a.iter().filter(|p| p["scheme"] == "Implicit").collect())
+            .unwrap_or_default();
+        if let Some(fin) = layer_pts.last() {
+            let curve = |key: &str| -> Vec<(f64, f64)> {
+                layer_pts[..layer_pts.len() - 1]
+                    .iter()
+                    .map(|p| {
+                        let e = (p[key].as_f64().unwrap() - fin[key].as_f64().unwrap()).abs();
+                        (p["wall_s"].as_f64().unwrap(), e)
+                    })
+                    .collect()
+            };
+            let seed: Vec<&Series> =
+                series_c.iter().filter(|s| s.label.starts_with("seed")).collect();
+            let seed_m: Vec<&Series> =
+                series_m.iter().filter(|s| s.label.starts_with("seed")).collect();
+            let mk = |title: &str, key: &str, rey: Vec<&Series>| {
+                let mut s = vec![Series::new(
+                    "layer model (implicit, n_t = 10): grids",
+                    curve(key),
+                    Mark::LinePoints,
+                )];
+                s.extend(rey.into_iter().map(|r| {
+                    let mut r = r.clone();
+                    r.label = format!("Reynolds {}", r.label);
+                    r
+                }));
+                panel(title, s)
+            };
+            let both = out.join("speed_accuracy_layer_vs_reynolds.png");
+            plot::charts(
+                &both,
+                &[
+                    mk("Central thickness / film", "central_nm", seed),
+                    mk("Minimum thickness / film", "minimum_nm", seed_m),
+                ],
+                "seed Table 1 conditions; layer: steady rolling to steady state (xtask convergence layer); Reynolds: steady solve; each against its own finest grid",
+            )?;
+            written.push(both);
+        }
+    } else {
+        println!(
+            "(no {} yet: run `cargo xtask convergence layer` for the side-by-side chart)",
+            layer_json.display()
+        );
+    }
+    let json_path = out.join("reynolds_convergence.json");
+    std::fs::write(
+        &json_path,
+        serde_json::to_string_pretty(&json!({"grid_studies": all, "observed_orders": orders}))?
+            + "\n",
+    )?;
+    written.push(json_path);
+    for f in &written {
+        println!("  wrote {}", f.display());
+    }
+    Ok(written)
 }

@@ -27,6 +27,7 @@ pub enum Mark {
 }
 
 /// One named curve.
+#[derive(Clone, Debug)]
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,

@@ -26,14 +26,22 @@ pub struct ReynoldsOutcome {
     pub setup_time_s: f64,
 }
 
-pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
+/// The dimensionless parameters and a solver (hierarchy built, Hertz start) for a Reynolds
+/// scene.
+pub fn build_solver(scene: &Scene) -> (ReynoldsParams, ReynoldsSolver) {
     let spec = scene.reynolds.expect("validated");
     let lub = scene.lubricant.expect("validated").lubricant();
     let (contact, u_sum) = scene.reynolds_conditions();
     let prm = ReynoldsParams::from_si(&contact, &lub, u_sum, spec.viscosity, spec.density);
+    (prm, ReynoldsSolver::new(scene.grid(), prm, spec.solver))
+}
+
+pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
+    let lub = scene.lubricant.expect("validated").lubricant();
+    let (contact, u_sum) = scene.reynolds_conditions();
     let grid = scene.grid();
     let t0 = Instant::now();
-    let mut solver = ReynoldsSolver::new(grid, prm, spec.solver);
+    let (prm, mut solver) = build_solver(scene);
     let setup_time_s = t0.elapsed().as_secs_f64();
     let spin = crate::progress::spinner("reynolds");
     let report = solver.solve(&mut |c| {

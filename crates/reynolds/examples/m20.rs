@@ -7,7 +7,8 @@ use ehl_reynolds::*;
 fn main() {
     let n: usize = std::env::args().nth(1).map(|s| s.parse().unwrap()).unwrap_or(65);
     let contact = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
-    let moes = Moes { m: 20.0, l: 10.0 };
+    let envf = |k: &str, d: f64| std::env::var(k).ok().and_then(|v| v.parse().ok()).unwrap_or(d);
+    let moes = Moes { m: envf("M", 20.0), l: envf("L", 10.0) };
     // Keep F, R, E', eta0; velocity from M, alpha from L.
     let prm = ReynoldsParams::from_moes(
         &moes,

@@ -31,6 +31,9 @@ pub struct ReynoldsSettings {
     pub film_tolerance: f64,
     /// … and the force balance is met to this (relative).
     pub load_tolerance: f64,
+    /// Stop, not converged, when the finest residual has not halved over this many cycles
+    /// (a stall or a limit cycle; 0: run to `max_cycles`).
+    pub stall_cycles: usize,
     /// Gain of the `H00` update per coarsest-grid sweep (times the Hertz compliance `1/π`).
     pub h00_gain: f64,
     /// Full-multigrid start: cycles on each coarser grid, coarsest first, each grid started from
@@ -50,6 +53,7 @@ impl Default for ReynoldsSettings {
             coarsest_points: 17,
             film_tolerance: 1e-4,
             load_tolerance: 1e-6,
+            stall_cycles: 20,
             h00_gain: 0.3,
             fmg_cycles: 2,
             relax: RelaxSettings::default(),
@@ -73,6 +77,8 @@ pub struct CycleLog {
     pub central_film: f64,
     /// Minimum film [a²/R].
     pub minimum_film: f64,
+    /// Wall time since the solve began [s]: what this cycle's answer cost.
+    pub wall_s: f64,
 }
 
 /// A solve's outcome.
@@ -209,7 +215,7 @@ impl ReynoldsSolver {
 
     /// What keeps the solve from converging, in words: a closed film (where), or which criterion
     /// is missed and by how much.
-    fn diagnose(&self, history: &[CycleLog]) -> String {
+    fn diagnose(&self, history: &[CycleLog], stalled: bool) -> String {
         let last = history.last().expect("at least one cycle");
         let f = &self.levels[0];
         let ((j, i), hmin) = f
@@ -230,8 +236,10 @@ impl ReynoldsSolver {
         let flips = tail.windows(2).filter(|w| w[0].load_error * w[1].load_error < 0.0).count();
         let how = if tail.len() >= 4 && flips + 1 >= tail.len() {
             "the load error changes sign every cycle: a limit cycle, not slow convergence"
+        } else if stalled {
+            "stalled: the residual has not halved over the last cycles"
         } else {
-            "still converging, or stalled"
+            "still converging at the cycle limit"
         };
         format!(
             "after {} cycles: force balance off by {:.2e} (tolerance {:.0e}), residual {:.2e}, central film {:.5e} a²/R; {how}",
@@ -257,7 +265,12 @@ impl ReynoldsSolver {
     }
 
     /// One cycle with level `l` on top, recorded; fails on non-finite or runaway values.
-    fn logged_cycle(&mut self, l: usize, cycle: usize) -> Result<CycleLog, ReynoldsError> {
+    fn logged_cycle(
+        &mut self,
+        l: usize,
+        cycle: usize,
+        t0: Instant,
+    ) -> Result<CycleLog, ReynoldsError> {
         let target = 2.0 * PI / 3.0;
         self.cycle(l, target);
         let f = &self.levels[l];
@@ -274,6 +287,7 @@ impl ReynoldsSolver {
             h00: self.h00,
             central_film: hc,
             minimum_film: hmin,
+            wall_s: t0.elapsed().as_secs_f64(),
         };
         let at =
             |j: usize, i: usize| format!("(x = {:.3} a, y = {:.3} a)", f.grid.x(i), f.grid.y(j));
@@ -283,7 +297,17 @@ impl ReynoldsSolver {
             let what = match (bad(&f.p), bad(&f.film)) {
                 (Some((j, i)), _) => format!("pressure non-finite at {}", at(j, i)),
                 (None, Some((j, i))) => format!("film non-finite at {}", at(j, i)),
-                _ => "load or residual non-finite".into(),
+                _ => {
+                    let ((j, i), pm) = f
+                        .p
+                        .indexed_iter()
+                        .fold(((0, 0), 0.0f64), |a, (ix, &v)| if v > a.1 { (ix, v) } else { a });
+                    format!(
+                        "residual non-finite on the {}² grid; pressure peaks at P = {pm:.3e} p_h at {}",
+                        f.grid.nx,
+                        at(j, i)
+                    )
+                }
             };
             return Err(ReynoldsError::Diverged { cycle, what, film: hc, load: load_error });
         }
@@ -316,7 +340,7 @@ impl ReynoldsSolver {
                 self.levels[l].rhs.fill(0.0);
                 for _ in 0..self.settings.fmg_cycles {
                     cycle += 1;
-                    let rec = self.logged_cycle(l, cycle)?;
+                    let rec = self.logged_cycle(l, cycle, t0)?;
                     log(&rec);
                     history.push(rec);
                 }
@@ -329,9 +353,10 @@ impl ReynoldsSolver {
             }
         }
         let mut prev_hc = f64::NAN;
+        let mut stalled = false;
         for _ in 0..self.settings.max_cycles {
             cycle += 1;
-            let rec = self.logged_cycle(0, cycle)?;
+            let rec = self.logged_cycle(0, cycle, t0)?;
             log(&rec);
             history.push(rec);
             let hc = rec.central_film;
@@ -346,10 +371,22 @@ impl ReynoldsSolver {
                 });
             }
             prev_hc = hc;
+            // A stall or a limit cycle: the residual not even halved over the last window.
+            let fine: Vec<f64> =
+                history.iter().filter(|c| c.points == rec.points).map(|c| c.residual).collect();
+            let w = self.settings.stall_cycles;
+            if w > 0 && fine.len() > 2 * w {
+                let (before, last) = fine.split_at(fine.len() - w);
+                let best = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
+                if best(last) > 0.5 * best(before) {
+                    stalled = true;
+                    break;
+                }
+            }
         }
         Ok(ReynoldsReport {
             converged: false,
-            diagnosis: Some(self.diagnose(&history)),
+            diagnosis: Some(self.diagnose(&history, stalled)),
             cycles: cycle,
             history,
             wall_time_s: t0.elapsed().as_secs_f64(),
