@@ -292,7 +292,7 @@ pub fn convergence(out: &Path, max_points: usize) -> Result<Vec<PathBuf>> {
         let v: Value = serde_json::from_str(&text)?;
         let layer_pts: Vec<&Value> = v["grid_study"]
             .as_array()
-            .map(|a| a.iter().filter(|p| p["scheme"] == "Implicit").collect())
+            .map(|a| a.iter().filter(|p| p["scheme"] == "implicit").collect())
             .unwrap_or_default();
         if let Some(fin) = layer_pts.last() {
             let curve = |key: &str| -> Vec<(f64, f64)> {
