@@ -3,7 +3,8 @@
 //!
 //! Discretisation (Venner & Lubrecht): the Poiseuille term central with `ε̄` averaged to the
 //! half points, the wedge term `∂(ρ̄H)/∂X` second-order upwind (first order next to the inflow
-//! boundary), `P = 0` on the boundary, cavitation as `P ≥ 0`.
+//! boundary), the time derivative `∂(ρ̄H)/∂T` by backward differences (transient runs),
+//! `P = 0` on the boundary, cavitation as `P ≥ 0`.
 //!
 //! Relaxation: for every line along `X`, changes `δ` of all its interior points are solved
 //! together from a banded (pentadiagonal) system. Where the Poiseuille coefficients are large a
@@ -54,8 +55,14 @@ pub struct Level {
     pub rhs: Array2<f64>,
     /// Influence kernel rows `K(|di|, dj)` for `dj = 0, 1, 2`, `di = 0 … nx+2`.
     kernel: [Vec<f64>; 3],
-    /// Rigid film `X²/2 + Y²/2`.
+    /// Rigid film `X²/2 + Y²/2`, plus any extra gap (a dent).
     shape: Array2<f64>,
+    /// Transient term `∂(ρ̄H)/∂T ≈ time_a0 · ρ̄H + history` (second-order backward
+    /// differences): `time_a0` [1/ΔT] is 0 for a steady problem …
+    pub time_a0: f64,
+    /// … and `history` the known part from earlier steps (finest grid only: on coarse grids a
+    /// constant term cancels in the FAS equations, so they keep zeros).
+    pub history: Array2<f64>,
 }
 
 impl Level {
@@ -72,6 +79,8 @@ impl Level {
             rhs: grid.zeros(),
             kernel,
             shape: grid.paraboloid(),
+            time_a0: 0.0,
+            history: grid.zeros(),
             grid,
         }
     }
@@ -90,6 +99,16 @@ impl Level {
                     + self.k(di + 1, dj)
                     + self.k(di, dj - 1)
                     + self.k(di, dj + 1))
+    }
+
+    /// Rigid film `X²/2 + Y²/2 + extra(X, Y)` [a²/R]: a dent, a bump, or nothing.
+    pub fn set_extra_gap(&mut self, extra: impl Fn(f64, f64) -> f64) {
+        self.shape = self.grid.field(|x, y| 0.5 * (x * x + y * y) + extra(x, y));
+    }
+
+    /// `ρ̄H` on the grid.
+    pub fn rho_film(&self, prm: &ReynoldsParams) -> Array2<f64> {
+        Zip::from(&self.p).and(&self.film).par_map_collect(|&p, &h| prm.density.rho(p) * h)
     }
 
     /// `∬ P dX dY` (trapezoidal; `P = 0` on the boundary).
@@ -296,7 +315,7 @@ impl Level {
         } else {
             (rh(i) - rh(i - 1)) / h
         };
-        a - b
+        a - b - self.time_a0 * rho[i] * self.film[[j, i]] - self.history[[j, i]]
     }
 
     /// `∂L_i/∂δ_ic` on line `j`: the change at `ic` is `+δ` there, and `−δ/4` at its neighbours
@@ -333,7 +352,7 @@ impl Level {
         } else {
             (rho[i] * kk(i) - rho[i - 1] * kk(i - 1)) / h
         };
-        a - w
+        a - w - self.time_a0 * rho[i] * kk(i)
     }
 }
 

@@ -107,6 +107,8 @@ pub struct ReynoldsSolver {
     pub prm: ReynoldsParams,
     pub h00: f64,
     pub settings: ReynoldsSettings,
+    /// `ρ̄H` of the last two time levels, newest first (transient runs).
+    rho_h: Vec<Array2<f64>>,
 }
 
 fn restrict_full_weighting(r: &Array2<f64>) -> Array2<f64> {
@@ -143,7 +145,43 @@ impl ReynoldsSolver {
         let g = levels[top].grid;
         levels[top].p = g.field(hertz::pressure);
         levels[top].update_film(h00);
-        Self { levels, prm, h00, settings }
+        Self { levels, prm, h00, settings, rho_h: vec![] }
+    }
+
+    /// Adds `extra(X, Y)` [a²/R] to the rigid film on every level (a dent where positive).
+    pub fn set_extra_gap(&mut self, extra: impl Fn(f64, f64) -> f64 + Copy) {
+        for l in &mut self.levels {
+            l.set_extra_gap(extra);
+        }
+        let h00 = self.h00;
+        self.levels[0].update_film(h00);
+    }
+
+    /// One time step of `dt` [a/u_m] (the dent, if any, already moved by the caller): the
+    /// time derivative by second-order backward differences (first order on the first step),
+    /// solved by W-cycles from the last state. The steady solve before the first step is
+    /// `T = 0`; steps must be of equal size.
+    pub fn step(
+        &mut self,
+        dt: f64,
+        log: &mut dyn FnMut(&CycleLog),
+    ) -> Result<ReynoldsReport, ReynoldsError> {
+        let (a0, history) = match self.rho_h.as_slice() {
+            [n] => (1.0 / dt, n.mapv(|v| -v / dt)),
+            [n, nm1, ..] => (1.5 / dt, (n * -2.0 + nm1 * 0.5) / dt),
+            [] => panic!("a transient run starts from a steady solve"),
+        };
+        for l in &mut self.levels {
+            l.time_a0 = a0;
+        }
+        self.levels[0].history = history;
+        let fmg = std::mem::replace(&mut self.settings.fmg_cycles, 0);
+        let rep = self.cycles(log);
+        self.settings.fmg_cycles = fmg;
+        let rho_h = self.levels[0].rho_film(&self.prm);
+        self.rho_h.insert(0, rho_h);
+        self.rho_h.truncate(2);
+        rep
     }
 
     /// One FAS cycle with level `l` on top, whose force balance asks for `∬P = target`.
@@ -326,12 +364,23 @@ impl ReynoldsSolver {
         Ok(rec)
     }
 
-    /// Full-multigrid start (when set), then cycles on the finest grid until the central film
-    /// and the load settle; `log` sees every cycle.
+    /// Steady solve: full-multigrid start (when set), then cycles on the finest grid until the
+    /// central film and the load settle; `log` sees every cycle. The result is time `T = 0` of
+    /// any transient run that follows.
     pub fn solve(
         &mut self,
         log: &mut dyn FnMut(&CycleLog),
     ) -> Result<ReynoldsReport, ReynoldsError> {
+        for l in &mut self.levels {
+            l.time_a0 = 0.0;
+            l.history.fill(0.0);
+        }
+        let rep = self.cycles(log);
+        self.rho_h = vec![self.levels[0].rho_film(&self.prm)];
+        rep
+    }
+
+    fn cycles(&mut self, log: &mut dyn FnMut(&CycleLog)) -> Result<ReynoldsReport, ReynoldsError> {
         let t0 = Instant::now();
         let mut history = vec![];
         let mut cycle = 0;
