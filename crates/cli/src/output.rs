@@ -69,7 +69,8 @@ impl Outcome {
     pub fn time_series_csv(&self) -> Option<String> {
         match self {
             Outcome::Layer(o) => o.time_series_csv(),
-            Outcome::Dry(_) | Outcome::Reynolds(_) => None,
+            Outcome::Reynolds(o) => o.time_series_csv(),
+            Outcome::Dry(_) => None,
         }
     }
 

@@ -2,7 +2,7 @@
 
 use crate::output::{Centreline, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use ehl_core::{Grid, hertz};
 use ehl_reynolds::formulas::{hamrock_dowson_central, nvm_central};
 use ehl_reynolds::{ReynoldsParams, ReynoldsReport, ReynoldsSolver};
@@ -24,12 +24,39 @@ pub struct ReynoldsOutcome {
     /// Central film from the formulas [m]: Hamrock–Dowson, NVM.
     pub formulas: (f64, f64),
     pub setup_time_s: f64,
+    /// The dent's passage, for a transient scene (`p`, `film` are then its final state).
+    pub transient: Option<TransientRecord>,
+}
+
+/// One time step of a transient run, SI.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct TransientRow {
+    pub t_s: f64,
+    /// Dent centre [a].
+    pub dent_x_a: f64,
+    pub central_film_m: f64,
+    pub minimum_film_m: f64,
+    pub max_pressure_pa: f64,
+    pub central_pressure_pa: f64,
+    pub h00_m: f64,
+    pub cycles: usize,
+}
+
+/// A transient run: rows per step, fields at the requested dent positions, cost.
+pub struct TransientRecord {
+    pub rows: Vec<TransientRow>,
+    /// Dent position [a], pressure [p_h], film [a²/R].
+    pub snapshots: Vec<(f64, Array2<f64>, Array2<f64>)>,
+    /// Time step [s] and in units of `a/u_m`.
+    pub dt_s: f64,
+    pub dt_a: f64,
+    pub wall_time_s: f64,
 }
 
 /// The dimensionless parameters and a solver (hierarchy built, Hertz start) for a Reynolds
 /// scene.
 pub fn build_solver(scene: &Scene) -> (ReynoldsParams, ReynoldsSolver) {
-    let spec = scene.reynolds.expect("validated");
+    let spec = scene.reynolds.clone().expect("validated");
     let lub = scene.lubricant.expect("validated").lubricant();
     let (contact, u_sum) = scene.reynolds_conditions();
     let prm = ReynoldsParams::from_si(&contact, &lub, u_sum, spec.viscosity, spec.density);
@@ -42,6 +69,18 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     let grid = scene.grid();
     let t0 = Instant::now();
     let (prm, mut solver) = build_solver(scene);
+    let transient = scene.reynolds.as_ref().and_then(|r| r.transient.clone());
+    // The dent in units of a²/R at centre `xc` [a].
+    let dent = |xc: f64| {
+        let d = transient.as_ref().map(|t| t.dent).expect("transient scene");
+        let depth = d.depth_m / prm.scales.delta;
+        move |x: f64, y: f64| {
+            depth * ehl_core::grid::dent_profile((x - xc).powi(2) + (y - d.y_a).powi(2), d.width_a)
+        }
+    };
+    if let Some(t) = &transient {
+        solver.set_extra_gap(dent(t.dent.x_start_a));
+    }
     let setup_time_s = t0.elapsed().as_secs_f64();
     let spin = crate::progress::spinner("reynolds");
     let report = solver.solve(&mut |c| {
@@ -61,6 +100,10 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     }
     let formulas =
         (hamrock_dowson_central(&contact, &lub, 0.5 * u_sum), nvm_central(&contact, &lub, u_sum));
+    let transient = match &transient {
+        Some(t) => Some(run_transient(scene, t, &prm, &mut solver, dent)?),
+        None => None,
+    };
     let f = &solver.levels[0];
     Ok(ReynoldsOutcome {
         scene: scene.clone(),
@@ -72,6 +115,82 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
         report,
         formulas,
         setup_time_s,
+        transient,
+    })
+}
+
+/// Steps the dent from its start to `x_end_a`, each step solved to the scene's tolerances from
+/// the last; a step that does not converge ends the run with its diagnosis, step and time.
+fn run_transient<F: Fn(f64, f64) -> f64 + Copy>(
+    scene: &Scene,
+    t: &ehl_scene::ReynoldsTransient,
+    prm: &ReynoldsParams,
+    solver: &mut ReynoldsSolver,
+    dent: impl Fn(f64) -> F,
+) -> Result<TransientRecord> {
+    let t0 = Instant::now();
+    let s = prm.scales;
+    let (_, u_sum) = scene.reynolds_conditions();
+    let u_m = 0.5 * u_sum;
+    let g = solver.levels[0].grid;
+    let (x0, x1) = (t.dent.x_start_a, t.x_end_a);
+    let steps = ((x1 - x0) / g.dx() * t.steps_per_cell).ceil() as usize;
+    // Time in units of a/u_m; under pure rolling the dent on the ball moves at u_m.
+    let dt = (x1 - x0) / steps as f64;
+    let (jc, ic) = (g.row_nearest(0.0), g.col_nearest(0.0));
+    let record = |solver: &ReynoldsSolver, k: usize, cycles: usize| {
+        let f = &solver.levels[0];
+        TransientRow {
+            t_s: k as f64 * dt * s.a / u_m,
+            dent_x_a: x0 + k as f64 * dt,
+            central_film_m: s.h_si(f.film[[jc, ic]]),
+            minimum_film_m: s.h_si(f.film.iter().cloned().fold(f64::INFINITY, f64::min)),
+            max_pressure_pa: s.p_si(f.p.iter().cloned().fold(0.0, f64::max)),
+            central_pressure_pa: s.p_si(f.p[[jc, ic]]),
+            h00_m: s.h_si(solver.h00),
+            cycles,
+        }
+    };
+    let mut rows = vec![record(solver, 0, 0)];
+    // Each snapshot at the step whose dent position is nearest.
+    let snap_steps: Vec<usize> =
+        t.snapshots_a.iter().map(|&x| ((x - x0) / dt).round() as usize).collect();
+    let mut snapshots = vec![];
+    let spin = crate::progress::bar(steps as u64, "dent passing");
+    for k in 1..=steps {
+        solver.set_extra_gap(dent(x0 + k as f64 * dt));
+        let rep = solver.step(dt, &mut |_| {}).with_context(|| {
+            format!(
+                "scene `{}`: time step {k} of {steps} (dent at x = {:.3} a)",
+                scene.name,
+                x0 + k as f64 * dt
+            )
+        })?;
+        if !rep.converged {
+            bail!(
+                "scene `{}`: time step {k} of {steps} (t = {:.4e} s, dent at x = {:.3} a) did not converge: {}",
+                scene.name,
+                k as f64 * dt * s.a / u_m,
+                x0 + k as f64 * dt,
+                rep.diagnosis.unwrap_or_default()
+            );
+        }
+        rows.push(record(solver, k, rep.cycles));
+        for (i, &ks) in snap_steps.iter().enumerate() {
+            if ks == k {
+                let f = &solver.levels[0];
+                snapshots.push((t.snapshots_a[i], f.p.clone(), f.film.clone()));
+            }
+        }
+        spin.inc(1);
+    }
+    spin.finish_and_clear();
+    Ok(TransientRecord {
+        rows,
+        snapshots,
+        dt_s: dt * s.a / u_m,
+        dt_a: dt,
+        wall_time_s: t0.elapsed().as_secs_f64(),
     })
 }
 
@@ -105,7 +224,7 @@ impl ReynoldsOutcome {
                 "moes_m": self.prm.moes.m, "moes_l": self.prm.moes.l, "lambda_bar": self.prm.lambda_bar,
             },
             "lubricant": self.scene.lubricant,
-            "laws": { "viscosity": self.scene.reynolds.unwrap().viscosity, "density": self.scene.reynolds.unwrap().density },
+            "laws": { "viscosity": self.scene.reynolds.as_ref().unwrap().viscosity, "density": self.scene.reynolds.as_ref().unwrap().density },
             "scales": { "a": q(s.a, "m"), "p_h": q(s.p_h, "Pa"), "a2_over_r": q(s.delta, "m") },
             "grid": { "nx": self.grid.nx, "ny": self.grid.ny, "dx": q(self.grid.dx() * s.a, "m") },
             "results": {
@@ -124,7 +243,7 @@ impl ReynoldsOutcome {
                 "nijenbanning_venner_moes_1994": q(self.formulas.1, "m"),
             },
             "solver": {
-                "settings": self.scene.reynolds.unwrap().solver,
+                "settings": self.scene.reynolds.as_ref().unwrap().solver,
                 "cycles": self.report.cycles,
                 "final_residual": last.residual,
                 "final_load_error": last.load_error,
@@ -132,7 +251,42 @@ impl ReynoldsOutcome {
                 "setup_time": q(self.setup_time_s, "s"),
                 "solve_time": q(self.report.wall_time_s, "s"),
             },
+            "transient": self.transient.as_ref().map(|t| {
+                let cycles: usize = t.rows.iter().map(|r| r.cycles).sum();
+                let steps = t.rows.len() - 1;
+                json!({
+                    "what": "results above are the final state; the steady solve is the start",
+                    "steps": steps, "dt": q(t.dt_s, "s"), "dt_over_a_per_u_m": t.dt_a,
+                    "courant_number": t.dt_a / self.grid.dx(),
+                    "cycles_per_step": cycles as f64 / steps as f64,
+                    "wall_time": q(t.wall_time_s, "s"),
+                    "wall_time_per_step": q(t.wall_time_s / steps as f64, "s"),
+                    "snapshots_at_dent_x_a": t.snapshots.iter().map(|s| s.0).collect::<Vec<_>>(),
+                })
+            }),
         })
+    }
+
+    /// The transient run's rows as CSV (SI).
+    pub fn time_series_csv(&self) -> Option<String> {
+        let t = self.transient.as_ref()?;
+        let mut s = String::from(
+            "t_s,dent_x_m,central_film_m,minimum_film_m,max_pressure_pa,central_pressure_pa,h00_m,cycles\n",
+        );
+        for r in &t.rows {
+            s += &format!(
+                "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}\n",
+                r.t_s,
+                r.dent_x_a * self.prm.scales.a,
+                r.central_film_m,
+                r.minimum_film_m,
+                r.max_pressure_pa,
+                r.central_pressure_pa,
+                r.h00_m,
+                r.cycles
+            );
+        }
+        Some(s)
     }
 
     fn row(&self, f: &Array2<f64>) -> Vec<f64> {
@@ -172,8 +326,8 @@ impl ReynoldsOutcome {
             self.prm.moes.l,
             c.load,
             u,
-            self.scene.reynolds.unwrap().viscosity,
-            self.scene.reynolds.unwrap().density,
+            self.scene.reynolds.as_ref().unwrap().viscosity,
+            self.scene.reynolds.as_ref().unwrap().density,
             self.grid.nx,
             self.grid.ny
         )
@@ -266,6 +420,89 @@ impl ReynoldsOutcome {
             &self.note(),
         )?;
         out.push(f);
+        if let Some(t) = &self.transient {
+            out.extend(self.transient_figures(t, dir, prefix)?);
+        }
         Ok(out)
+    }
+
+    fn transient_figures(
+        &self,
+        t: &TransientRecord,
+        dir: &Path,
+        prefix: &str,
+    ) -> Result<Vec<PathBuf>> {
+        let s = &self.prm.scales;
+        let xs = |f: fn(&TransientRow) -> f64, k: f64| -> Vec<(f64, f64)> {
+            t.rows.iter().map(|r| (r.dent_x_a, f(r) * k)).collect()
+        };
+        let f_hist = dir.join(format!("{prefix}history.png"));
+        plot::charts(
+            &f_hist,
+            &[
+                Panel::new(
+                    "Film while the dent passes",
+                    "dent centre x / a",
+                    "[nm]",
+                    vec![
+                        Series::new("central film", xs(|r| r.central_film_m, 1e9), Mark::Line),
+                        Series::new("minimum film", xs(|r| r.minimum_film_m, 1e9), Mark::Line),
+                    ],
+                ),
+                Panel::new(
+                    "Pressure while the dent passes",
+                    "dent centre x / a",
+                    "p / p_h",
+                    vec![
+                        Series::new("maximum", xs(|r| r.max_pressure_pa, 1.0 / s.p_h), Mark::Line),
+                        Series::new(
+                            "central",
+                            xs(|r| r.central_pressure_pa, 1.0 / s.p_h),
+                            Mark::Line,
+                        ),
+                    ],
+                ),
+            ],
+            &self.note(),
+        )?;
+        let nm = s.delta * 1e9;
+        let x = self.grid.xs();
+        let j = self.grid.row_nearest(0.0);
+        let line = |a: &Array2<f64>, k: f64| -> Vec<(f64, f64)> {
+            x.iter().zip(a.row(j).iter()).map(|(&x, &v)| (x, v * k)).collect()
+        };
+        // Films above 3 central films of the steady start are the open gap: left off.
+        let cap = 3.0 * self.report.history.last().map_or(f64::MAX, |c| c.central_film) * nm;
+        let f_snap = dir.join(format!("{prefix}snapshots_centreline.png"));
+        plot::charts(
+            &f_snap,
+            &[
+                Panel::new(
+                    "Pressure along y = 0",
+                    "x / a",
+                    "p / p_h",
+                    t.snapshots
+                        .iter()
+                        .map(|(xd, p, _)| {
+                            Series::new(format!("dent at {xd} a"), line(p, 1.0), Mark::Line)
+                        })
+                        .collect(),
+                ),
+                Panel::new(
+                    "Film along y = 0",
+                    "x / a",
+                    "h [nm]",
+                    t.snapshots
+                        .iter()
+                        .map(|(xd, _, h)| {
+                            let pts = line(h, nm).into_iter().filter(|v| v.1 <= cap).collect();
+                            Series::new(format!("dent at {xd} a"), pts, Mark::Line)
+                        })
+                        .collect(),
+                ),
+            ],
+            &self.note(),
+        )?;
+        Ok(vec![f_hist, f_snap])
     }
 }

@@ -83,6 +83,13 @@ impl Grid {
     }
 }
 
+/// The seed's dent shape (its Eq. 14, reconstructed): `10^(−10 r² / W²)` at squared distance
+/// `r2` from the centre, width factor `W`; both models scale it by their depth.
+#[inline]
+pub fn dent_profile(r2: f64, width: f64) -> f64 {
+    10f64.powf(-10.0 * r2 / (width * width))
+}
+
 /// Injection of a fine field onto the grid with every other point.
 pub fn inject(fine: &Array2<f64>) -> Array2<f64> {
     let (ny, nx) = fine.dim();

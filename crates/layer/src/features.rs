@@ -25,7 +25,7 @@ impl Dent {
     #[inline]
     pub fn depth(&self, x: f64, y: f64, xc: f64) -> f64 {
         let r2 = (x - xc).powi(2) + (y - self.y_a).powi(2);
-        self.amplitude * 10f64.powf(-10.0 * r2 / (self.width_a * self.width_a))
+        self.amplitude * ehl_core::grid::dent_profile(r2, self.width_a)
     }
     /// Radius beyond which the dent is below 1e-6 of its depth [a].
     pub fn reach(&self) -> f64 {

@@ -1,7 +1,10 @@
 //! Diagnostic probe for M = 20, L = 10 (Roelands, Dowson-Higginson): `m20 N` solves on N²,
 //! `m20 N relax` watches single-grid relaxation, `m20 N freeze` runs cycles with H00 frozen and
-//! prints where the largest residuals sit. Extra arguments: omega_jd, threshold, omega_gs; env
-//! GAMMA, PRE, POST, COARSEST override the cycle.
+//! prints where the largest residuals sit, `m20 N diff` where the pressure changes between
+//! cycles, `m20 N steps` takes time steps from the steady state (a fixed point, or a drift?).
+//! Extra arguments: omega_jd, threshold, omega_gs. Environment: GAMMA, PRE, POST, COARSEST, FMG,
+//! MAXC, FTOL (film and load tolerance) override the settings; M, L the case; SEED=1 the seed's
+//! Table 1 conditions; NARROW=1 the domain [-HALF, HALF]² (HALF = 1.25); COURANT the step.
 use ehl_core::{Contact, Grid, Moes};
 use ehl_reynolds::*;
 fn main() {
@@ -34,7 +37,8 @@ fn main() {
     println!("M {:.2} L {:.2} lambda {:.4e}", prm.moes.m, prm.moes.l, prm.lambda_bar);
     // NARROW=1: the layer model's domain [-1.25, 1.25]² instead.
     let grid = if std::env::var("NARROW").is_ok() {
-        Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25))
+        let hw: f64 = std::env::var("HALF").ok().and_then(|v| v.parse().ok()).unwrap_or(1.25);
+        Grid::new(n, n, (-hw, hw), (-hw, hw))
     } else {
         Grid::new(n, n, (-4.5, 1.5), (-3.0, 3.0))
     };
@@ -57,6 +61,10 @@ fn main() {
     }
     if let Some(v) = env("POST") {
         settings.post_sweeps = v;
+    }
+    if let Ok(v) = std::env::var("FTOL") {
+        settings.film_tolerance = v.parse().unwrap();
+        settings.load_tolerance = v.parse().unwrap();
     }
     if let Some(v) = env("MAXC") {
         settings.max_cycles = v;
@@ -97,6 +105,22 @@ fn main() {
                 );
             }
             println!();
+        }
+        return;
+    }
+    if std::env::args().nth(2).as_deref() == Some("steps") {
+        let _ = s.solve(&mut |_| {});
+        println!("steady {:?}", s.films());
+        let dt = s.levels[0].h
+            * std::env::var("COURANT").ok().and_then(|v| v.parse().ok()).unwrap_or(1.0);
+        for k in 1..=6 {
+            let r = s.step(dt, &mut |c| {
+                println!(
+                    "     {:>3} res {:.3e} load {:+.3e} Hc {:.6} Hmin {:.6}",
+                    c.cycle, c.residual, c.load_error, c.central_film, c.minimum_film
+                )
+            });
+            println!("step {k}: {:?} films {:?}", r.map(|r| (r.converged, r.cycles)), s.films());
         }
         return;
     }

@@ -11,4 +11,6 @@ pub mod solver;
 
 pub use level::{Level, RelaxSettings};
 pub use params::{DensityLaw, ReynoldsParams, ViscosityLaw};
-pub use solver::{CycleLog, ReynoldsError, ReynoldsReport, ReynoldsSettings, ReynoldsSolver};
+pub use solver::{
+    CycleLog, ReynoldsError, ReynoldsReport, ReynoldsSettings, ReynoldsSolver, TimeScheme,
+};

@@ -53,8 +53,38 @@ pub enum Model {
     Reynolds,
 }
 
-/// The Reynolds model's block.
+/// A dent in the ball for a transient Reynolds run, moving with the ball at `u1`:
+/// `depth · 10^(−10 r² / W²)` (the layer model's dent shape, with its depth in metres).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReynoldsDent {
+    /// Depth at the centre [m]; negative for a bump.
+    pub depth_m: f64,
+    /// Width factor `W` [a].
+    pub width_a: f64,
+    /// Centre at `t = 0` [a].
+    pub x_start_a: f64,
+    #[serde(default)]
+    pub y_a: f64,
+}
+
+/// A transient Reynolds run: from the steady solution with the dent at its start, time steps
+/// until the dent centre reaches `x_end_a`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReynoldsTransient {
+    pub dent: ReynoldsDent,
+    /// Where the run ends [a].
+    pub x_end_a: f64,
+    /// Time steps per grid cell of travel (`1 / Courant number`).
+    pub steps_per_cell: f64,
+    /// Dent positions [a] at which fields are written.
+    #[serde(default)]
+    pub snapshots_a: Vec<f64>,
+}
+
+/// The Reynolds model's block.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ReynoldsSpec {
     #[serde(default)]
@@ -67,6 +97,9 @@ pub struct ReynoldsSpec {
     pub moes: Option<ehl_core::Moes>,
     #[serde(default)]
     pub solver: ReynoldsSettings,
+    /// A dent travelling through the contact (absent: the steady solve alone).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transient: Option<ReynoldsTransient>,
 }
 
 impl Scene {
@@ -242,6 +275,7 @@ const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "dent-shallow",
     "hole",
     "reynolds-m20-l10",
+    "reynolds-m20-l10-dent",
     "reynolds-seed"
 );
 
@@ -405,7 +439,7 @@ impl Scene {
         if self.model == Model::Reynolds {
             let missing = |f: &str| err(f, "(missing)".into(), "required by the Reynolds model");
             let l = self.lubricant.ok_or_else(|| missing("lubricant"))?;
-            let r = self.reynolds.ok_or_else(|| missing("reynolds"))?;
+            let r = self.reynolds.as_ref().ok_or_else(|| missing("reynolds"))?;
             match r.moes {
                 Some(m) => {
                     positive("reynolds.moes.m", m.m, "1")?;
@@ -423,6 +457,32 @@ impl Scene {
                         u,
                         "m/s (a Reynolds film needs motion)",
                     )?;
+                }
+            }
+            if let Some(t) = &r.transient {
+                positive("reynolds.transient.dent.width_a", t.dent.width_a, "a")?;
+                positive("reynolds.transient.steps_per_cell", t.steps_per_cell, "1")?;
+                if !t.dent.depth_m.is_finite() {
+                    return Err(err(
+                        "reynolds.transient.dent.depth_m",
+                        format!("{}", t.dent.depth_m),
+                        "finite (m)",
+                    ));
+                }
+                let (x0, x1) = (t.dent.x_start_a, t.x_end_a);
+                if !(x1 > x0) {
+                    return Err(err(
+                        "reynolds.transient.x_end_a",
+                        format!("{x1}"),
+                        &format!("> dent.x_start_a = {x0} (a)"),
+                    ));
+                }
+                if let Some(&x) = t.snapshots_a.iter().find(|&&x| !(x >= x0 && x <= x1)) {
+                    return Err(err(
+                        "reynolds.transient.snapshots_a",
+                        format!("{x}"),
+                        &format!("within [{x0}, {x1}] (a)"),
+                    ));
                 }
             }
             let s = &r.solver;
