@@ -433,35 +433,18 @@ impl LayerOutcome {
                 rec.series.iter().map(|m| (m.t, k(m) * scale)).collect()
             };
             let f = dir.join(format!("{prefix}history.png"));
-            plot::charts(
+            plot::history_chart(
                 &f,
-                &[
-                    Panel::new(
-                        "Layer thickness",
-                        "t [s]",
-                        "l [nm]",
-                        vec![
-                            Series::new("central", ser(|m| m.central_thickness, 1e9), Mark::Line),
-                            Series::new("minimum", ser(|m| m.minimum_thickness, 1e9), Mark::Line),
-                        ],
-                    ),
-                    Panel::new(
-                        "Pressure",
-                        "t [s]",
-                        "p / p_h",
-                        vec![
-                            Series::new(
-                                "maximum",
-                                ser(|m| m.max_pressure, 1.0 / s.p_h),
-                                Mark::Line,
-                            ),
-                            Series::new(
-                                "central",
-                                ser(|m| m.central_pressure, 1.0 / s.p_h),
-                                Mark::Line,
-                            ),
-                        ],
-                    ),
+                "t [s]",
+                "Layer thickness",
+                [
+                    ("central", ser(|m| m.central_thickness, 1e9)),
+                    ("minimum", ser(|m| m.minimum_thickness, 1e9)),
+                ],
+                "Pressure",
+                [
+                    ("maximum", ser(|m| m.max_pressure, 1.0 / s.p_h)),
+                    ("central", ser(|m| m.central_pressure, 1.0 / s.p_h)),
                 ],
                 &self.note(),
             )?;

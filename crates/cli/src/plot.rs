@@ -205,6 +205,30 @@ where
 }
 
 /// Panels side by side (one row), with an optional footnote line (conditions, laws).
+/// The history chart of the time-stepping models: films (central, minimum) [nm] beside pressures
+/// (maximum, central) [p_h], against one abscissa (time or a feature's position).
+pub fn history_chart(
+    path: &Path,
+    x_label: &str,
+    film_title: &str,
+    films: [(&str, Vec<(f64, f64)>); 2],
+    pressure_title: &str,
+    pressures: [(&str, Vec<(f64, f64)>); 2],
+    footnote: &str,
+) -> Result<()> {
+    let series = |v: [(&str, Vec<(f64, f64)>); 2]| -> Vec<Series> {
+        v.into_iter().map(|(label, pts)| Series::new(label, pts, Mark::Line)).collect()
+    };
+    charts(
+        path,
+        &[
+            Panel::new(film_title, x_label, "[nm]", series(films)),
+            Panel::new(pressure_title, x_label, "p / p_h", series(pressures)),
+        ],
+        footnote,
+    )
+}
+
 pub fn charts(path: &Path, panels: &[Panel], footnote: &str) -> Result<()> {
     register_font();
     let width = 640 * panels.len() as u32;

@@ -437,31 +437,18 @@ impl ReynoldsOutcome {
             t.rows.iter().map(|r| (r.dent_x_a, f(r) * k)).collect()
         };
         let f_hist = dir.join(format!("{prefix}history.png"));
-        plot::charts(
+        plot::history_chart(
             &f_hist,
-            &[
-                Panel::new(
-                    "Film while the dent passes",
-                    "dent centre x / a",
-                    "[nm]",
-                    vec![
-                        Series::new("central film", xs(|r| r.central_film_m, 1e9), Mark::Line),
-                        Series::new("minimum film", xs(|r| r.minimum_film_m, 1e9), Mark::Line),
-                    ],
-                ),
-                Panel::new(
-                    "Pressure while the dent passes",
-                    "dent centre x / a",
-                    "p / p_h",
-                    vec![
-                        Series::new("maximum", xs(|r| r.max_pressure_pa, 1.0 / s.p_h), Mark::Line),
-                        Series::new(
-                            "central",
-                            xs(|r| r.central_pressure_pa, 1.0 / s.p_h),
-                            Mark::Line,
-                        ),
-                    ],
-                ),
+            "dent centre x / a",
+            "Film while the dent passes",
+            [
+                ("central film", xs(|r| r.central_film_m, 1e9)),
+                ("minimum film", xs(|r| r.minimum_film_m, 1e9)),
+            ],
+            "Pressure while the dent passes",
+            [
+                ("maximum", xs(|r| r.max_pressure_pa, 1.0 / s.p_h)),
+                ("central", xs(|r| r.central_pressure_pa, 1.0 / s.p_h)),
             ],
             &self.note(),
         )?;
