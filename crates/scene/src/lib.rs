@@ -672,6 +672,17 @@ mod tests {
     }
 
     #[test]
+    fn transient_reynolds_fields_are_checked() {
+        let text = BUILTINS.iter().find(|b| b.0 == "reynolds-m20-l10-dent").unwrap().1;
+        let m = refused(&text.replace("\"x_end_a\": 1.0", "\"x_end_a\": -3.0"));
+        assert!(m.contains("reynolds.transient.x_end_a") && m.contains("x_start_a"), "{m}");
+        let m = refused(&text.replace("\"steps_per_cell\": 1.0", "\"steps_per_cell\": 0.0"));
+        assert!(m.contains("reynolds.transient.steps_per_cell"), "{m}");
+        let m = refused(&text.replace("[-1.0, -0.5, 0.0, 0.5]", "[-1.0, 4.0]"));
+        assert!(m.contains("reynolds.transient.snapshots_a") && m.contains("within"), "{m}");
+    }
+
+    #[test]
     fn unknown_name_lists_builtins() {
         let m = load("no-such-scene").unwrap_err().to_string();
         assert!(m.contains("hertz"), "{m}");
