@@ -104,6 +104,8 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
             ],
         )
         .log_log()
+        // Room above L = 20 for the legend.
+        .y_range(0.7, 150.0)
         .legend(SeriesLabelPosition::UpperLeft)],
         &format!(
             "cycles include the full-multigrid start; converged: central film settled to 1e-4 per cycle, force balance to 1e-6, film > 0; [-1.25, 1.25]^2 from M = {narrow_from_m}"

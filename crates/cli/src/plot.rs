@@ -50,6 +50,8 @@ pub struct Panel {
     pub log_y: bool,
     /// Where the legend goes (pick the corner the data leaves empty).
     pub legend: SeriesLabelPosition,
+    /// The `y` axis when the data's own range leaves the legend no room.
+    pub y_range: Option<(f64, f64)>,
 }
 
 impl Panel {
@@ -63,7 +65,12 @@ impl Panel {
             log_x: false,
             log_y: false,
             legend: SeriesLabelPosition::UpperRight,
+            y_range: None,
         }
+    }
+    pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
+        self.y_range = Some((lo, hi));
+        self
     }
     pub fn log_log(mut self) -> Self {
         self.log_x = true;
@@ -121,7 +128,9 @@ where
     DB::ErrorType: 'static,
 {
     let xs = range(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.0)), panel.log_x);
-    let ys = range(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)), panel.log_y);
+    let ys = panel.y_range.unwrap_or_else(|| {
+        range(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)), panel.log_y)
+    });
     let mut builder = ChartBuilder::on(area);
     builder
         .caption(&panel.title, (FONT, 20))
