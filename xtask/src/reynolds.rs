@@ -108,7 +108,7 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
         .y_range(0.7, 150.0)
         .legend(SeriesLabelPosition::UpperLeft)],
         &format!(
-            "cycles include the full-multigrid start; converged: central film settled to 1e-4 per cycle, force balance to 1e-6, film > 0; [-1.25, 1.25]^2 from M = {narrow_from_m}"
+            "converged: h_c settled to 1e-4/cycle, load to 1e-6; [-1.25, 1.25]^2 from M = {narrow_from_m}"
         ),
     )?;
     let dev = |key: &str, l: f64| -> Vec<(f64, f64)> {
