@@ -383,10 +383,7 @@ impl LayerOutcome {
                     bar_label: "p / p_h".into(),
                 },
             ],
-            (g.x_min, g.x_max),
-            (g.y_min, g.y_max),
-            "x / a",
-            "y / a",
+            g,
             &self.note(),
         )
     }

@@ -238,10 +238,7 @@ fn dry_figures(o: &DryOutcome, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>
             title: "Pressure p / p_h".into(),
             bar_label: "p / p_h".into(),
         }],
-        (g.x_min, g.x_max),
-        (g.y_min, g.y_max),
-        "x / a",
-        "y / a",
+        g,
         &conditions_note(o),
     )?;
     Ok(vec![centre, map])

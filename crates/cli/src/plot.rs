@@ -271,14 +271,12 @@ pub struct MapPanel<'a> {
     pub bar_label: String,
 }
 
-/// Heat maps of `field[[j, i]]` over `x ∈ xr`, `y ∈ yr`, side by side, each with a colour bar.
+/// Heat maps of `field[[j, i]]` over the grid (axes in units of `a`), side by side, each with a
+/// colour bar.
 pub fn heat_maps(
     path: &Path,
     panels: &[MapPanel],
-    xr: (f64, f64),
-    yr: (f64, f64),
-    x_label: &str,
-    y_label: &str,
+    grid: &ehl_core::Grid,
     footnote: &str,
 ) -> Result<()> {
     register_font();
@@ -288,7 +286,14 @@ pub fn heat_maps(
     let (main, foot) = root.split_vertically(610);
     foot.draw(&Text::new(footnote.to_string(), (12, 6), (FONT, 14).into_font().color(&BLACK)))?;
     for (area, panel) in main.split_evenly((1, panels.len())).iter().zip(panels) {
-        draw_map(area, panel, xr, yr, x_label, y_label)?;
+        draw_map(
+            area,
+            panel,
+            (grid.x_min, grid.x_max),
+            (grid.y_min, grid.y_max),
+            "x / a",
+            "y / a",
+        )?;
     }
     root.present().with_context(|| format!("writing {}", path.display()))?;
     Ok(())

@@ -357,10 +357,7 @@ impl ReynoldsOutcome {
                     bar_label: "h [nm]".into(),
                 },
             ],
-            (g.x_min, g.x_max),
-            (g.y_min, g.y_max),
-            "x / a",
-            "y / a",
+            g,
             &self.note(),
         )?;
         out.push(f);
