@@ -17,7 +17,7 @@ pub mod params;
 pub use deformation::Deformation;
 pub use dry::{DryProblem, DryReport, DrySettings, DrySolver, Start};
 pub use grid::Grid;
-pub use params::{Contact, HertzScales, Lubricant, Moes};
+pub use params::{Contact, HertzScales, Lubricant, Moes, SEED_CONTACT, SEED_LUBRICANT};
 
 /// A numerical failure, with enough context to find it: which quantity, where, when.
 #[derive(Debug, Clone, thiserror::Error, PartialEq)]

@@ -15,6 +15,15 @@ pub struct Contact {
     pub reduced_modulus: f64,
 }
 
+/// The seed's ball-on-disc contact (Table 1): the reference conditions of tests and examples
+/// (the built-in scenes carry the same values as data).
+pub const SEED_CONTACT: Contact =
+    Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
+
+/// The seed's lubricant (Table 1: HVI60 at 25 °C).
+pub const SEED_LUBRICANT: Lubricant =
+    Lubricant { eta0: 44.7e-3, alpha: 2.25e-8, p0_roelands: 1.96e8 };
+
 /// Lubricant (or layer damper) viscosity: Roelands' law and the Dowson–Higginson density.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -160,12 +169,8 @@ pub fn oedometric_modulus(e: f64, nu: f64) -> f64 {
 mod tests {
     use super::*;
 
-    /// Seed Table 1.
     fn table1() -> (Contact, Lubricant) {
-        (
-            Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 },
-            Lubricant { eta0: 44.7e-3, alpha: 2.25e-8, p0_roelands: 1.96e8 },
-        )
+        (SEED_CONTACT, SEED_LUBRICANT)
     }
 
     #[test]

@@ -2,12 +2,12 @@
 //! the time error visible (squeeze, u1 = 0), agreement of the schemes, the explicit instability
 //! diagnosis, the steady-squeeze law, and the lateral-instability indicator.
 
-use ehl_core::{Contact, DrySettings, Grid, Lubricant};
+use ehl_core::{DrySettings, Grid};
 use ehl_layer::*;
 
 fn model(n: usize, u1: f64) -> LayerModel {
-    let contact = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
-    let lub = Lubricant { eta0: 44.7e-3, alpha: 2.25e-8, p0_roelands: 1.96e8 };
+    let contact = ehl_core::SEED_CONTACT;
+    let lub = ehl_core::SEED_LUBRICANT;
     let spec = LayerSpec {
         supply_thickness_m: 25e-9,
         modulus_pa: 1e8,

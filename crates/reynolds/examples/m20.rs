@@ -5,11 +5,11 @@
 //! Extra arguments: omega_jd, threshold, omega_gs. Environment: GAMMA, PRE, POST, COARSEST, FMG,
 //! MAXC, FTOL (film and load tolerance) override the settings; M, L the case; SEED=1 the seed's
 //! Table 1 conditions; NARROW=1 the domain [-HALF, HALF]² (HALF = 1.25); COURANT the step.
-use ehl_core::{Contact, Grid, Moes};
+use ehl_core::{Grid, Moes};
 use ehl_reynolds::*;
 fn main() {
     let n: usize = std::env::args().nth(1).map(|s| s.parse().unwrap()).unwrap_or(65);
-    let contact = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
+    let contact = ehl_core::SEED_CONTACT;
     let envf = |k: &str, d: f64| std::env::var(k).ok().and_then(|v| v.parse().ok()).unwrap_or(d);
     let moes = Moes { m: envf("M", 20.0), l: envf("L", 10.0) };
     // Keep F, R, E', eta0; velocity from M, alpha from L.
@@ -23,7 +23,7 @@ fn main() {
     );
     // SEED=1: the seed's Table 1 conditions instead (M ≈ 2223, L ≈ 2.49).
     let prm = if std::env::var("SEED").is_ok() {
-        let lub = ehl_core::Lubricant { eta0: 44.7e-3, alpha: 2.25e-8, p0_roelands: 1.96e8 };
+        let lub = ehl_core::SEED_LUBRICANT;
         ReynoldsParams::from_si(
             &contact,
             &lub,

@@ -84,8 +84,8 @@ mod tests {
 
     #[test]
     fn seed_conditions_give_the_notes_values() {
-        let c = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
-        let lub = Lubricant { eta0: 44.7e-3, alpha: 2.25e-8, p0_roelands: 1.96e8 };
+        let c = ehl_core::SEED_CONTACT;
+        let lub = ehl_core::SEED_LUBRICANT;
         let p = ReynoldsParams::from_si(
             &c,
             &lub,

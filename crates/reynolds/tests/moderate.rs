@@ -2,22 +2,15 @@
 //! a coarse grid: it must converge (central film settled to 1e-4 per cycle, force balance to
 //! 1e-6) and land near the Nijenbanning–Venner–Moes fit; and the seed's high-load regime.
 
-use ehl_core::{Contact, Grid, Moes};
+mod common;
+
+use ehl_core::Grid;
 use ehl_reynolds::formulas::{moes_to_hertz_film, nvm_central_moes};
 use ehl_reynolds::*;
 
 #[test]
 fn m20_l10_converges_on_65_and_is_near_nvm() {
-    let contact = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
-    let moes = Moes { m: 20.0, l: 10.0 };
-    let prm = ReynoldsParams::from_moes(
-        &moes,
-        &contact,
-        40e-3,
-        1.96e8,
-        ViscosityLaw::Roelands,
-        DensityLaw::DowsonHigginson,
-    );
+    let prm = common::m20();
     let grid = Grid::new(65, 65, (-4.5, 1.5), (-3.0, 3.0));
     let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
     let rep = s.solve(&mut |_| {}).unwrap();
@@ -30,24 +23,11 @@ fn m20_l10_converges_on_65_and_is_near_nvm() {
     assert!(hmin < hc && hmin > 0.5 * hc, "H_min {hmin} against H_c {hc}");
 }
 
-fn seed_params() -> ReynoldsParams {
-    // Seed Table 1: M ≈ 2223, L ≈ 2.49, pure rolling at u1 = 0.01 m/s (sum velocity 0.02 m/s).
-    let contact = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
-    let lub = ehl_core::Lubricant { eta0: 44.7e-3, alpha: 2.25e-8, p0_roelands: 1.96e8 };
-    ReynoldsParams::from_si(
-        &contact,
-        &lub,
-        0.02,
-        ViscosityLaw::Roelands,
-        DensityLaw::DowsonHigginson,
-    )
-}
-
 #[test]
 fn seed_regime_converges_on_257_near_the_seed_film() {
     // The seed's regime, on the layer model's domain [-1.25, 1.25]² (ΔX = 0.0098 a: the inlet
     // zone where the film forms is ~0.03 a wide here, so coarser grids cannot hold this film).
-    let prm = seed_params();
+    let prm = common::seed();
     assert!((prm.moes.m - 2223.0).abs() < 1.0 && (prm.moes.l - 2.49).abs() < 0.01);
     let grid = Grid::new(257, 257, (-1.25, 1.25), (-1.25, 1.25));
     let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
@@ -67,7 +47,7 @@ fn seed_regime_converges_on_257_near_the_seed_film() {
 fn seed_regime_failure_on_a_coarse_grid_is_diagnosed() {
     // On the usual wide domain, 33² cannot hold the seed's 12 nm film (a cell is 0.19 a, the
     // inlet zone 0.03 a): the film closes, and the solver must say so, with what and where.
-    let prm = seed_params();
+    let prm = common::seed();
     let grid = Grid::new(33, 33, (-4.5, 1.5), (-3.0, 3.0));
     let settings = ReynoldsSettings { max_cycles: 40, ..ReynoldsSettings::default() };
     let mut s = ReynoldsSolver::new(grid, prm, settings);

@@ -1,20 +1,10 @@
 //! Transient Reynolds: the time term is consistent with the steady solution, and a dent
 //! travelling through the contact converges in the time step at the order of the scheme.
 
-use ehl_core::{Contact, Grid, Moes};
-use ehl_reynolds::*;
+mod common;
 
-fn m20() -> ReynoldsParams {
-    let contact = Contact { ball_radius: 9.525e-3, load: 20.0, reduced_modulus: 1.17e11 };
-    ReynoldsParams::from_moes(
-        &Moes { m: 20.0, l: 10.0 },
-        &contact,
-        40e-3,
-        1.96e8,
-        ViscosityLaw::Roelands,
-        DensityLaw::DowsonHigginson,
-    )
-}
+use ehl_core::Grid;
+use ehl_reynolds::*;
 
 fn tight(time_scheme: TimeScheme) -> ReynoldsSettings {
     // Iteration errors far below the time-discretisation differences compared.
@@ -34,7 +24,7 @@ fn dent(d: f64, w: f64, xc: f64) -> impl Fn(f64, f64) -> f64 + Copy {
 #[test]
 fn steady_state_is_a_fixed_point_of_the_time_step() {
     let grid = Grid::new(65, 65, (-4.5, 1.5), (-3.0, 3.0));
-    let mut s = ReynoldsSolver::new(grid, m20(), tight(TimeScheme::Bdf2));
+    let mut s = ReynoldsSolver::new(grid, common::m20(), tight(TimeScheme::Bdf2));
     assert!(s.solve(&mut |_| {}).unwrap().converged);
     let (hc0, hmin0) = s.films();
     for _ in 0..3 {
@@ -50,7 +40,7 @@ fn steady_state_is_a_fixed_point_of_the_time_step() {
 /// Central film when a dent that started at `x = -1.5` has travelled to `x = 0`.
 fn dent_run(n: usize, steps: usize, scheme: TimeScheme) -> (f64, f64) {
     let grid = Grid::new(n, n, (-4.5, 1.5), (-3.0, 3.0));
-    let mut s = ReynoldsSolver::new(grid, m20(), tight(scheme));
+    let mut s = ReynoldsSolver::new(grid, common::m20(), tight(scheme));
     let (depth, width, x0) = (0.2, 0.4, -1.5);
     s.set_extra_gap(dent(depth, width, x0));
     assert!(s.solve(&mut |_| {}).unwrap().converged);
