@@ -5,34 +5,19 @@
 //! Extra arguments: omega_jd, threshold, omega_gs. Environment: GAMMA, PRE, POST, COARSEST, FMG,
 //! MAXC, FTOL (film and load tolerance) override the settings; M, L the case; SEED=1 the seed's
 //! Table 1 conditions; NARROW=1 the domain [-HALF, HALF]² (HALF = 1.25); COURANT the step.
-use ehl_core::{Grid, Moes};
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use ehl_core::Grid;
 use ehl_reynolds::*;
 fn main() {
     let n: usize = std::env::args().nth(1).map(|s| s.parse().unwrap()).unwrap_or(65);
-    let contact = ehl_core::SEED_CONTACT;
     let envf = |k: &str, d: f64| std::env::var(k).ok().and_then(|v| v.parse().ok()).unwrap_or(d);
-    let moes = Moes { m: envf("M", 20.0), l: envf("L", 10.0) };
-    // Keep F, R, E', eta0; velocity from M, alpha from L.
-    let prm = ReynoldsParams::from_moes(
-        &moes,
-        &contact,
-        40e-3,
-        1.96e8,
-        ViscosityLaw::Roelands,
-        DensityLaw::DowsonHigginson,
-    );
-    // SEED=1: the seed's Table 1 conditions instead (M ≈ 2223, L ≈ 2.49).
+    // SEED=1: the seed's Table 1 conditions (M ≈ 2223, L ≈ 2.49) instead of M, L.
     let prm = if std::env::var("SEED").is_ok() {
-        let lub = ehl_core::SEED_LUBRICANT;
-        ReynoldsParams::from_si(
-            &contact,
-            &lub,
-            0.02,
-            ViscosityLaw::Roelands,
-            DensityLaw::DowsonHigginson,
-        )
+        common::seed()
     } else {
-        prm
+        common::moes(envf("M", 20.0), envf("L", 10.0))
     };
     println!("M {:.2} L {:.2} lambda {:.4e}", prm.moes.m, prm.moes.l, prm.lambda_bar);
     // NARROW=1: the layer model's domain [-1.25, 1.25]² instead.

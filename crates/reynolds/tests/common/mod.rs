@@ -1,14 +1,19 @@
-//! The two reference cases of the Reynolds tests.
+//! The reference cases of the Reynolds tests (and of the `m20` probe).
 #![allow(dead_code)] // each test file uses what it needs
 
 use ehl_core::{Moes, SEED_CONTACT, SEED_LUBRICANT};
 use ehl_reynolds::*;
 
-/// The classic moderate case `M = 20, L = 10` (Roelands `η0 = 40 mPa s`, `p0 = 1.96e8 Pa`,
-/// Dowson–Higginson) on the seed's ball and load: velocity and `α` follow from `M`, `L`.
+/// The classic moderate case `M = 20, L = 10`.
 pub fn m20() -> ReynoldsParams {
+    moes(20.0, 10.0)
+}
+
+/// Roelands `η0 = 40 mPa s`, `p0 = 1.96e8 Pa`, Dowson–Higginson on the seed's ball and load:
+/// velocity and `α` follow from `M`, `L`.
+pub fn moes(m: f64, l: f64) -> ReynoldsParams {
     ReynoldsParams::from_moes(
-        &Moes { m: 20.0, l: 10.0 },
+        &Moes { m, l },
         &SEED_CONTACT,
         40e-3,
         1.96e8,
