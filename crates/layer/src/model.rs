@@ -103,6 +103,25 @@ impl LayerModel {
         }
     }
 
+    /// The same model on another grid (same laws, velocity, features and solver settings).
+    pub fn on_grid(&self, grid: Grid) -> Self {
+        Self {
+            scales: self.scales,
+            grid,
+            l0: self.l0,
+            eo: self.eo,
+            p_ref: self.p_ref,
+            law: self.law,
+            damper: self.damper,
+            spec: self.spec,
+            u1: self.u1,
+            features: self.features.clone(),
+            solver: DrySolver::new(grid, self.solver.settings),
+            shape: grid.paraboloid(),
+            load: self.load,
+        }
+    }
+
     /// `E / p_h`.
     #[inline]
     pub fn modulus(&self, p: f64, eps: f64) -> f64 {
@@ -131,44 +150,13 @@ impl LayerModel {
     }
 
     /// The pressure the material coefficients see: `p` itself, or its Gaussian smoothing when
-    /// the regularisation is on (separable, truncated at 3σ, edge values held).
+    /// the regularisation is on.
     pub fn coefficient_pressure(&self, p: &Array2<f64>) -> Array2<f64> {
         let sigma = self.spec.coefficient_smoothing_a;
         if sigma <= 0.0 {
             return p.clone();
         }
-        let weights = |h: f64| -> Vec<f64> {
-            let r = (3.0 * sigma / h).ceil() as isize;
-            let w: Vec<f64> =
-                (-r..=r).map(|k| (-0.5 * (k as f64 * h / sigma).powi(2)).exp()).collect();
-            let norm: f64 = w.iter().sum();
-            w.into_iter().map(|v| v / norm).collect()
-        };
-        let (ny, nx) = p.dim();
-        // Along x: each row on its own.
-        let wx = weights(self.grid.dx());
-        let rx = (wx.len() / 2) as isize;
-        let mut tmp = Array2::zeros((ny, nx));
-        Zip::from(tmp.rows_mut()).and(p.rows()).par_for_each(|mut o, f| {
-            for i in 0..nx as isize {
-                let mut s = 0.0;
-                for (k, w) in (-rx..=rx).zip(&wx) {
-                    s += w * f[(i + k).clamp(0, nx as isize - 1) as usize];
-                }
-                o[i as usize] = s;
-            }
-        });
-        // Along y: each output row is a weighted sum of whole rows.
-        let wy = weights(self.grid.dy());
-        let ry = (wy.len() / 2) as isize;
-        let mut out = Array2::zeros((ny, nx));
-        Zip::indexed(out.rows_mut()).par_for_each(|j, mut o| {
-            for (k, w) in (-ry..=ry).zip(&wy) {
-                let jj = (j as isize + k).clamp(0, ny as isize - 1) as usize;
-                o.scaled_add(*w, &tmp.row(jj));
-            }
-        });
-        out
+        gaussian_smooth(p, &self.grid, sigma, sigma)
     }
 
     /// Local growth indicator of lateral short waves (from linearising the strain law with the
@@ -244,6 +232,45 @@ impl LayerModel {
         };
         self.solver.solve(&prob, p, w, start)
     }
+}
+
+/// `f` smoothed by a separable Gaussian of standard deviations `sigma_x`, `sigma_y` [a]
+/// (0: not along that axis), truncated at 3σ, edge values held.
+pub fn gaussian_smooth(f: &Array2<f64>, grid: &Grid, sigma_x: f64, sigma_y: f64) -> Array2<f64> {
+    let weights = |sigma: f64, h: f64| -> Vec<f64> {
+        if sigma <= 0.0 {
+            return vec![1.0];
+        }
+        let r = (3.0 * sigma / h).ceil() as isize;
+        let w: Vec<f64> = (-r..=r).map(|k| (-0.5 * (k as f64 * h / sigma).powi(2)).exp()).collect();
+        let norm: f64 = w.iter().sum();
+        w.into_iter().map(|v| v / norm).collect()
+    };
+    let (ny, nx) = f.dim();
+    // Along x: each row on its own.
+    let wx = weights(sigma_x, grid.dx());
+    let rx = (wx.len() / 2) as isize;
+    let mut tmp = Array2::zeros((ny, nx));
+    Zip::from(tmp.rows_mut()).and(f.rows()).par_for_each(|mut o, f| {
+        for i in 0..nx as isize {
+            let mut s = 0.0;
+            for (k, w) in (-rx..=rx).zip(&wx) {
+                s += w * f[(i + k).clamp(0, nx as isize - 1) as usize];
+            }
+            o[i as usize] = s;
+        }
+    });
+    // Along y: each output row is a weighted sum of whole rows.
+    let wy = weights(sigma_y, grid.dy());
+    let ry = (wy.len() / 2) as isize;
+    let mut out = Array2::zeros((ny, nx));
+    Zip::indexed(out.rows_mut()).par_for_each(|j, mut o| {
+        for (k, w) in (-ry..=ry).zip(&wy) {
+            let jj = (j as isize + k).clamp(0, ny as isize - 1) as usize;
+            o.scaled_add(*w, &tmp.row(jj));
+        }
+    });
+    out
 }
 
 /// The state of a run: strain, pressure and deformation at time `t`.

@@ -45,6 +45,10 @@ pub enum LayerError {
         dt: f64,
         limit: f64,
     },
+    #[error(
+        "steady solve did not converge at iteration {iteration}: the strain the contact carried and the strain marched from its pressure differ by {residual:.3e} (tolerance {tolerance:.1e}) at (x = {x:.4} a, y = {y:.4} a); {trend}"
+    )]
+    Steady { iteration: usize, residual: f64, tolerance: f64, x: f64, y: f64, trend: String },
     #[error("{0}")]
     Setup(String),
 }

@@ -1,0 +1,467 @@
+//! Steady rolling solved directly, without marching in time.
+//!
+//! At steady state `∂ε/∂t = 0` and the strain law is a transport equation along `x` for a given
+//! pressure: `(u1/a) ∂ε/∂X = (p − E(p_c, ε) ε) / η(p_c)`, `ε = 0` upstream of the inlet,
+//! `0 ≤ ε ≤ 1` (`p_c` is the coefficient pressure: `p`, or its smoothing when regularised).
+//! It is discretised by BDF2 along `x` with step `ΔX` (A-stable: no limit on the cell size):
+//!
+//! `3 ε_i − 4 ε_{i−1} + ε_{i−2} = 2 k_i (p_i − E_i ε_i)`, `k_i = ΔX a / (u1 η_i)`,
+//!
+//! which is exactly the steady state of the implicit time stepper run at one step per cell
+//! (`n_t = 1`, whole-cell shifts, coefficients at the new state): the marched and the direct
+//! steady states answer the same discrete equations (tested).
+//!
+//! The coupled problem (contact + strain along every row) is solved by a fixed-point iteration:
+//! 1. with the upstream strains and the coefficients of the current iterate, the strain of every
+//!    point is affine in its own pressure, `ε_i = A_i + B_i p_i`: the layer enters the contact as
+//!    the extra gap `−l0 (1 − A)` and the local compliance `l0 B`, as in the implicit step;
+//!    points where `ε` would pass 1 are fixed at 1 (no layer) and the contact re-solved;
+//! 2. the strain is marched along every row from the new pressure (each point's scalar equation
+//!    solved exactly: `E` depends on `ε`), which gives the next iterate's upstream strains.
+//!
+//! Converged when the strain the contact was solved with and the strain marched from its
+//! pressure differ by less than `strain_tolerance` at every point (max norm): then both halves
+//! of the problem hold at once, the contact to its solver's tolerance. Coarser grids are solved
+//! first and interpolated up (nested iteration), so the fine grid starts near its answer.
+
+use crate::model::{LayerModel, LayerState};
+use crate::stepper::LayerError;
+use ehl_core::grid::prolong;
+use ehl_core::{Start, check_finite};
+use ndarray::{Array2, Zip};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Settings of the direct steady-rolling solve.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SteadySettings {
+    /// Converged when the strain the contact was solved with and the strain marched from the
+    /// solved pressure differ by less than this at every point [-].
+    #[serde(default = "default_strain_tolerance")]
+    pub strain_tolerance: f64,
+    /// Iterations on the finest grid before the solve gives up with a diagnosis.
+    #[serde(default = "default_max_iterations")]
+    pub max_iterations: usize,
+    /// BDF2 sub-steps per cell along `x` (pressure linear between nodes). 1: exactly the
+    /// implicit stepper's steady state at one step per cell.
+    #[serde(default = "default_substeps")]
+    pub substeps: usize,
+    /// Solve on coarser grids first (down to 33 points a side) and interpolate up.
+    #[serde(default = "default_true")]
+    pub nested: bool,
+}
+
+fn default_strain_tolerance() -> f64 {
+    1e-6
+}
+fn default_max_iterations() -> usize {
+    300
+}
+fn default_substeps() -> usize {
+    4
+}
+fn default_true() -> bool {
+    true
+}
+
+impl Default for SteadySettings {
+    fn default() -> Self {
+        Self {
+            strain_tolerance: default_strain_tolerance(),
+            max_iterations: default_max_iterations(),
+            substeps: default_substeps(),
+            nested: true,
+        }
+    }
+}
+
+/// What the steady solve did.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SteadyReport {
+    /// Fixed-point iterations per grid, coarsest first: `(points a side, iterations)`.
+    pub iterations: Vec<(usize, usize)>,
+    /// Contact solves (each warm-started), all grids.
+    pub solves: usize,
+    /// Contact-solver iterations, all grids.
+    pub contact_iterations: usize,
+    /// Largest strain mismatch at the end (see [`SteadySettings::strain_tolerance`]).
+    pub strain_residual: f64,
+    /// Largest strain mismatch after each finest-grid iteration.
+    pub history: Vec<f64>,
+    pub wall_time_s: f64,
+}
+
+/// Coarsest grid of the nested iteration: the inlet zone needs a few cells.
+const MIN_NESTED_POINTS: usize = 33;
+
+/// The steady rolling state of `m` (rolling at `m.u1 > 0`, no features), solved directly.
+pub fn rolling_steady(
+    m: &LayerModel,
+    settings: &SteadySettings,
+) -> Result<(LayerState, SteadyReport), LayerError> {
+    let t0 = Instant::now();
+    if !(m.u1 > 0.0) {
+        return Err(LayerError::Setup(format!(
+            "steady rolling needs a rolling velocity > 0 (got {} m/s)",
+            m.u1
+        )));
+    }
+    if !m.features.is_empty() {
+        return Err(LayerError::Setup(
+            "steady rolling: a feature passing is not steady; march it in time".into(),
+        ));
+    }
+    let mut report = SteadyReport {
+        iterations: vec![],
+        solves: 0,
+        contact_iterations: 0,
+        strain_residual: f64::NAN,
+        history: vec![],
+        wall_time_s: 0.0,
+    };
+    // Nested iteration: the coarse solution, interpolated, is the start.
+    let start = match m.grid.coarser(MIN_NESTED_POINTS).filter(|_| settings.nested) {
+        Some(cg) => {
+            let coarse = m.on_grid(cg);
+            let mut loose = *settings;
+            // A coarse grid gives a start only: its discretisation error is far above any tight
+            // tolerance, so 1e-4 of strain is enough there.
+            loose.strain_tolerance = settings.strain_tolerance.max(1e-4);
+            let (s, r) = rolling_steady(&coarse, &loose)?;
+            report.iterations = r.iterations;
+            report.solves = r.solves;
+            report.contact_iterations = r.contact_iterations;
+            Some((prolong(&s.p), prolong(&s.eps)))
+        }
+        None => None,
+    };
+    let substeps = settings.substeps;
+    let cell = Cell::new(m, substeps);
+    let (mut p, mut w, mut eps, mut sub) = match start {
+        Some((p, eps)) => {
+            // One sub-step before each node, by linear interpolation of the start.
+            let mut sub = eps.clone();
+            for mut row in sub.rows_mut() {
+                let e = row.to_vec();
+                for i in 0..e.len() {
+                    let up = if i >= 1 { e[i - 1] } else { 0.0 };
+                    row[i] = e[i] - (e[i] - up) / substeps as f64;
+                }
+            }
+            (p, m.grid.zeros(), eps, sub)
+        }
+        None => {
+            let s = crate::run::uniform_state(m)?;
+            let (eps, sub) = march(m, &s.p, substeps);
+            (s.p, s.w, eps, sub)
+        }
+    };
+    let mut start_kind = Start::Warm;
+    let supply = m.supply(0.0);
+    let ball = m.ball(0.0);
+    let mut h0;
+    let mut it = 0;
+    let residual = loop {
+        it += 1;
+        let coef = Coefficients::of(m, &p);
+        let [a, b] = linearise(&cell, &coef, &p, &eps, &sub);
+        // Where the layer would be squeezed past nothing, fix it at nothing and re-solve.
+        let mut dry = a.mapv(|v| v >= 1.0);
+        let mut passes = 0;
+        let eps_c = loop {
+            let mut g0 = ball.clone();
+            let mut c = m.grid.zeros();
+            Zip::from(&mut g0).and(&mut c).and(&supply).and(&a).and(&b).and(&dry).par_for_each(
+                |g, c, &l0, &a, &b, &d| {
+                    if !d {
+                        *g -= l0 * (1.0 - a);
+                        *c = l0 * b;
+                    }
+                },
+            );
+            let r = m
+                .contact(&g0, Some(&c), &mut p, &mut w, start_kind)
+                .map_err(|e| LayerError::Contact { step: it, t: 0.0, source: e })?;
+            start_kind = Start::Warm;
+            report.solves += 1;
+            report.contact_iterations += r.iterations;
+            h0 = r.h0;
+            let e = Zip::from(&a)
+                .and(&b)
+                .and(&p)
+                .and(&dry)
+                .par_map_collect(|&a, &b, &p, &d| if d { 1.0 } else { (a + b * p).max(0.0) });
+            let mut grew = false;
+            Zip::from(&mut dry).and(&e).and(&supply).for_each(|d, &e, &l0| {
+                if !*d && e > 1.0 && l0 > 0.0 {
+                    *d = true;
+                    grew = true;
+                }
+            });
+            passes += 1;
+            if !grew || passes >= 8 {
+                break e.mapv(|v| v.min(1.0));
+            }
+        };
+        // The contact's gap with its layer, then the local march along every row.
+        // Loaded points count as closed: the contact solve holds them closed to its own
+        // tolerance, and its residual gap is not the transport's to correct.
+        let gap = Zip::from(&ball).and(&w).and(&supply).and(&eps_c).and(&p).par_map_collect(
+            |&g, &w, &l0, &e, &p| if p > 0.0 { 0.0 } else { h0 + g + w - l0 * (1.0 - e) },
+        );
+        let [p_loc, eps_loc, sub_loc] =
+            local_march(&cell, &Coefficients::of(m, &p), &p, &eps_c, &gap, &supply);
+        check_finite("strain", &eps_loc, it)
+            .and_then(|_| check_finite("pressure", &p, it))
+            .map_err(|e| LayerError::Contact { step: it, t: 0.0, source: e })?;
+        // Largest change the march makes to the strain the contact carried.
+        let (mut worst, mut at) = (0.0f64, (0, 0));
+        for ((j, i), (&x, &y)) in
+            eps_loc.indexed_iter().zip(eps_c.iter()).map(|((ji, x), y)| (ji, (x, y)))
+        {
+            let d = (x - y).abs();
+            if d > worst {
+                worst = d;
+                at = (j, i);
+            }
+        }
+        report.history.push(worst);
+        if std::env::var("STEADY_DEBUG").is_ok() {
+            eprintln!(
+                "n={} it={it} worst={worst:.3e} at x={:.3} y={:.3} h0={h0:.5e}",
+                m.grid.nx,
+                m.grid.x(at.1),
+                m.grid.y(at.0)
+            );
+        }
+        if worst < settings.strain_tolerance {
+            eps = eps_c;
+            break worst;
+        }
+        (p, eps, sub) = (p_loc, eps_loc, sub_loc);
+        if it >= settings.max_iterations {
+            return Err(LayerError::Steady {
+                iteration: it,
+                residual: worst,
+                tolerance: settings.strain_tolerance,
+                x: m.grid.x(at.1),
+                y: m.grid.y(at.0),
+                trend: trend(&report.history),
+            });
+        }
+    };
+    report.iterations.push((m.grid.nx, it));
+    report.strain_residual = residual;
+    report.wall_time_s = t0.elapsed().as_secs_f64();
+    Ok((LayerState { t: 0.0, eps, p, w, h0 }, report))
+}
+
+/// How the strain mismatch behaved over the last iterations, for a diagnosis.
+fn trend(history: &[f64]) -> String {
+    let n = history.len();
+    if n < 10 {
+        return "too few iterations to judge".into();
+    }
+    let (old, new) = (history[n - 10], history[n - 1]);
+    if new > old {
+        format!(
+            "growing over the last 10 iterations ({old:.2e} -> {new:.2e}): the iteration diverges"
+        )
+    } else if new > 0.5 * old {
+        format!("stalled over the last 10 iterations ({old:.2e} -> {new:.2e})")
+    } else {
+        format!(
+            "still falling ({old:.2e} -> {new:.2e} over the last 10 iterations): allow more iterations"
+        )
+    }
+}
+
+/// The strain law across one cell, from node `i − 1` to node `i`, in `m` BDF2 sub-steps of
+/// `h = ΔX / m`, with the pressure, the coefficient pressure and `ln η` linear between the nodes.
+/// Inputs: the strains at the two points before the cell (`e1` at node `i − 1`, `e2` one
+/// sub-step before it), the pressures `p0` (node `i − 1`, known) and `p1` (node `i`, the unknown),
+/// `p1_guess` (where `E` is evaluated: `E` takes the strain extrapolated from the two previous
+/// sub-steps, as the time stepper takes it from the two previous levels), and the coefficient
+/// pressure and `ln η` at both nodes (`ln η` linear between them). Returns the strain at
+/// node `i` and one sub-step before it, each as `(α, β)` with `ε = α + β p1`.
+///
+/// With `m = 1` this is term for term the implicit stepper's steady state at one step per cell.
+struct Cell<'a> {
+    m: &'a LayerModel,
+    substeps: usize,
+    /// `ΔX a / (u1 m)` [s]: the time a material point takes for one sub-step.
+    dt: f64,
+}
+
+impl Cell<'_> {
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn across(
+        &self,
+        e1: f64,
+        e2: f64,
+        p0: f64,
+        p1_guess: f64,
+        (pc0, le0): (f64, f64),
+        (pc1, le1): (f64, f64),
+    ) -> ((f64, f64), (f64, f64)) {
+        let m = self.m;
+        // (α, β) of the last two sub-steps, and their values at the guess.
+        let (mut c1, mut c2) = ((e1, 0.0), (e2, 0.0));
+        let (mut v1, mut v2) = (e1, e2);
+        let n = self.substeps as f64;
+        for s in 1..=self.substeps {
+            let th = s as f64 / n;
+            let pc = (1.0 - th) * pc0 + th * pc1;
+            let k = self.dt * (-((1.0 - th) * le0 + th * le1)).exp();
+            let e_coef = (2.0 * v1 - v2).clamp(0.0, 1.0);
+            let d = 3.0 + 2.0 * k * m.modulus(pc, e_coef);
+            let mut c = (
+                (4.0 * c1.0 - c2.0 + 2.0 * k * (1.0 - th) * p0) / d,
+                (4.0 * c1.1 - c2.1 + 2.0 * k * th) / d,
+            );
+            let v = c.0 + c.1 * p1_guess;
+            // Between nodes the strain is held in [0, 1] where the guess puts it outside.
+            if s < self.substeps && !(0.0..=1.0).contains(&v) {
+                c = (v.clamp(0.0, 1.0), 0.0);
+            }
+            (c2, c1) = (c1, c);
+            (v2, v1) = (v1, c.0 + c.1 * p1_guess);
+        }
+        (c1, c2)
+    }
+}
+
+/// Per point, `ε_i = A_i + B_i p_i`, with the upstream strains of the iterate (`eps`, `sub`)
+/// and the coefficients at the iterate's pressure.
+fn linearise(
+    cell: &Cell,
+    coef: &Coefficients,
+    p: &Array2<f64>,
+    eps: &Array2<f64>,
+    sub: &Array2<f64>,
+) -> [Array2<f64>; 2] {
+    let rows = by_rows(p.nrows(), |j| {
+        let (e, s, p) = (eps.row(j), sub.row(j), p.row(j));
+        (0..e.len())
+            .map(|i| {
+                let (e1, e2, p0) =
+                    if i >= 1 { (e[i - 1], s[i - 1], p[i - 1]) } else { (0.0, 0.0, 0.0) };
+                let (n, _) = cell.across(e1, e2, p0, p[i], coef.up(j, i), coef.at(j, i));
+                [n.0, n.1]
+            })
+            .collect()
+    });
+    assemble(p.dim(), &rows)
+}
+
+/// Runs `f` for every row index in parallel; each returns its row's values, `K` per point.
+fn by_rows<const K: usize>(
+    ny: usize,
+    f: impl Fn(usize) -> Vec<[f64; K]> + Sync + Send,
+) -> Vec<Vec<[f64; K]>> {
+    use rayon::prelude::*;
+    (0..ny).into_par_iter().map(f).collect()
+}
+
+/// The `K` fields of per-row, per-point values.
+fn assemble<const K: usize>(dim: (usize, usize), rows: &[Vec<[f64; K]>]) -> [Array2<f64>; K] {
+    std::array::from_fn(|k| Array2::from_shape_fn(dim, |(j, i)| rows[j][i][k]))
+}
+
+/// The strain along every row from the pressure `p`: at the nodes and one sub-step before.
+pub fn march(m: &LayerModel, p: &Array2<f64>, substeps: usize) -> (Array2<f64>, Array2<f64>) {
+    let cell = Cell::new(m, substeps);
+    let coef = Coefficients::of(m, p);
+    let rows = by_rows(p.nrows(), |j| {
+        let p = p.row(j);
+        let mut out: Vec<[f64; 2]> = Vec::with_capacity(p.len());
+        for i in 0..p.len() {
+            let (e1, e2, p0) = match i {
+                0 => (0.0, 0.0, 0.0),
+                _ => (out[i - 1][0], out[i - 1][1], p[i - 1]),
+            };
+            let (n, q) = cell.across(e1, e2, p0, p[i], coef.up(j, i), coef.at(j, i));
+            out.push([(n.0 + n.1 * p[i]).clamp(0.0, 1.0), (q.0 + q.1 * p[i]).clamp(0.0, 1.0)]);
+        }
+        out
+    });
+    let [eps, sub] = assemble(p.dim(), &rows);
+    (eps, sub)
+}
+
+/// The material coefficients' arguments at the nodes: the coefficient pressure and `ln(η/p_h)`,
+/// evaluated once per iteration (the sub-steps interpolate them).
+struct Coefficients {
+    pc: Array2<f64>,
+    ln_eta: Array2<f64>,
+}
+
+impl Coefficients {
+    fn of(m: &LayerModel, p: &Array2<f64>) -> Self {
+        let pc = m.coefficient_pressure(p);
+        let ln_eta = pc.mapv(|v| m.eta(v).ln());
+        Self { pc, ln_eta }
+    }
+    #[inline]
+    fn at(&self, j: usize, i: usize) -> (f64, f64) {
+        (self.pc[[j, i]], self.ln_eta[[j, i]])
+    }
+    /// Upstream of node `i`; upstream of the inlet the layer is unloaded.
+    #[inline]
+    fn up(&self, j: usize, i: usize) -> (f64, f64) {
+        if i >= 1 { self.at(j, i - 1) } else { (0.0, self.ln_eta[[j, 0]]) }
+    }
+}
+
+impl<'a> Cell<'a> {
+    fn new(m: &'a LayerModel, substeps: usize) -> Self {
+        Self { m, substeps, dt: m.grid.dx() * m.scales.a / (m.u1 * substeps as f64) }
+    }
+}
+
+/// One Gauss–Seidel sweep along every row of the coupled problem with the elastic response
+/// taken local (one cell's self-influence `K00`): from the contact solution `(p, ε_c)` with
+/// gap `gap` (0 where loaded), each point in turn gets the strain of its new upstream strains
+/// and the pressure that keeps its gap, `gap + K00 δp + l0 (ε − ε_c) = 0` where loaded,
+/// `p ≥ 0`, `ε ∈ [0, 1]`. Returns the new pressure, strain, and strain a sub-step before.
+///
+/// Why local: where the layer is more compliant than the half-space at the grid scale, marching
+/// the contact's pressure alone over-corrects the strain (the contact already answered the
+/// lagged upstream strain with pressure): that iteration diverges on fine grids. With the
+/// cell's own stiffness in the sweep, a change of upstream strain is shared between pressure and
+/// strain as the contact would share it.
+fn local_march(
+    cell: &Cell,
+    coef: &Coefficients,
+    p: &Array2<f64>,
+    eps_c: &Array2<f64>,
+    gap: &Array2<f64>,
+    supply: &Array2<f64>,
+) -> [Array2<f64>; 3] {
+    let k00 = cell.m.solver.operator().self_influence();
+    let rows = by_rows(p.nrows(), |j| {
+        let (p, ec, g, l0) = (p.row(j), eps_c.row(j), gap.row(j), supply.row(j));
+        let mut out: Vec<[f64; 3]> = Vec::with_capacity(p.len());
+        for i in 0..p.len() {
+            let (e1, e2, p0) = match i {
+                0 => (0.0, 0.0, 0.0),
+                _ => (out[i - 1][1], out[i - 1][2], out[i - 1][0]),
+            };
+            let p_old = p[i];
+            let (n, q) = cell.across(e1, e2, p0, p_old, coef.up(j, i), coef.at(j, i));
+            let dp = -(g[i] + l0[i] * (n.0 + n.1 * p_old - ec[i])) / (k00 + l0[i] * n.1);
+            let mut pi = (p_old + dp).max(0.0);
+            let mut ei = (n.0 + n.1 * pi).max(0.0);
+            if ei > 1.0 && l0[i] > 0.0 {
+                // No layer left: the gap closes on the ball alone.
+                ei = 1.0;
+                pi = (p_old - (g[i] + l0[i] * (1.0 - ec[i])) / k00).max(0.0);
+            }
+            out.push([pi, ei.min(1.0), (q.0 + q.1 * pi).clamp(0.0, 1.0)]);
+        }
+        out
+    });
+    assemble(p.dim(), &rows)
+}
