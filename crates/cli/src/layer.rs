@@ -6,15 +6,13 @@ use anyhow::{Context, Result};
 use ehl_core::{Grid, HertzScales, hertz};
 use ehl_layer::run::SqueezeReport;
 use ehl_layer::{
-    LayerModel, LayerState, Monitor, Record, Stepper, StopSettings, run, squeeze_steady,
-    stability_estimate, uniform_state,
+    LayerModel, LayerState, Monitor, Record, SteadyReport, Stepper, rolling_steady, run,
+    squeeze_steady, stability_estimate, uniform_state,
 };
-use ehl_scene::{Motion, Scene, StartState};
+use ehl_scene::{Method, Motion, Scene, StartState};
 use ndarray::Array2;
 use serde_json::{Value, json};
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 use std::time::Instant;
 
 /// What a layer scene produced.
@@ -31,60 +29,14 @@ pub struct LayerOutcome {
     pub gap: Array2<f64>,
     /// The scene's own motion (absent for `motion: none`).
     pub record: Option<Record>,
-    /// The steady-rolling pre-run of a `steady-rolling` start.
-    pub prerun: Option<PrerunInfo>,
+    /// The direct steady-rolling solve (method `steady`, or a `steady-rolling` start).
+    pub steady: Option<SteadyReport>,
     pub squeeze: Option<SqueezeReport>,
     pub final_monitor: Monitor,
     /// Explicit stability estimate [s] at the scene's grid.
     pub stability_estimate_s: f64,
     pub setup_time_s: f64,
     pub total_time_s: f64,
-}
-
-/// The pre-run's record, in brief.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct PrerunInfo {
-    pub steps: usize,
-    pub simulated_time_s: f64,
-    pub wall_time_s: f64,
-    pub steady: bool,
-    pub stop_reason: String,
-    pub cached: bool,
-}
-
-type Cache = Mutex<HashMap<String, (LayerState, PrerunInfo)>>;
-
-/// Steady-rolling states already computed in this process, keyed by everything they depend
-/// on: scenes that start from the same steady rolling share one pre-run.
-fn cache() -> &'static Cache {
-    static C: std::sync::OnceLock<Cache> = std::sync::OnceLock::new();
-    C.get_or_init(|| Mutex::new(HashMap::new()))
-}
-
-/// The pre-run's stop rule: the same for every scene, so that every scene starting from steady
-/// rolling under the same conditions starts from the same state.
-fn prerun_stop() -> StopSettings {
-    StopSettings {
-        steady_tolerance: 1e-3,
-        window_travel_a: 0.5,
-        until_features_passed: false,
-        max_time_s: 1.0,
-        ..StopSettings::default()
-    }
-}
-
-fn prerun_key(s: &Scene) -> String {
-    let r = s.run.as_ref().unwrap();
-    serde_json::to_string(&json!([
-        s.conditions,
-        s.lubricant,
-        s.layer,
-        s.domain,
-        s.grid,
-        s.solver,
-        r.time
-    ]))
-    .unwrap()
 }
 
 pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
@@ -102,53 +54,25 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
 
     let spin = crate::progress::spinner("layer");
     let mut squeeze = None;
-    let mut prerun = None;
+    let mut steady = None;
     let mut stepper = Stepper::new(r.time.scheme, r.time.picard);
-    let mut state = match r.start {
-        StartState::Uniform => uniform_state(&m).with_context(|| fail("uniform start"))?,
-        StartState::Squeezed => {
+    let mut solve_steady = |what: &str| -> Result<LayerState> {
+        spin.set_message(format!("{what}: steady rolling, solved directly"));
+        let (s, rep) = rolling_steady(&m, &r.steady).with_context(|| fail(what))?;
+        steady = Some(rep);
+        Ok(s)
+    };
+    let method = r.method();
+    let mut state = match (method, r.start()) {
+        (Method::Steady, _) => solve_steady("steady solve")?,
+        (Method::March, StartState::Uniform) => {
+            uniform_state(&m).with_context(|| fail("uniform start"))?
+        }
+        (Method::March, StartState::SteadyRolling) => solve_steady("steady-rolling start")?,
+        (Method::March, StartState::Squeezed) => {
             let (s, rep) = squeeze_steady(&m).with_context(|| fail("steady squeeze"))?;
             squeeze = Some(rep);
             s
-        }
-        StartState::SteadyRolling => {
-            let key = prerun_key(scene);
-            let hit = cache().lock().unwrap().get(&key).cloned();
-            match hit {
-                Some((s, mut info)) => {
-                    info.cached = true;
-                    prerun = Some(info);
-                    s
-                }
-                None => {
-                    let (mut s, rep) =
-                        squeeze_steady(&m).with_context(|| fail("steady squeeze"))?;
-                    squeeze = Some(rep);
-                    let stop = prerun_stop();
-                    let mut pre = Stepper::new(r.time.scheme, r.time.picard);
-                    let rec = run(&m, &mut s, &mut pre, &r.time, &stop, &[], &mut |t| {
-                        spin.set_message(format!("pre-run: rolling to steady, t = {:.4} s", t))
-                    })
-                    .with_context(|| fail("steady-rolling pre-run"))?;
-                    anyhow::ensure!(
-                        rec.steady,
-                        "{}: the steady-rolling pre-run stopped without reaching steady state ({})",
-                        scene.name,
-                        rec.stop_reason
-                    );
-                    let info = PrerunInfo {
-                        steps: rec.steps,
-                        simulated_time_s: s.t,
-                        wall_time_s: rec.wall_time_s,
-                        steady: rec.steady,
-                        stop_reason: rec.stop_reason.clone(),
-                        cached: false,
-                    };
-                    cache().lock().unwrap().insert(key, (s.clone(), info.clone()));
-                    prerun = Some(info);
-                    s
-                }
-            }
         }
     };
     // The scene's own motion starts at t = 0.
@@ -158,9 +82,9 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
         Motion::Rolling => u_roll,
         Motion::Squeeze | Motion::None => 0.0,
     };
-    let record = match r.motion {
-        Motion::None => None,
-        motion => {
+    let record = match (method, r.motion) {
+        (Method::Steady, _) | (_, Motion::None) => None,
+        (Method::March, motion) => {
             if motion == Motion::Squeeze {
                 stepper.reset();
             }
@@ -186,7 +110,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
         l,
         gap,
         record,
-        prerun,
+        steady,
         squeeze,
         final_monitor,
         stability_estimate_s: stability_estimate(&m),
@@ -259,7 +183,8 @@ impl LayerOutcome {
                 "dry_diameter_over_2a": f.dry_diameter / (2.0 * s.a),
             },
             "run": run_json,
-            "prerun": self.prerun,
+            "method": format!("{:?}", self.scene.run.as_ref().unwrap().method()).to_lowercase(),
+            "steady_solve": self.steady,
             "steady_squeeze_solve": self.squeeze,
             "explicit_stability_estimate": q(self.stability_estimate_s, "s"),
             "setup_time": q(self.setup_time_s, "s"),

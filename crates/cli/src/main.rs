@@ -144,13 +144,14 @@ fn print_result(outcome: &ehl_cli::Outcome) {
                 "scene {} ({}x{}): {:.1} s wall",
                 o.scene.name, o.grid.nx, o.grid.ny, o.total_time_s
             );
-            if let Some(p) = &o.prerun {
+            if let Some(p) = &o.steady {
+                let its: Vec<String> =
+                    p.iterations.iter().map(|(n, k)| format!("{k} on {n}²")).collect();
                 println!(
-                    "  pre-run to steady rolling: {} steps, {:.4} s simulated, {:.1} s wall{}",
-                    p.steps,
-                    p.simulated_time_s,
-                    p.wall_time_s,
-                    if p.cached { " (cached)" } else { "" }
+                    "  steady rolling solved directly: {} iterations, strain residual {:.1e}, {:.2} s wall",
+                    its.join(", "),
+                    p.strain_residual,
+                    p.wall_time_s
                 );
             }
             if let Some(r) = &o.record {

@@ -257,6 +257,15 @@ pub fn rolling_steady(
     Ok((LayerState { t: 0.0, eps, p, w, h0 }, report))
 }
 
+/// The steady solver's residual at a state: the largest difference between its strain and the
+/// strain marched (with `substeps` per cell) from its pressure [-]. Zero for a steady state of
+/// the discrete equations; the state's contact is assumed solved (it is, for any state a run
+/// or the steady solve produced).
+pub fn strain_residual(m: &LayerModel, state: &LayerState, substeps: usize) -> f64 {
+    let (eps, _) = march(m, &state.p, substeps);
+    (&eps - &state.eps).iter().fold(0.0f64, |a, d| a.max(d.abs()))
+}
+
 /// How the strain mismatch behaved over the last iterations, for a diagnosis.
 fn trend(history: &[f64]) -> String {
     let n = history.len();

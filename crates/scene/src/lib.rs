@@ -4,7 +4,7 @@
 //! Built-in scenes are the JSON files in `validation/scenes/`, compiled in by name.
 
 use ehl_core::{Contact, DrySettings, Grid, Lubricant};
-use ehl_layer::{Feature, LayerSpec, StopSettings, TimeSettings};
+use ehl_layer::{Feature, LayerSpec, SteadySettings, StopSettings, TimeSettings};
 use ehl_reynolds::{DensityLaw, ReynoldsSettings, ViscosityLaw};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -168,8 +168,18 @@ pub enum StartState {
     Uniform,
     /// The fully squeezed state `ε = min(p/Eo, 1)`.
     Squeezed,
-    /// Steady rolling at the scene's velocity, reached from the squeezed state first.
+    /// Steady rolling at the scene's velocity, solved directly.
     SteadyRolling,
+}
+
+/// How a layer run is solved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// Steady rolling solved directly (`∂ε/∂t = 0`): no history, no snapshots in time.
+    Steady,
+    /// Time stepping from a start state: histories, snapshots, features passing, squeeze.
+    March,
 }
 
 /// What the surfaces do.
@@ -188,7 +198,13 @@ pub enum Motion {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RunSpec {
-    pub start: StartState,
+    /// `steady` or `march`; absent: `steady` when the scene asks only for the steady rolling
+    /// state (rolling, no start, no features, no snapshots in time), else `march`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub method: Option<Method>,
+    /// Where the march starts (required by `march`; `steady` has no start).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<StartState>,
     pub motion: Motion,
     #[serde(default)]
     pub features: Vec<Feature>,
@@ -199,6 +215,30 @@ pub struct RunSpec {
     /// Times [s, from the start of the motion] at which fields are written.
     #[serde(default)]
     pub snapshots_s: Vec<f64>,
+    /// The direct steady solve (method `steady`, and a `steady-rolling` start).
+    #[serde(default)]
+    pub steady: SteadySettings,
+}
+
+impl RunSpec {
+    /// The method this run uses, the default resolved.
+    pub fn method(&self) -> Method {
+        self.method.unwrap_or(
+            if self.motion == Motion::Rolling
+                && self.start.is_none()
+                && self.features.is_empty()
+                && self.snapshots_s.is_empty()
+            {
+                Method::Steady
+            } else {
+                Method::March
+            },
+        )
+    }
+    /// The start state of a march (validated present).
+    pub fn start(&self) -> StartState {
+        self.start.unwrap_or(StartState::Uniform)
+    }
 }
 impl Conditions {
     pub fn contact(&self) -> Contact {
@@ -270,6 +310,7 @@ const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "squeeze-steady",
     "rolling-from-squeezed",
     "rolling-from-uniform",
+    "rolling-steady",
     "squeeze-after-stop",
     "dent-deep",
     "dent-shallow",
@@ -516,7 +557,76 @@ impl Scene {
             }
             let r = self.run.as_ref().ok_or_else(|| missing("run"))?;
             let u = c.rolling_velocity_m_s.unwrap_or(0.0);
-            let needs_rolling = r.motion == Motion::Rolling || r.start == StartState::SteadyRolling;
+            match (r.method(), r.start) {
+                (Method::March, None) => {
+                    return Err(err(
+                        "run.start",
+                        "(missing)".into(),
+                        "required by the march method (uniform, squeezed or steady-rolling); a rolling scene with no start, features or snapshots is solved steady",
+                    ));
+                }
+                (Method::Steady, Some(s)) => {
+                    return Err(err(
+                        "run.start",
+                        format!("{s:?}"),
+                        "the steady method solves the steady state directly and has no start: remove run.start, or set run.method to \"march\"",
+                    ));
+                }
+                _ => {}
+            }
+            if r.method() == Method::Steady {
+                let why = if r.motion != Motion::Rolling {
+                    Some(("run.motion", format!("{:?}", r.motion), "must be rolling"))
+                } else if !r.features.is_empty() {
+                    Some((
+                        "run.features",
+                        format!("{} feature(s)", r.features.len()),
+                        "a feature passing is not steady: none allowed",
+                    ))
+                } else if !r.snapshots_s.is_empty() {
+                    Some((
+                        "run.snapshots_s",
+                        format!("{:?}", r.snapshots_s),
+                        "snapshots in time need a history: none allowed",
+                    ))
+                } else {
+                    None
+                };
+                if let Some((field, value, allowed)) = why {
+                    return Err(err(
+                        field,
+                        value,
+                        &format!("{allowed} with run.method \"steady\" (use \"march\")"),
+                    ));
+                }
+            }
+            let sd = &r.steady;
+            if !(sd.strain_tolerance.is_finite()
+                && sd.strain_tolerance >= 1e-12
+                && sd.strain_tolerance <= 1e-2)
+            {
+                return Err(err(
+                    "run.steady.strain_tolerance",
+                    format!("{}", sd.strain_tolerance),
+                    "must be in [1e-12, 1e-2]",
+                ));
+            }
+            if !(1..=100_000).contains(&sd.max_iterations) {
+                return Err(err(
+                    "run.steady.max_iterations",
+                    sd.max_iterations.to_string(),
+                    "must be 1 ..= 100000",
+                ));
+            }
+            if !(1..=64).contains(&sd.substeps) {
+                return Err(err(
+                    "run.steady.substeps",
+                    sd.substeps.to_string(),
+                    "must be 1 ..= 64",
+                ));
+            }
+            let needs_rolling =
+                r.motion == Motion::Rolling || r.start == Some(StartState::SteadyRolling);
             if needs_rolling && !(u > 0.0) {
                 return Err(err(
                     "conditions.rolling_velocity_m_s",
@@ -680,6 +790,35 @@ mod tests {
         assert!(m.contains("reynolds.transient.steps_per_cell"), "{m}");
         let m = refused(&text.replace("[-1.0, -0.5, 0.0, 0.5]", "[-1.0, 4.0]"));
         assert!(m.contains("reynolds.transient.snapshots_a") && m.contains("within"), "{m}");
+    }
+
+    #[test]
+    fn layer_method_defaults_and_conflicts() {
+        let text = |n: &str| BUILTINS.iter().find(|b| b.0 == n).unwrap().1.to_string();
+        // Asked only for the steady state: solved steady; any start, feature or snapshot: march.
+        assert_eq!(builtin("rolling-steady").unwrap().run.unwrap().method(), Method::Steady);
+        for n in ["rolling-from-uniform", "rolling-from-squeezed", "hole", "squeeze-steady"] {
+            assert_eq!(builtin(n).unwrap().run.unwrap().method(), Method::March, "{n}");
+        }
+        let steady = text("rolling-steady");
+        let m =
+            refused(&steady.replace(
+                "\"method\": \"steady\",",
+                "\"method\": \"steady\", \"start\": \"uniform\",",
+            ));
+        assert!(m.contains("run.start") && m.contains("no start"), "{m}");
+        let m = refused(&steady.replace("\"motion\": \"rolling\"", "\"motion\": \"squeeze\""));
+        assert!(m.contains("run.motion") && m.contains("march"), "{m}");
+        let m = refused(&steady.replace(
+            "\"motion\": \"rolling\",",
+            "\"motion\": \"rolling\", \"snapshots_s\": [0.01],",
+        ));
+        assert!(m.contains("run.snapshots_s"), "{m}");
+        let m = refused(&steady.replace("\"substeps\": 4", "\"substeps\": 0"));
+        assert!(m.contains("run.steady.substeps") && m.contains("1 ..= 64"), "{m}");
+        // A march needs its start.
+        let m = refused(&text("hole").replace("\"start\": \"steady-rolling\",", ""));
+        assert!(m.contains("run.start") && m.contains("required"), "{m}");
     }
 
     #[test]

@@ -1,0 +1,110 @@
+//! The direct steady-rolling solve against the time march: the same discrete equations at one
+//! step per cell, so the marched steady state must be the steady solve's fixed point; and its
+//! failure diagnosis.
+
+use ehl_core::{DrySettings, Grid};
+use ehl_layer::*;
+
+fn model(n: usize, smoothing: f64) -> LayerModel {
+    let spec = LayerSpec {
+        supply_thickness_m: 25e-9,
+        modulus_pa: 1e8,
+        poisson_ratio: 0.3,
+        damper_constant: 5.5e5,
+        damper_reading: DamperReading::Factor,
+        modulus_law: ModulusLaw::Power,
+        reference_pressure_pa: None,
+        coefficient_smoothing_a: smoothing,
+    };
+    let settings = DrySettings { tolerance: 1e-10, ..DrySettings::default() };
+    let (c, l) = (ehl_core::SEED_CONTACT, ehl_core::SEED_LUBRICANT);
+    LayerModel::new(&c, &l, &spec, 0.01, Grid::square(n, 1.25), settings, vec![])
+}
+
+/// The implicit march at one step per cell (whole-cell shifts, BDF2) to a tight steady state.
+fn marched(m: &LayerModel) -> LayerState {
+    let mut s = uniform_state(m).unwrap();
+    let mut st = Stepper::new(Scheme::Implicit, 0);
+    let time = TimeSettings { steps_per_cell: 1.0, ..TimeSettings::default() };
+    let stop = StopSettings { steady_tolerance: 1e-9, max_time_s: 1.0, ..StopSettings::default() };
+    let rec = run(m, &mut s, &mut st, &time, &stop, &[], &mut |_| {}).unwrap();
+    assert!(rec.steady, "{}", rec.stop_reason);
+    s
+}
+
+#[test]
+fn marched_steady_state_is_the_fixed_point_of_the_steady_solve() {
+    for smoothing in [0.0, 0.1] {
+        let m = model(33, smoothing);
+        let s = marched(&m);
+        // With one sub-step the steady equations are the march's at n_t = 1 term for term: the
+        // marched state must satisfy them to what its own stop rule leaves (1e-9 of l0 per
+        // window in the films) and the contact tolerance (1e-10 a²/R of gap, 1e-8 of l0).
+        let r1 = strain_residual(&m, &s, 1);
+        assert!(r1 < 1e-6, "smoothing {smoothing}: residual {r1:e}");
+        // Measured 2.4e-8 and 3.3e-9. A wrong scheme does not: four sub-steps are another
+        // discretisation (measured 0.23 and 0.16 apart on 33²).
+        let r4 = strain_residual(&m, &s, 4);
+        assert!(r4 > 100.0 * r1, "smoothing {smoothing}: {r4:e} vs {r1:e}");
+
+        // And the steady solve, from nothing but the model, lands on the marched state.
+        let settings = SteadySettings {
+            substeps: 1,
+            nested: false,
+            strain_tolerance: 1e-9,
+            max_iterations: 200,
+        };
+        let (d, rep) = rolling_steady(&m, &settings).unwrap();
+        let (a, b) = (Monitor::of(&m, &s, 0), Monitor::of(&m, &d, 0));
+        let l0 = 25e-9;
+        // Same discrete equations: the films agree to the march's steady tolerance and the
+        // contact tolerance together (~1e-8 l0); 1e-6 l0 leaves room for neither scheme's error.
+        assert!((a.central_thickness - b.central_thickness).abs() < 1e-6 * l0, "{a:?} {b:?}");
+        assert!((a.minimum_thickness - b.minimum_thickness).abs() < 1e-6 * l0, "{a:?} {b:?}");
+        assert!((a.max_pressure - b.max_pressure).abs() < 1e-6 * m.scales.p_h);
+        assert!(rep.strain_residual < 1e-9);
+        let eps_diff = (&s.eps - &d.eps).iter().fold(0.0f64, |x, v| x.max(v.abs()));
+        assert!(eps_diff < 1e-6, "strain fields differ by {eps_diff:e}");
+    }
+}
+
+#[test]
+fn sub_steps_converge_to_the_resolved_inlet() {
+    // The inlet's relaxation length is ~1.4 cells on 257²; on 65² (0.35 cells) one BDF2 step a
+    // cell is far off, and sub-steps approach the fine-grid film. Reference: 257², 4 sub-steps
+    // (11.08 nm; the marched 513² run gives 11.077 nm).
+    let m = model(65, 0.02);
+    let h = |substeps| {
+        let st = SteadySettings { substeps, strain_tolerance: 1e-5, ..SteadySettings::default() };
+        let (s, _) = rolling_steady(&m, &st).unwrap();
+        Monitor::of(&m, &s, 0).central_thickness
+    };
+    let (e1, e2, e4) = (h(1) - 11.08e-9, h(2) - 11.08e-9, h(4) - 11.08e-9);
+    // Measured: +2.05, +0.38, -0.0002 nm. Each halving of the sub-step must cut the error by
+    // more than 2 (second order in the sub-step until the 65² grid error, ~0.05 nm, is reached).
+    assert!(e1 > 1.5e-9, "{e1:e}");
+    assert!(e2.abs() < e1.abs() / 2.0 && e4.abs() < e2.abs() / 2.0, "{e1:e} {e2:e} {e4:e}");
+}
+
+#[test]
+fn a_solve_that_does_not_converge_says_where_and_when() {
+    let m = model(65, 0.02);
+    let st = SteadySettings { max_iterations: 3, nested: false, ..SteadySettings::default() };
+    let e = rolling_steady(&m, &st).unwrap_err();
+    match &e {
+        LayerError::Steady { iteration, residual, x, y, .. } => {
+            assert_eq!(*iteration, 3);
+            assert!(*residual > 1e-6);
+            // The largest mismatch after 3 iterations from a uniform layer sits in the loaded
+            // zone, where the layer is being squeezed (the contact is ~[-1, 1] a).
+            assert!(x.abs() < 1.1 && y.abs() < 1.1, "({x}, {y})");
+        }
+        other => panic!("expected a steady-solve diagnosis, got {other}"),
+    }
+    let msg = e.to_string();
+    assert!(msg.contains("iteration 3") && msg.contains("x =") && msg.contains("tolerance"));
+    // Features are not steady: refused before any work.
+    let mut m = model(33, 0.0);
+    m.features = vec![Feature::Hole(Hole { radius_a: 0.2, x_start_a: -1.0, y_a: 0.0 })];
+    assert!(matches!(rolling_steady(&m, &SteadySettings::default()), Err(LayerError::Setup(_))));
+}
