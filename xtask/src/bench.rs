@@ -164,6 +164,10 @@ pub fn run(out: &Path, max: usize) -> Result<()> {
     let f = out.join("bench_layer.json");
     std::fs::write(&f, serde_json::to_string_pretty(&layer)? + "\n")?;
     println!("wrote {}", f.display());
+    let steady = crate::layer::bench_steady(max)?;
+    let f = out.join("bench_layer_steady.json");
+    std::fs::write(&f, serde_json::to_string_pretty(&steady)? + "\n")?;
+    println!("wrote {}", f.display());
     let reynolds = crate::reynolds::bench(max)?;
     let f = out.join("bench_reynolds.json");
     std::fs::write(&f, serde_json::to_string_pretty(&reynolds)? + "\n")?;

@@ -17,6 +17,7 @@ use std::time::Instant;
 pub fn rolling(n: usize, scheme: Scheme, nt: f64) -> Scene {
     let mut s = ehl_scene::builtin("rolling-from-uniform").unwrap().with_points(n).unwrap();
     let r = s.run.as_mut().unwrap();
+    r.method = Some(ehl_scene::Method::March);
     r.time = TimeSettings { scheme, steps_per_cell: nt, ..r.time };
     r.snapshots_s.clear();
     s.outputs.figures = false;
@@ -183,6 +184,11 @@ pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Ve
         raw.push(measure_scene(&rolling_smoothed(n, 0.0))?);
     }
 
+    println!("Direct steady solve (rolling-steady), same grids:");
+    let steady: Vec<SteadyPoint> = crate::grid_sizes(max_points)
+        .into_iter()
+        .map(|n| measure_steady(&steady_scene(n, None)))
+        .collect();
     // Speed against accuracy: error against the finest implicit result of each study.
     let finest_grid = *imp.last().unwrap();
     let finest_t = *imp_t.last().unwrap();
@@ -206,6 +212,22 @@ pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Ve
                 curve(&exp, finest_grid, "explicit, grids (n_t = 10)", pick),
                 curve(&imp_t, finest_t, &format!("implicit, n_t ({nt_points}^2)"), pick),
                 curve(&exp_t, finest_t, &format!("explicit, n_t ({nt_points}^2)"), pick),
+                Series::new(
+                    "steady solve, grids",
+                    steady
+                        .iter()
+                        .filter(|p| p.converged)
+                        .map(|p| {
+                            let q = Point {
+                                central_nm: p.central_nm,
+                                minimum_nm: p.minimum_nm,
+                                ..finest_grid.clone()
+                            };
+                            (p.wall_s, (pick(&q) - pick(finest_grid)).abs())
+                        })
+                        .collect(),
+                    Mark::LinePoints,
+                ),
             ],
         )
         .log_log()
@@ -285,7 +307,7 @@ pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Ve
         serde_json::to_string_pretty(&json!({
             "grid_study": grid_pts, "time_step_study": nt_pts, "observed_orders": orders,
             "as_published_grid_study": raw, "default_smoothing_a": default_sigma,
-            "explicit_stability": stability,
+            "explicit_stability": stability, "steady_grid_study": steady,
         }))? + "\n",
     )?;
     Ok(vec![png, conv_png, wig, json_path])
@@ -455,4 +477,229 @@ pub fn bench(max: usize) -> Result<Vec<serde_json::Value>> {
         "Targets: steady squeeze at 513^2 <= 5 s; steady rolling 257^2 n_t = 10 <= 60 s (see `ehl run rolling-from-uniform`)"
     );
     Ok(rows)
+}
+
+/// The built-in `rolling-steady` scene (direct steady solve) on an `n²` grid, no figures.
+pub fn steady_scene(n: usize, smoothing: Option<f64>) -> Scene {
+    let mut s = ehl_scene::builtin("rolling-steady").unwrap().with_points(n).unwrap();
+    if let Some(sigma) = smoothing {
+        s.layer.as_mut().unwrap().coefficient_smoothing_a = sigma;
+    }
+    s.outputs.figures = false;
+    s
+}
+
+/// One direct steady solve: its films, cost, or why it failed.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SteadyPoint {
+    pub n: usize,
+    pub converged: bool,
+    pub diagnosis: Option<String>,
+    pub central_nm: f64,
+    pub minimum_nm: f64,
+    pub max_pressure_ph: f64,
+    pub wiggle_ph: f64,
+    /// `(points a side, iterations)`, coarsest first.
+    pub iterations: Vec<(usize, usize)>,
+    pub wall_s: f64,
+}
+
+pub fn measure_steady(scene: &Scene) -> SteadyPoint {
+    let n = scene.grid.nx;
+    let t = Instant::now();
+    let p = match run_scene(scene) {
+        Ok(o) => {
+            let o = layer(o);
+            let f = &o.final_monitor;
+            let rep = o.steady.as_ref().expect("a steady scene");
+            SteadyPoint {
+                n,
+                converged: true,
+                diagnosis: None,
+                central_nm: f.central_thickness * 1e9,
+                minimum_nm: f.minimum_thickness * 1e9,
+                max_pressure_ph: f.max_pressure / o.scales.p_h,
+                wiggle_ph: f.lateral_wiggle / o.scales.p_h,
+                iterations: rep.iterations.clone(),
+                wall_s: rep.wall_time_s,
+            }
+        }
+        Err(e) => SteadyPoint {
+            n,
+            converged: false,
+            diagnosis: Some(format!("{e:#}")),
+            central_nm: f64::NAN,
+            minimum_nm: f64::NAN,
+            max_pressure_ph: f64::NAN,
+            wiggle_ph: f64::NAN,
+            iterations: vec![],
+            wall_s: t.elapsed().as_secs_f64(),
+        },
+    };
+    match &p.diagnosis {
+        None => println!(
+            "  {:>5}  h_c={:9.5} nm  h_min={:8.5} nm  p_max={:.5} p_h  wiggle={:.3} p_h  iterations {:?}  {:6.2} s",
+            p.n, p.central_nm, p.minimum_nm, p.max_pressure_ph, p.wiggle_ph, p.iterations, p.wall_s
+        ),
+        Some(d) => println!("  {:>5}  FAILED after {:.1} s: {d}", p.n, p.wall_s),
+    }
+    p
+}
+
+/// `cargo xtask convergence layer-steady`: grid study of the direct steady solve, its agreement
+/// with the marched steady state on 257², and what it does with the model as published.
+pub fn steady_study(out: &Path, max_points: usize, compare_march: bool) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(out)?;
+    println!("Steady rolling solved directly (rolling-steady: Table 1, 4 sub-steps a cell):");
+    let pts: Vec<SteadyPoint> = crate::grid_sizes(max_points)
+        .into_iter()
+        .map(|n| measure_steady(&steady_scene(n, None)))
+        .collect();
+    let ok: Vec<&SteadyPoint> = pts.iter().filter(|p| p.converged).collect();
+    let mut orders = vec![];
+    for w in ok.windows(3) {
+        let oc = order3(w[0].central_nm, w[1].central_nm, w[2].central_nm);
+        let om = order3(w[0].minimum_nm, w[1].minimum_nm, w[2].minimum_nm);
+        println!(
+            "  observed order ({} -> {} -> {}): central {oc:.2}, minimum {om:.2}",
+            w[0].n, w[1].n, w[2].n
+        );
+        orders.push(json!({"grids": [w[0].n, w[1].n, w[2].n], "central": oc, "minimum": om}));
+    }
+    if let [.., a, b] = ok.as_slice() {
+        // Richardson with the observed second order of the discretisation (BDF2, sub-steps).
+        let rich = |f: fn(&SteadyPoint) -> f64| f(b) + (f(b) - f(a)) / 3.0;
+        println!(
+            "  Richardson (order 2) from {} and {}: central {:.4} nm, minimum {:.4} nm",
+            a.n,
+            b.n,
+            rich(|p| p.central_nm),
+            rich(|p| p.minimum_nm)
+        );
+    }
+
+    println!("The model as published (coefficient smoothing 0):");
+    let raw: Vec<SteadyPoint> = crate::grid_sizes(max_points.min(513))
+        .into_iter()
+        .map(|n| measure_steady(&steady_scene(n, Some(0.0))))
+        .collect();
+
+    let mut comparison = serde_json::Value::Null;
+    if compare_march {
+        let n = 257.min(max_points);
+        println!(
+            "Against the marched steady state on {n}² (implicit, n_t = 10, rolling-from-uniform):"
+        );
+        let m = measure(n, Scheme::Implicit, 10.0)?;
+        let d = ok.iter().find(|p| p.n == n).expect("the steady grid study covers it");
+        // The marched run stops when h_c, h_min change < 1e-3 l0 over 0.5 a of travel: its
+        // films are known to ~1e-3 l0 = 0.025 nm, which bounds any comparison with it.
+        let bound_nm = 1e-3 * 25.0;
+        let rel = |a: f64, b: f64| (a - b) / b;
+        println!(
+            "  h_c: steady {:.4} nm, marched {:.4} nm ({:+.3}%); h_min: {:.4} vs {:.4} nm ({:+.2}%); p_max: {:.5} vs {:.5} p_h; marched steady tolerance {bound_nm} nm; wall {:.2} s vs {:.1} s",
+            d.central_nm,
+            m.central_nm,
+            100.0 * rel(d.central_nm, m.central_nm),
+            d.minimum_nm,
+            m.minimum_nm,
+            100.0 * rel(d.minimum_nm, m.minimum_nm),
+            d.max_pressure_ph,
+            m.max_pressure_ph,
+            d.wall_s,
+            m.wall_s
+        );
+        comparison =
+            json!({"grid": n, "steady": d, "marched": m, "marched_tolerance_nm": bound_nm});
+    }
+    let png = out.join("layer_steady_convergence.png");
+    let vs_n = |pts: &[&SteadyPoint], pick: fn(&SteadyPoint) -> f64, label: &str| {
+        Series::new(label, pts.iter().map(|p| (p.n as f64, pick(p))).collect(), Mark::LinePoints)
+    };
+    let raw_ok: Vec<&SteadyPoint> = raw.iter().filter(|p| p.converged).collect();
+    plot::charts(
+        &png,
+        &[
+            Panel::new(
+                "Direct steady solve: grid convergence",
+                "points per side",
+                "layer thickness [nm]",
+                vec![
+                    vs_n(&ok, |p| p.central_nm, "central"),
+                    vs_n(&ok, |p| p.minimum_nm, "minimum"),
+                    vs_n(&raw_ok, |p| p.central_nm, "central, as published"),
+                    vs_n(&raw_ok, |p| p.minimum_nm, "minimum, as published"),
+                ],
+            )
+            .legend(SeriesLabelPosition::MiddleRight),
+            Panel::new(
+                "Cost and lateral wiggle",
+                "points per side",
+                "wall time [s] / wiggle [p_h]",
+                vec![
+                    vs_n(&ok, |p| p.wall_s, "wall time [s]"),
+                    vs_n(&ok, |p| p.wiggle_ph, "wiggle, smoothing 0.02 a"),
+                    vs_n(&raw_ok, |p| p.wiggle_ph, "wiggle, as published"),
+                ],
+            )
+            .log_log()
+            .legend(SeriesLabelPosition::UpperLeft),
+        ],
+        "rolling-steady (Table 1, u1 = 0.01 m/s), steady solve: BDF2 along x, 4 sub-steps a cell, strain tolerance 1e-5",
+    )?;
+    let json_path = out.join("layer_steady_convergence.json");
+    std::fs::write(
+        &json_path,
+        serde_json::to_string_pretty(&json!({
+            "grid_study": pts, "observed_orders": orders, "as_published": raw,
+            "against_march": comparison,
+        }))? + "\n",
+    )?;
+    Ok(vec![png, json_path])
+}
+
+/// `cargo xtask bench` (steady part): the direct steady solve per grid on 1 and 2 threads.
+pub fn bench_steady(max: usize) -> Result<Vec<serde_json::Value>> {
+    println!("Direct steady rolling (rolling-steady), whole solve including its nested grids:");
+    println!(
+        "{:>5} {:>8} {:>10} {:>10}  iterations (n, its)",
+        "n", "threads", "wall [s]", "per point [us]"
+    );
+    let mut rows = vec![];
+    for n in crate::grid_sizes(max) {
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+            let p = pool.install(|| measure_steady_quiet(&steady_scene(n, None)));
+            println!(
+                "{:>5} {:>8} {:>10.3} {:>10.2}  {:?}",
+                n,
+                threads,
+                p.wall_s,
+                p.wall_s / (n * n) as f64 * 1e6,
+                p.iterations
+            );
+            rows.push(json!({"n": n, "threads": threads, "wall_s": p.wall_s, "iterations": p.iterations, "converged": p.converged}));
+        }
+    }
+    println!(
+        "Targets (single thread): 257^2 <= 2 s, 513^2 <= 8 s, 1025^2 <= 40 s (--max-points 1025)"
+    );
+    Ok(rows)
+}
+
+fn measure_steady_quiet(scene: &Scene) -> SteadyPoint {
+    let o = layer(run_scene(scene).expect("rolling-steady converges"));
+    let rep = o.steady.as_ref().unwrap();
+    let f = &o.final_monitor;
+    SteadyPoint {
+        n: scene.grid.nx,
+        converged: true,
+        diagnosis: None,
+        central_nm: f.central_thickness * 1e9,
+        minimum_nm: f.minimum_thickness * 1e9,
+        max_pressure_ph: f.max_pressure / o.scales.p_h,
+        wiggle_ph: f.lateral_wiggle / o.scales.p_h,
+        iterations: rep.iterations.clone(),
+        wall_s: rep.wall_time_s,
+    }
 }

@@ -74,6 +74,9 @@ enum Which {
 enum Study {
     Dry,
     Layer,
+    /// The layer's direct steady solve: grids to `--max-points` (1025 recommended), against the
+    /// marched state on 257², and the model as published.
+    LayerSteady,
     Reynolds,
 }
 
@@ -85,6 +88,9 @@ fn main() -> Result<()> {
         }
         Command::Convergence { study: Study::Layer, out, max_points, nt_points } => {
             layer::convergence(&out, max_points, nt_points).map(|_| ())
+        }
+        Command::Convergence { study: Study::LayerSteady, out, max_points, .. } => {
+            layer::steady_study(&out, max_points, true).map(|_| ())
         }
         Command::Convergence { study: Study::Reynolds, out, max_points, .. } => {
             reynolds::convergence(&out, max_points).map(|_| ())
