@@ -9,16 +9,7 @@ fn main() {
     let sm: f64 = args.get(2).map(|s| s.parse().unwrap()).unwrap_or(0.02);
     let nested = args.get(3).map(|s| s != "0").unwrap_or(true);
     let substeps: usize = args.get(4).map(|s| s.parse().unwrap()).unwrap_or(4);
-    let spec = LayerSpec {
-        supply_thickness_m: 25e-9,
-        modulus_pa: 1e8,
-        poisson_ratio: 0.3,
-        damper_constant: 5.5e5,
-        damper_reading: DamperReading::Factor,
-        modulus_law: ModulusLaw::Power,
-        reference_pressure_pa: None,
-        coefficient_smoothing_a: sm,
-    };
+    let spec = LayerSpec { coefficient_smoothing_a: sm, ..SEED_LAYER };
     let settings = DrySettings { tolerance: 1e-7, ..DrySettings::default() };
     let m = LayerModel::new(
         &ehl_core::SEED_CONTACT,

@@ -42,6 +42,19 @@ pub struct LayerSpec {
     pub coefficient_smoothing_a: f64,
 }
 
+/// The seed's Table 1 layer (25 nm supply, 100 MPa, ν = 0.3, κ = 5.5e5 read as a factor, the
+/// power modulus law), unsmoothed: the model as published.
+pub const SEED_LAYER: LayerSpec = LayerSpec {
+    supply_thickness_m: 25e-9,
+    modulus_pa: 1e8,
+    poisson_ratio: 0.3,
+    damper_constant: 5.5e5,
+    damper_reading: DamperReading::Factor,
+    modulus_law: ModulusLaw::Power,
+    reference_pressure_pa: None,
+    coefficient_smoothing_a: 0.0,
+};
+
 /// Everything the layer model needs, in Hertz units, with the contact solver of its grid.
 pub struct LayerModel {
     pub scales: HertzScales,

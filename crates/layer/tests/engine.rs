@@ -8,16 +8,7 @@ use ehl_layer::*;
 fn model(n: usize, u1: f64) -> LayerModel {
     let contact = ehl_core::SEED_CONTACT;
     let lub = ehl_core::SEED_LUBRICANT;
-    let spec = LayerSpec {
-        supply_thickness_m: 25e-9,
-        modulus_pa: 1e8,
-        poisson_ratio: 0.3,
-        damper_constant: 5.5e5,
-        damper_reading: DamperReading::Factor,
-        modulus_law: ModulusLaw::Power,
-        reference_pressure_pa: None,
-        coefficient_smoothing_a: 0.0,
-    };
+    let spec = LayerSpec { coefficient_smoothing_a: 0.0, ..SEED_LAYER };
     let settings = DrySettings { tolerance: 1e-11, ..DrySettings::default() };
     LayerModel::new(&contact, &lub, &spec, u1, Grid::square(n, 1.25), settings, vec![])
 }

@@ -6,16 +6,7 @@ use ehl_core::{DrySettings, Grid};
 use ehl_layer::*;
 
 fn model(n: usize, smoothing: f64) -> LayerModel {
-    let spec = LayerSpec {
-        supply_thickness_m: 25e-9,
-        modulus_pa: 1e8,
-        poisson_ratio: 0.3,
-        damper_constant: 5.5e5,
-        damper_reading: DamperReading::Factor,
-        modulus_law: ModulusLaw::Power,
-        reference_pressure_pa: None,
-        coefficient_smoothing_a: smoothing,
-    };
+    let spec = LayerSpec { coefficient_smoothing_a: smoothing, ..SEED_LAYER };
     let settings = DrySettings { tolerance: 1e-10, ..DrySettings::default() };
     let (c, l) = (ehl_core::SEED_CONTACT, ehl_core::SEED_LUBRICANT);
     LayerModel::new(&c, &l, &spec, 0.01, Grid::square(n, 1.25), settings, vec![])
