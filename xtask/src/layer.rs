@@ -669,7 +669,7 @@ pub fn bench_steady(max: usize) -> Result<Vec<serde_json::Value>> {
     for n in crate::grid_sizes(max) {
         for threads in [1, 2] {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
-            let p = pool.install(|| measure_steady_quiet(&steady_scene(n, None)));
+            let p = pool.install(|| measure_steady(&steady_scene(n, None)));
             println!(
                 "{:>5} {:>8} {:>10.3} {:>10.2}  {:?}",
                 n,
@@ -685,21 +685,4 @@ pub fn bench_steady(max: usize) -> Result<Vec<serde_json::Value>> {
         "Targets (single thread): 257^2 <= 2 s, 513^2 <= 8 s, 1025^2 <= 40 s (--max-points 1025)"
     );
     Ok(rows)
-}
-
-fn measure_steady_quiet(scene: &Scene) -> SteadyPoint {
-    let o = layer(run_scene(scene).expect("rolling-steady converges"));
-    let rep = o.steady.as_ref().unwrap();
-    let f = &o.final_monitor;
-    SteadyPoint {
-        n: scene.grid.nx,
-        converged: true,
-        diagnosis: None,
-        central_nm: f.central_thickness * 1e9,
-        minimum_nm: f.minimum_thickness * 1e9,
-        max_pressure_ph: f.max_pressure / o.scales.p_h,
-        wiggle_ph: f.lateral_wiggle / o.scales.p_h,
-        iterations: rep.iterations.clone(),
-        wall_s: rep.wall_time_s,
-    }
 }

@@ -227,14 +227,6 @@ pub fn rolling_steady(
             }
         }
         report.history.push(worst);
-        if std::env::var("STEADY_DEBUG").is_ok() {
-            eprintln!(
-                "n={} it={it} worst={worst:.3e} at x={:.3} y={:.3} h0={h0:.5e}",
-                m.grid.nx,
-                m.grid.x(at.1),
-                m.grid.y(at.0)
-            );
-        }
         if worst < settings.strain_tolerance {
             eps = eps_c;
             break worst;
