@@ -286,6 +286,72 @@ pub fn gaussian_smooth(f: &Array2<f64>, grid: &Grid, sigma_x: f64, sigma_y: f64)
     out
 }
 
+/// The contact solved with a layer whose strain is affine in the local pressure.
+pub struct AffineLayerSolve {
+    /// Strain `ε = min(A + B p, 1)`, 1 where no layer is left.
+    pub eps: Array2<f64>,
+    pub h0: f64,
+    /// Contact solves (one, plus one per growth of the no-layer set) and their iterations.
+    pub solves: usize,
+    pub iterations: usize,
+}
+
+impl LayerModel {
+    /// Solves the contact with the layer `ε = A + B p` (per point, `p ≥ 0`) on the ball's rigid
+    /// gap `ball` and supply `supply`: the layer is extra gap `−l0 (1 − A)` and local compliance
+    /// `l0 B`. Where `ε` would pass 1 the layer is gone: those points are fixed at `ε = 1` (no
+    /// layer, no compliance) and the contact is re-solved, up to 8 passes. Both the implicit
+    /// time step and the direct steady solve reduce to this.
+    #[allow(clippy::too_many_arguments)]
+    pub fn contact_with_affine_layer(
+        &self,
+        ball: &Array2<f64>,
+        supply: &Array2<f64>,
+        a: &Array2<f64>,
+        b: &Array2<f64>,
+        p: &mut Array2<f64>,
+        w: &mut Array2<f64>,
+        start: Start,
+    ) -> Result<AffineLayerSolve, NumericError> {
+        // Points already at ε ≥ 1 for any p ≥ 0 start dry.
+        let mut dry = a.mapv(|v| v >= 1.0);
+        let (mut solves, mut iterations, mut start) = (0, 0, start);
+        loop {
+            let mut g0 = ball.clone();
+            let mut c = Array2::zeros(p.dim());
+            Zip::from(&mut g0).and(&mut c).and(supply).and(a).and(b).and(&dry).par_for_each(
+                |g, c, &l0, &a, &b, &d| {
+                    if !d {
+                        *g -= l0 * (1.0 - a);
+                        *c = l0 * b;
+                    }
+                },
+            );
+            let r = self.contact(&g0, Some(&c), p, w, start)?;
+            start = Start::Warm;
+            solves += 1;
+            iterations += r.iterations;
+            let mut eps = Zip::from(a)
+                .and(b)
+                .and(&*p)
+                .and(&dry)
+                .par_map_collect(|&a, &b, &p, &d| if d { 1.0 } else { (a + b * p).max(0.0) });
+            // Where the layer would be squeezed past nothing, fix it at nothing and re-solve.
+            let mut grew = false;
+            Zip::from(&mut dry).and(&eps).and(supply).for_each(|d, &e, &l0| {
+                if !*d && e > 1.0 && l0 > 0.0 {
+                    *d = true;
+                    grew = true;
+                }
+            });
+            if !grew || solves >= 8 {
+                eps.mapv_inplace(|v| v.min(1.0));
+                return Ok(AffineLayerSolve { eps, h0: r.h0, solves, iterations });
+            }
+        }
+    }
+}
+
 /// The state of a run: strain, pressure and deformation at time `t`.
 #[derive(Clone, Debug)]
 pub struct LayerState {

@@ -166,44 +166,14 @@ pub fn rolling_steady(
         it += 1;
         let coef = Coefficients::of(m, &p);
         let [a, b] = linearise(&cell, &coef, &p, &eps, &sub);
-        // Where the layer would be squeezed past nothing, fix it at nothing and re-solve.
-        let mut dry = a.mapv(|v| v >= 1.0);
-        let mut passes = 0;
-        let eps_c = loop {
-            let mut g0 = ball.clone();
-            let mut c = m.grid.zeros();
-            Zip::from(&mut g0).and(&mut c).and(&supply).and(&a).and(&b).and(&dry).par_for_each(
-                |g, c, &l0, &a, &b, &d| {
-                    if !d {
-                        *g -= l0 * (1.0 - a);
-                        *c = l0 * b;
-                    }
-                },
-            );
-            let r = m
-                .contact(&g0, Some(&c), &mut p, &mut w, start_kind)
-                .map_err(|e| LayerError::Contact { step: it, t: 0.0, source: e })?;
-            start_kind = Start::Warm;
-            report.solves += 1;
-            report.contact_iterations += r.iterations;
-            h0 = r.h0;
-            let e = Zip::from(&a)
-                .and(&b)
-                .and(&p)
-                .and(&dry)
-                .par_map_collect(|&a, &b, &p, &d| if d { 1.0 } else { (a + b * p).max(0.0) });
-            let mut grew = false;
-            Zip::from(&mut dry).and(&e).and(&supply).for_each(|d, &e, &l0| {
-                if !*d && e > 1.0 && l0 > 0.0 {
-                    *d = true;
-                    grew = true;
-                }
-            });
-            passes += 1;
-            if !grew || passes >= 8 {
-                break e.mapv(|v| v.min(1.0));
-            }
-        };
+        let r = m
+            .contact_with_affine_layer(&ball, &supply, &a, &b, &mut p, &mut w, start_kind)
+            .map_err(|e| LayerError::Contact { step: it, t: 0.0, source: e })?;
+        start_kind = Start::Warm;
+        report.solves += r.solves;
+        report.contact_iterations += r.iterations;
+        h0 = r.h0;
+        let eps_c = r.eps;
         // The contact's gap with its layer, then the local march along every row.
         // Loaded points count as closed: the contact solve holds them closed to its own
         // tolerance, and its residual gap is not the transport's to correct.

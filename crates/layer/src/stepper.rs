@@ -232,44 +232,13 @@ impl Stepper {
                     *b = dt / eta / d;
                 },
             );
-            // Points already at ε ≥ 1 for any p ≥ 0 start dry.
-            let mut dry = a.mapv(|v| v >= 1.0);
-            let mut dry_passes = 0;
-            loop {
-                let mut g0 = ball.clone();
-                let mut c = Array2::zeros(p.dim());
-                Zip::from(&mut g0).and(&mut c).and(&supply).and(&a).and(&b).and(&dry).par_for_each(
-                    |g, c, &l0, &a, &b, &d| {
-                        if !d {
-                            *g -= l0 * (1.0 - a);
-                            *c = l0 * b;
-                        }
-                    },
-                );
-                let r = m
-                    .contact(&g0, Some(&c), &mut p, &mut w, Start::Warm)
-                    .map_err(|e| LayerError::Contact { step, t: t1, source: e })?;
-                solves += 1;
-                iterations += r.iterations;
-                h0 = r.h0;
-                eps_new =
-                    Zip::from(&a).and(&b).and(&p).and(&dry).par_map_collect(|&a, &b, &p, &d| {
-                        if d { 1.0 } else { (a + b * p).max(0.0) }
-                    });
-                // Where the layer would be squeezed past nothing, fix it at nothing and re-solve.
-                let mut grew = false;
-                Zip::from(&mut dry).and(&eps_new).and(&supply).for_each(|d, &e, &l0| {
-                    if !*d && e > 1.0 && l0 > 0.0 {
-                        *d = true;
-                        grew = true;
-                    }
-                });
-                dry_passes += 1;
-                if !grew || dry_passes >= 8 {
-                    break;
-                }
-            }
-            eps_new.mapv_inplace(|v| v.min(1.0));
+            let r = m
+                .contact_with_affine_layer(&ball, &supply, &a, &b, &mut p, &mut w, Start::Warm)
+                .map_err(|e| LayerError::Contact { step, t: t1, source: e })?;
+            solves += r.solves;
+            iterations += r.iterations;
+            h0 = r.h0;
+            eps_new = r.eps;
             if pass >= self.picard {
                 break;
             }
