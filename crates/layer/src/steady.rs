@@ -3,26 +3,27 @@
 //! At steady state `∂ε/∂t = 0` and the strain law is a transport equation along `x` for a given
 //! pressure: `(u1/a) ∂ε/∂X = (p − E(p_c, ε) ε) / η(p_c)`, `ε = 0` upstream of the inlet,
 //! `0 ≤ ε ≤ 1` (`p_c` is the coefficient pressure: `p`, or its smoothing when regularised).
-//! It is discretised by BDF2 along `x` with step `ΔX` (A-stable: no limit on the cell size):
+//! It is discretised by BDF2 along `x` in `m` sub-steps a cell (`h = ΔX / m`; A-stable, so no
+//! limit on the cell size), with the pressure, the coefficient pressure and `ln η` linear between
+//! nodes and `E` taken at the strain extrapolated from the two previous sub-steps:
 //!
-//! `3 ε_i − 4 ε_{i−1} + ε_{i−2} = 2 k_i (p_i − E_i ε_i)`, `k_i = ΔX a / (u1 η_i)`,
+//! `3 ε_s − 4 ε_{s−1} + ε_{s−2} = 2 k_s (p_s − E_s ε_s)`, `k_s = h a / (u1 η_s)`.
 //!
-//! which is exactly the steady state of the implicit time stepper run at one step per cell
-//! (`n_t = 1`, whole-cell shifts, coefficients at the new state): the marched and the direct
-//! steady states answer the same discrete equations (tested).
+//! With `m = 1` this is term for term the steady state of the implicit time stepper at one step
+//! per cell (`n_t = 1`, whole-cell shifts, `E` at the extrapolated state): the marched and the
+//! direct steady states answer the same discrete equations (tested). More sub-steps resolve the
+//! inlet, where the strain relaxes over about a cell on 257².
 //!
 //! The coupled problem (contact + strain along every row) is solved by a fixed-point iteration:
 //! 1. with the upstream strains and the coefficients of the current iterate, the strain of every
-//!    point is affine in its own pressure, `ε_i = A_i + B_i p_i`: the layer enters the contact as
-//!    the extra gap `−l0 (1 − A)` and the local compliance `l0 B`, as in the implicit step;
-//!    points where `ε` would pass 1 are fixed at 1 (no layer) and the contact re-solved;
-//! 2. the strain is marched along every row from the new pressure (each point's scalar equation
-//!    solved exactly: `E` depends on `ε`), which gives the next iterate's upstream strains.
+//!    point is affine in its own pressure, `ε_i = A_i + B_i p_i`, and the contact is solved with
+//!    that layer ([`LayerModel::contact_with_affine_layer`], as in the implicit step);
+//! 2. a Gauss–Seidel sweep along every row re-solves each point's strain and pressure with the
+//!    elastic response taken local (`local_march`), which gives the next iterate.
 //!
-//! Converged when the strain the contact was solved with and the strain marched from its
-//! pressure differ by less than `strain_tolerance` at every point (max norm): then both halves
-//! of the problem hold at once, the contact to its solver's tolerance. Coarser grids are solved
-//! first and interpolated up (nested iteration), so the fine grid starts near its answer.
+//! Converged when the sweep changes the strain the contact carried by less than
+//! `strain_tolerance` at every point (max norm), the contact being held to its own tolerance.
+//! Coarser grids are solved first and interpolated up (nested iteration).
 
 use crate::model::{LayerModel, LayerState};
 use crate::stepper::LayerError;
