@@ -181,6 +181,8 @@ pub fn rolling_steady(
         let gap = Zip::from(&ball).and(&w).and(&supply).and(&eps_c).and(&p).par_map_collect(
             |&g, &w, &l0, &e, &p| if p > 0.0 { 0.0 } else { h0 + g + w - l0 * (1.0 - e) },
         );
+        // The sweep takes its coefficients at the contact's pressure, not the iterate's: sharing
+        // the iterate's set saves an evaluation but stalled the 257² solve at a mismatch of 3.5e-2.
         let [p_loc, eps_loc, sub_loc] =
             local_march(&cell, &Coefficients::of(m, &p), &p, &eps_c, &gap, &supply);
         check_finite("strain", &eps_loc, it)
