@@ -45,7 +45,7 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
             let grid = if m >= narrow_from_m { narrow } else { wide };
             let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
             let (converged, cycles, diagnosis) = match s.solve(&mut |_| {}) {
-                Ok(rep) => (rep.converged, rep.cycles, rep.diagnosis),
+                Ok(rep) => (rep.converged, rep.cycles, rep.diagnosis.map(|d| d.text)),
                 Err(e) => (false, 0, Some(e.to_string())),
             };
             let (hc, hmin) = s.films();

@@ -95,7 +95,7 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
         bail!(
             "scene `{}`: the Reynolds solve did not converge: {}",
             scene.name,
-            report.diagnosis.clone().unwrap_or_default()
+            report.diagnosis.as_ref().map(|d| d.text.clone()).unwrap_or_default()
         );
     }
     let formulas =
@@ -172,7 +172,7 @@ fn run_transient<F: Fn(f64, f64) -> f64 + Copy>(
                 scene.name,
                 k as f64 * dt * s.a / u_m,
                 x0 + k as f64 * dt,
-                rep.diagnosis.unwrap_or_default()
+                rep.diagnosis.map(|d| d.text).unwrap_or_default()
             );
         }
         rows.push(record(solver, k, rep.cycles));

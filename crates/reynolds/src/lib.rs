@@ -12,5 +12,6 @@ pub mod solver;
 pub use level::{Level, RelaxSettings};
 pub use params::{DensityLaw, ReynoldsParams, ViscosityLaw};
 pub use solver::{
-    CycleLog, ReynoldsError, ReynoldsReport, ReynoldsSettings, ReynoldsSolver, TimeScheme,
+    CycleLog, Diagnosis, Divergence, FailureKind, ReynoldsError, ReynoldsReport, ReynoldsSettings,
+    ReynoldsSolver, TimeScheme,
 };

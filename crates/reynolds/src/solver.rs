@@ -99,15 +99,57 @@ pub struct CycleLog {
     pub wall_s: f64,
 }
 
+/// Why a solve that ran to its end did not converge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FailureKind {
+    /// The film went negative: the lubricated solution broke down.
+    FilmClosed,
+    /// The load error changes sign every cycle.
+    LimitCycle,
+    /// The residual has not halved over the stall window.
+    Stalled,
+    /// Still converging when the cycle limit came.
+    CycleLimit,
+}
+
+/// What kept a solve from converging: the kind, where (for a closed film) and when, with the
+/// sentence a user reads.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Diagnosis {
+    pub kind: FailureKind,
+    pub cycle: usize,
+    /// `(x, y)` [a] of the closed film.
+    pub at: Option<(f64, f64)>,
+    pub text: String,
+}
+
+impl std::fmt::Display for Diagnosis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.text)
+    }
+}
+
 /// A solve's outcome.
 #[derive(Clone, Debug, Serialize)]
 pub struct ReynoldsReport {
     pub converged: bool,
     /// Why not converged: what, where, at which cycle.
-    pub diagnosis: Option<String>,
+    pub diagnosis: Option<Diagnosis>,
     pub cycles: usize,
     pub history: Vec<CycleLog>,
     pub wall_time_s: f64,
+}
+
+/// Which quantity ran away in a divergence.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Divergence {
+    NonFinitePressure,
+    NonFiniteFilm,
+    NonFiniteResidual,
+    /// The load error past 1e3: growth by orders of magnitude before it reaches infinity.
+    Runaway,
 }
 
 /// Why a solve stopped short.
@@ -116,7 +158,15 @@ pub enum ReynoldsError {
     #[error(
         "Reynolds solve diverged at cycle {cycle}: {what} (last central film {film:e}, load error {load:e})"
     )]
-    Diverged { cycle: usize, what: String, film: f64, load: f64 },
+    Diverged {
+        cycle: usize,
+        kind: Divergence,
+        /// `(x, y)` [a] of the first non-finite value, or of the pressure peak.
+        at: (f64, f64),
+        what: String,
+        film: f64,
+        load: f64,
+    },
 }
 
 pub struct ReynoldsSolver {
@@ -274,7 +324,7 @@ impl ReynoldsSolver {
 
     /// What keeps the solve from converging, in words: a closed film (where), or which criterion
     /// is missed and by how much.
-    fn diagnose(&self, history: &[CycleLog], stalled: bool) -> String {
+    fn diagnose(&self, history: &[CycleLog], stalled: bool) -> Diagnosis {
         let last = history.last().expect("at least one cycle");
         let f = &self.levels[0];
         let ((j, i), hmin) = f
@@ -282,32 +332,38 @@ impl ReynoldsSolver {
             .indexed_iter()
             .fold(((0, 0), f64::INFINITY), |a, (ix, &v)| if v < a.1 { (ix, v) } else { a });
         if hmin < 0.0 {
-            return format!(
+            let text = format!(
                 "the film closed at cycle {}: H = {hmin:.3e} a²/R at (x = {:.3} a, y = {:.3} a) where P = {:.3} p_h; the lubricated solution broke down (too high a load for this grid and method)",
                 last.cycle,
                 f.grid.x(i),
                 f.grid.y(j),
                 f.p[[j, i]]
             );
+            let at = Some((f.grid.x(i), f.grid.y(j)));
+            return Diagnosis { kind: FailureKind::FilmClosed, cycle: last.cycle, at, text };
         }
         // A limit cycle shows as the load error changing sign from cycle to cycle.
         let tail = &history[history.len().saturating_sub(8)..];
         let flips = tail.windows(2).filter(|w| w[0].load_error * w[1].load_error < 0.0).count();
-        let how = if tail.len() >= 4 && flips + 1 >= tail.len() {
-            "the load error changes sign every cycle: a limit cycle, not slow convergence"
+        let (kind, how) = if tail.len() >= 4 && flips + 1 >= tail.len() {
+            (
+                FailureKind::LimitCycle,
+                "the load error changes sign every cycle: a limit cycle, not slow convergence",
+            )
         } else if stalled {
-            "stalled: the residual has not halved over the last cycles"
+            (FailureKind::Stalled, "stalled: the residual has not halved over the last cycles")
         } else {
-            "still converging at the cycle limit"
+            (FailureKind::CycleLimit, "still converging at the cycle limit")
         };
-        format!(
+        let text = format!(
             "after {} cycles: force balance off by {:.2e} (tolerance {:.0e}), residual {:.2e}, central film {:.5e} a²/R; {how}",
             last.cycle,
             last.load_error,
             self.settings.load_tolerance,
             last.residual,
             last.central_film
-        )
+        );
+        Diagnosis { kind, cycle: last.cycle, at: None, text }
     }
 
     /// Central and minimum film of the finest grid.
@@ -353,22 +409,39 @@ impl ReynoldsSolver {
         if !(hc.is_finite() && residual.is_finite() && load.is_finite()) {
             let bad =
                 |a: &Array2<f64>| a.indexed_iter().find(|(_, v)| !v.is_finite()).map(|(ix, _)| ix);
-            let what = match (bad(&f.p), bad(&f.film)) {
-                (Some((j, i)), _) => format!("pressure non-finite at {}", at(j, i)),
-                (None, Some((j, i))) => format!("film non-finite at {}", at(j, i)),
+            let xy = |j: usize, i: usize| (f.grid.x(i), f.grid.y(j));
+            let (kind, place, what) = match (bad(&f.p), bad(&f.film)) {
+                (Some((j, i)), _) => (
+                    Divergence::NonFinitePressure,
+                    xy(j, i),
+                    format!("pressure non-finite at {}", at(j, i)),
+                ),
+                (None, Some((j, i))) => (
+                    Divergence::NonFiniteFilm,
+                    xy(j, i),
+                    format!("film non-finite at {}", at(j, i)),
+                ),
                 _ => {
                     let ((j, i), pm) = f
                         .p
                         .indexed_iter()
                         .fold(((0, 0), 0.0f64), |a, (ix, &v)| if v > a.1 { (ix, v) } else { a });
-                    format!(
+                    let what = format!(
                         "residual non-finite on the {}² grid; pressure peaks at P = {pm:.3e} p_h at {}",
                         f.grid.nx,
                         at(j, i)
-                    )
+                    );
+                    (Divergence::NonFiniteResidual, xy(j, i), what)
                 }
             };
-            return Err(ReynoldsError::Diverged { cycle, what, film: hc, load: load_error });
+            return Err(ReynoldsError::Diverged {
+                cycle,
+                kind,
+                at: place,
+                what,
+                film: hc,
+                load: load_error,
+            });
         }
         // Growth by orders of magnitude is divergence too, before it reaches infinity.
         if load_error.abs() > 1e3 {
@@ -377,6 +450,8 @@ impl ReynoldsSolver {
                     .fold(((0, 0), 0.0f64), |a, (ix, &v)| if v > a.1 { (ix, v) } else { a });
             return Err(ReynoldsError::Diverged {
                 cycle,
+                kind: Divergence::Runaway,
+                at: (f.grid.x(i), f.grid.y(j)),
                 what: format!("pressure grows without bound: P = {pm:.3e} p_h at {}", at(j, i)),
                 film: hc,
                 load: load_error,
@@ -461,5 +536,56 @@ impl ReynoldsSolver {
             history,
             wall_time_s: t0.elapsed().as_secs_f64(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{DensityLaw, ViscosityLaw};
+    use ehl_core::{Grid, Moes, SEED_CONTACT};
+
+    fn history(load_errors: &[f64]) -> Vec<CycleLog> {
+        let rec = |k: usize, e: f64| CycleLog {
+            cycle: k + 1,
+            points: 33,
+            residual: 1e-3,
+            load_error: e,
+            h00: -0.5,
+            central_film: 0.4,
+            minimum_film: 0.3,
+            wall_s: 0.0,
+        };
+        load_errors.iter().enumerate().map(|(k, &e)| rec(k, e)).collect()
+    }
+
+    #[test]
+    fn diagnosis_tells_a_limit_cycle_from_a_stall_and_the_cycle_limit() {
+        let prm = ReynoldsParams::from_moes(
+            &Moes { m: 20.0, l: 10.0 },
+            &SEED_CONTACT,
+            40e-3,
+            1.96e8,
+            ViscosityLaw::Roelands,
+            DensityLaw::DowsonHigginson,
+        );
+        let mut s = ReynoldsSolver::new(
+            Grid::new(33, 33, (-4.5, 1.5), (-3.0, 3.0)),
+            prm,
+            ReynoldsSettings::default(),
+        );
+        s.levels[0].film.fill(0.4); // an open film: the history decides
+        let flipping = history(&[1e-4, -1e-4, 1e-4, -1e-4, 1e-4, -1e-4, 1e-4, -1e-4]);
+        let d = s.diagnose(&flipping, true);
+        assert_eq!((d.kind, d.cycle), (FailureKind::LimitCycle, 8), "{d}");
+        // One sign change short of every cycle is no limit cycle.
+        let mostly = history(&[1e-4, -1e-4, 1e-4, -1e-4, -1e-4, 1e-4, -1e-4, 1e-4]);
+        assert_eq!(s.diagnose(&mostly, true).kind, FailureKind::Stalled);
+        let falling = history(&[1e-2, 5e-3, 2e-3, 1e-3]);
+        assert_eq!(s.diagnose(&falling, false).kind, FailureKind::CycleLimit);
+        s.levels[0].film[[5, 7]] = -1e-3;
+        let d = s.diagnose(&falling, false);
+        let g = s.levels[0].grid;
+        assert_eq!((d.kind, d.at), (FailureKind::FilmClosed, Some((g.x(7), g.y(5)))), "{d}");
     }
 }
