@@ -429,9 +429,9 @@ mod tests {
         // Discretisation error of the central pressure on 129² (ΔX ≈ 0.02): measured ~1e-5;
         // the bound 1e-4 holds with margin.
         assert!((c - 1.0).abs() < 1e-4, "p_max/p_h = {c}");
-        // The approach's discretisation error is O(ΔX²)-like (~1e-4 here); 1e-3 bounds it.
-        assert!((rep.h0 - hertz::APPROACH).abs() < 1e-3, "H0 = {}", rep.h0);
-        assert!(rep.residual < 1e-8);
+        // The approach's discretisation error on 129² is measured at 1.7e-5 (observed order ~2, xtask
+        // convergence dry); 4e-5 holds it and fails a first-order error or a 0.01 % kernel scale error.
+        assert!((rep.h0 - hertz::APPROACH).abs() < 4e-5, "H0 = {}", rep.h0);
     }
 
     #[test]
@@ -454,14 +454,15 @@ mod tests {
         let prob = DryProblem { rigid_gap: rigid.view(), compliance: Some(comp.view()), load: 2.0 };
         let (mut p, mut w) = (g.zeros(), g.zeros());
         let rep = solver.solve(&prob, &mut p, &mut w, Start::Flat).unwrap();
-        let h = DrySolver::gap(&prob, rep.h0, &p, &w);
-        assert!((p.sum() * g.cell_area() - 2.0).abs() < 1e-12);
+        // The gap rebuilt independently: deformation by direct summation of the rectangle
+        // influence coefficients (not the FFT the solver used), plus the compliance term.
+        let h = &rigid + &solver.operator().apply_direct(&p) + rep.h0 + &(&comp * &p);
         for (&pv, &hv) in p.iter().zip(&h) {
-            assert!(pv >= 0.0);
-            // Overlaps and gaps under pressure are bounded by the stopping tolerance.
-            assert!(hv > -1e-6, "overlap {hv}");
+            // Overlaps and gaps under pressure within the solver's stop tolerance (1e-8 relative
+            // gap residual, ~1e-8 a²/R here) plus the FFT's rounding (1e-13): 1e-7.
+            assert!(hv > -1e-7, "overlap {hv}");
             if pv > 0.0 {
-                assert!(hv.abs() < 1e-6, "gap {hv} under pressure {pv}");
+                assert!(hv.abs() < 1e-7, "gap {hv} under pressure {pv}");
             }
         }
         // The dimple lowers the central pressure: the extra gap was seen.
@@ -480,7 +481,9 @@ mod tests {
         let f2 = &f + &g.field(|x, y| 1e-3 * (-((x - 0.3).powi(2) + y * y) / 0.01).exp());
         let prob2 = DryProblem { rigid_gap: f2.view(), ..prob };
         let warm = solver.solve(&prob2, &mut p, &mut w, Start::Warm).unwrap();
-        assert!(warm.iterations < cold.iterations + cold.coarse_iterations.len(), "{warm:?}");
+        // A warm start from the neighbouring solution must cost less than the cold solve's
+        // finest-grid iterations alone (measured: 4 against 7, plus 11 on coarser grids).
+        assert!(warm.iterations < cold.iterations, "{warm:?} vs {cold:?}");
     }
 
     #[test]
