@@ -70,36 +70,53 @@ fn explicit_instability_is_diagnosed_with_place_and_step() {
     );
 }
 
-#[test]
-fn implicit_is_stable_far_beyond_the_explicit_limit() {
-    let m = model(33, 0.01);
-    let mut s = uniform_state(&m).unwrap();
+/// Implicit rolling from a uniform layer to `t_end` in `k` equal steps.
+fn implicit_rolling(m: &LayerModel, k: usize, t_end: f64) -> ndarray::Array2<f64> {
+    let mut s = uniform_state(m).unwrap();
     let mut st = Stepper::new(Scheme::Implicit, 0);
-    let dt = 10.0 * stability_estimate(&m);
-    for _ in 0..100 {
-        st.step(&m, &mut s, dt).unwrap();
+    for _ in 0..k {
+        st.step(m, &mut s, t_end / k as f64).unwrap();
     }
-    assert!(s.eps.iter().all(|e| (0.0..=1.0).contains(e)));
-    assert!(s.p.iter().all(|p| p.is_finite() && *p >= 0.0));
+    s.eps
 }
 
 #[test]
-fn steady_squeeze_is_the_strain_law_at_rest() {
-    let m = model(65, 0.0);
-    let (s, rep) = run::squeeze_steady(&m).unwrap();
-    assert!(rep.passes >= 2);
-    let l = s.thickness(&m);
-    for ((&p, &e), &l) in s.p.iter().zip(&s.eps).zip(&l) {
-        // eps = min(p/Eo, 1) exactly, and the layer is l0 (1 - eps).
-        assert!((e - (p / m.eo).min(1.0)).abs() < 1e-12);
-        assert!((l - m.l0 * (1.0 - e)).abs() < 1e-12);
+fn implicit_far_beyond_the_explicit_limit_converges_to_the_fine_step_answer() {
+    // 100 steps at 10x the explicit limit (1.9e-4 s on 33²), then 200 and 400 to the same time,
+    // against 1000 steps (1x the limit). Measured max-norm strain differences: 0.245, 0.122 between
+    // successive halvings (first order in max norm: the strain front at the inlet is sharp), and
+    // 0.274 from the 100-step run to the reference. A run that oscillates (0 <-> 1 from step to
+    // step) or settles elsewhere differs by O(1) and does not halve.
+    let m = model(33, 0.01);
+    let t_end = 1000.0 * stability_estimate(&m);
+    let runs: Vec<_> =
+        [100, 200, 400, 1000].iter().map(|&k| implicit_rolling(&m, k, t_end)).collect();
+    let (d1, d2) = (max_diff(&runs[0], &runs[1]), max_diff(&runs[1], &runs[2]));
+    assert!(d1 / d2 > 1.6, "differences {d1:e} -> {d2:e} do not shrink at first order");
+    let to_ref = max_diff(&runs[0], &runs[3]);
+    assert!(to_ref < 0.3, "10x the limit is {to_ref} off the fine-step answer");
+}
+
+#[test]
+fn steady_squeeze_is_where_the_time_model_comes_to_rest() {
+    // The direct squeeze solve against an independent path: the implicit time model at u1 = 0
+    // marched from a uniform layer with steps growing by 15 % from 0.1 ms to ~50 s (81 steps).
+    // Measured: the march ends 1.4e-9 in strain and 3.6e-10 p_h in pressure from the direct
+    // solve (both solve contacts to 1e-11); 1e-7 bounds that and fails any change of law (the
+    // strain changes by ~0.05 over the last decade before rest).
+    let m = model(33, 0.0);
+    let (direct, rep) = run::squeeze_steady(&m).unwrap();
+    assert!(rep.passes >= 2, "the active set {{p >= Eo}} needs a second pass");
+    let mut s = uniform_state(&m).unwrap();
+    let mut st = Stepper::new(Scheme::Implicit, 0);
+    let (mut t, mut dt) = (0.0, 1e-4);
+    while t < 40.0 {
+        st.step(&m, &mut s, dt).unwrap();
+        t += dt;
+        dt *= 1.15;
     }
-    // At rest the Kelvin–Voigt rate vanishes where p <= Eo (E = Eo there, eps = p/Eo).
-    for (&p, &e) in s.p.iter().zip(&s.eps) {
-        if p < m.eo {
-            assert!(m.rate(p, p, e).abs() * m.eta(p) < 1e-12);
-        }
-    }
+    let (de, dp) = (max_diff(&s.eps, &direct.eps), max_diff(&s.p, &direct.p));
+    assert!(de < 1e-7 && dp < 1e-7, "marched rest differs: strain {de:e}, pressure {dp:e}");
 }
 
 #[test]
