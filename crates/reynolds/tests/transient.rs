@@ -16,9 +16,12 @@ fn tight(time_scheme: TimeScheme) -> ReynoldsSettings {
     }
 }
 
-/// Gaussian dent of depth `d` [a²/R] and radius-like width `w` [a] centred at `(xc, 0)`.
+/// The scenes' dent shape (the core's, shared with the layer model) of depth `d` [a²/R] and
+/// e-folding radius `w` [a] centred at `(xc, 0)`: `10^(−10 r²/W²)` is `exp(−r²/w²)` with
+/// `W = w √(10 ln 10)`.
 fn dent(d: f64, w: f64, xc: f64) -> impl Fn(f64, f64) -> f64 + Copy {
-    move |x: f64, y: f64| d * (-((x - xc).powi(2) + y * y) / (w * w)).exp()
+    let width = w * (10.0 * std::f64::consts::LN_10).sqrt();
+    move |x: f64, y: f64| d * ehl_core::grid::dent_profile((x - xc).powi(2) + y * y, width)
 }
 
 #[test]
