@@ -1,5 +1,5 @@
 //! The workbench's harness: `cargo xtask figures | convergence dry|layer|reynolds |
-//! stability reynolds | bench`.
+//! stability reynolds | bench | mutants`.
 //!
 //! Fine grids live here, not in the tests: these commands take seconds to minutes.
 
@@ -7,6 +7,7 @@ mod bench;
 mod compare;
 mod convergence;
 mod layer;
+mod mutants;
 mod reynolds;
 
 use anyhow::Result;
@@ -63,6 +64,21 @@ enum Command {
         #[arg(long, default_value_t = 513)]
         max_points: usize,
     },
+    /// Mutation testing (cargo-mutants) of the numerical files, each by its own crate's tests;
+    /// hours for all files on 2 cores: pick with `--file`, sample with `--shard k/n`.
+    Mutants {
+        /// A file under crates/{core,layer,reynolds}/src (repeatable); default: the target list.
+        #[arg(long)]
+        file: Vec<String>,
+        /// Run one shard of each file's mutants, e.g. `0/4` for a quarter.
+        #[arg(long)]
+        shard: Option<String>,
+        /// Per-mutant test timeout [s] (the crates' suites take 3–25 s unmutated).
+        #[arg(long, default_value_t = 120)]
+        timeout: u64,
+        #[arg(long, default_value = "out/mutants")]
+        out: PathBuf,
+    },
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -96,6 +112,9 @@ fn main() -> Result<()> {
             reynolds::convergence(&out, max_points).map(|_| ())
         }
         Command::Bench { out, max_points } => bench::run(&out, max_points),
+        Command::Mutants { file, shard, timeout, out } => {
+            mutants::run(&file, shard.as_deref(), timeout, &out)
+        }
         Command::Stability { which: Which::Reynolds, out, points, narrow_from_m } => {
             reynolds::stability(&out, points, narrow_from_m).map(|_| ())
         }
