@@ -1,7 +1,7 @@
 //! The dry contact core against Hertz, end to end through the scene runner, and the scene's
 //! derived scales against the reference values stored in `reference/hertz.json`.
 
-use ehl_cli::{Outcome, run_scene};
+use ehl_cli::run_scene;
 use serde_json::Value;
 
 fn reference() -> Value {
@@ -11,10 +11,7 @@ fn reference() -> Value {
 
 fn hertz_at(n: usize) -> ehl_cli::DryOutcome {
     let scene = ehl_scene::builtin("hertz").unwrap().with_points(n).unwrap();
-    match run_scene(&scene).unwrap() {
-        Outcome::Dry(o) => o,
-        _ => unreachable!("the hertz scene is dry"),
-    }
+    *run_scene(&scene).unwrap().downcast::<ehl_cli::DryOutcome>().expect("the hertz scene is dry")
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! Hertz-normalised form, on grids coarse enough for CI. Each tolerance is the grid's own
 //! discretisation error (measured by `cargo xtask convergence layer`) plus the seed's rounding.
 
-use ehl_cli::{Outcome, layer::LayerOutcome, run_scene};
+use ehl_cli::{layer::LayerOutcome, run_scene};
 use serde_json::Value;
 
 fn seed(id: &str) -> f64 {
@@ -16,10 +16,7 @@ fn layer(scene: &str, n: usize, edit: impl Fn(&mut ehl_scene::Scene)) -> LayerOu
     let mut s = ehl_scene::builtin(scene).unwrap().with_points(n).unwrap();
     s.run.as_mut().unwrap().snapshots_s.clear();
     edit(&mut s);
-    match run_scene(&s).unwrap() {
-        Outcome::Layer(o) => *o,
-        _ => unreachable!(),
-    }
+    *run_scene(&s).unwrap().downcast::<LayerOutcome>().expect("a layer scene")
 }
 
 #[test]

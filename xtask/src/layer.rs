@@ -31,11 +31,8 @@ pub fn rolling_smoothed(n: usize, sigma: f64) -> Scene {
     s
 }
 
-fn layer(o: Outcome) -> LayerOutcome {
-    match o {
-        Outcome::Layer(l) => *l,
-        _ => unreachable!(),
-    }
+fn layer(o: Box<dyn Outcome>) -> LayerOutcome {
+    *o.downcast::<LayerOutcome>().expect("a layer scene")
 }
 
 /// One steady-rolling result.

@@ -129,29 +129,25 @@ pub fn grid_sizes(max: usize) -> Vec<usize> {
 fn figures(out: &std::path::Path) -> Result<()> {
     std::fs::create_dir_all(out)?;
     let mut written = vec![];
-    // Fig. 7: the layer model's steady rolling beside the Reynolds solution of the same scene.
-    let (mut layer, mut reynolds) = (None, None);
     for scene in ehl_scene::builtins() {
+        if scene.model.is_none() {
+            continue; // comparison scenes: Fig. 7 below
+        }
         let outcome = ehl_cli::run_scene(&scene)?;
         written.extend(outcome.figures(out, &format!("{}_", scene.name))?);
         // The numbers behind the figures, for the validation table.
         let f = out.join(format!("{}_summary.json", scene.name));
-        std::fs::write(&f, serde_json::to_string_pretty(&outcome.summary())? + "\n")?;
+        let summary = ehl_cli::output::summary_with_observables(outcome.as_ref());
+        std::fs::write(&f, serde_json::to_string_pretty(&summary)? + "\n")?;
         written.push(f);
         if let Some(csv) = outcome.time_series_csv() {
             let f = out.join(format!("{}_timeseries.csv", scene.name));
             std::fs::write(&f, csv)?;
             written.push(f);
         }
-        match (scene.name.as_str(), outcome) {
-            ("rolling-from-squeezed", ehl_cli::Outcome::Layer(o)) => layer = Some(o),
-            ("reynolds-seed", ehl_cli::Outcome::Reynolds(o)) => reynolds = Some(o),
-            _ => {}
-        }
     }
-    if let (Some(l), Some(r)) = (&layer, &reynolds) {
-        written.extend(compare::fig7(l, r, out)?);
-    }
+    // Fig. 7: the seed comparison (layer, Reynolds, dry on one grid).
+    written.extend(compare::fig7(out)?);
     written.extend(convergence::dry(out, 513)?);
     written.push(layer::modulus_figure(out)?);
     println!("figures written to {}:", out.display());

@@ -1,5 +1,6 @@
 //! Layer-model scenes: the run (start state, motion, stop rule) and what it writes.
 
+use crate::model::{ContactModel, Outcome};
 use crate::output::{Centreline, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use anyhow::{Context, Result};
@@ -37,6 +38,63 @@ pub struct LayerOutcome {
     pub stability_estimate_s: f64,
     pub setup_time_s: f64,
     pub total_time_s: f64,
+}
+
+/// The registered layer model.
+pub struct Layer;
+
+impl ContactModel for Layer {
+    fn kind(&self) -> ehl_scene::Model {
+        ehl_scene::Model::Layer
+    }
+    fn run(&self, scene: &Scene) -> Result<Box<dyn Outcome>> {
+        Ok(Box::new(run_layer(scene)?))
+    }
+}
+
+impl Outcome for LayerOutcome {
+    fn scene(&self) -> &Scene {
+        &self.scene
+    }
+    fn scales(&self) -> HertzScales {
+        self.scales
+    }
+    fn grid(&self) -> &Grid {
+        &self.grid
+    }
+    fn pressure(&self) -> &Array2<f64> {
+        &self.final_state.p
+    }
+    fn film(&self) -> Array2<f64> {
+        &self.l + &self.gap
+    }
+    fn wall_time_s(&self) -> f64 {
+        self.total_time_s
+    }
+    fn summary(&self) -> Value {
+        LayerOutcome::summary(self)
+    }
+    fn centreline(&self) -> Centreline {
+        LayerOutcome::centreline(self)
+    }
+    fn fields(&self) -> Vec<(String, Array2<f64>)> {
+        LayerOutcome::fields(self)
+    }
+    fn time_series_csv(&self) -> Option<String> {
+        LayerOutcome::time_series_csv(self)
+    }
+    fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
+        LayerOutcome::figures(self, dir, prefix)
+    }
+    fn report(&self) -> String {
+        layer_report(self)
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+    fn into_any(self: Box<Self>) -> Box<dyn std::any::Any> {
+        self
+    }
 }
 
 pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
@@ -416,4 +474,71 @@ impl LayerOutcome {
         }
         Ok(out)
     }
+}
+
+/// The terminal report.
+fn layer_report(o: &LayerOutcome) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+
+    let f = &o.final_monitor;
+    let s = &o.scales;
+    let l0 = o.scene.layer.unwrap().supply_thickness_m;
+    let _ = writeln!(
+        out,
+        "scene {} ({}x{}): {:.1} s wall",
+        o.scene.name, o.grid.nx, o.grid.ny, o.total_time_s
+    );
+    if let Some(p) = &o.steady {
+        let its: Vec<String> = p.iterations.iter().map(|(n, k)| format!("{k} on {n}²")).collect();
+        let _ = writeln!(
+            out,
+            "  steady rolling solved directly: {} iterations, strain residual {:.1e}, {:.2} s wall",
+            its.join(", "),
+            p.strain_residual,
+            p.wall_time_s
+        );
+    }
+    if let Some(r) = &o.record {
+        let _ = writeln!(
+            out,
+            "  run: {} steps ({} rejected), {:.4} s simulated, {:.1} s wall, {:.2} ms/step, {:.2} contact iterations/step; {}",
+            r.steps,
+            r.rejected_steps,
+            o.final_state.t,
+            r.wall_time_s,
+            r.wall_time_s / r.steps.max(1) as f64 * 1e3,
+            r.iterations as f64 / r.steps.max(1) as f64,
+            r.stop_reason
+        );
+        if !r.steady {
+            let _ = writeln!(out, "  warning: the run did not reach its stop condition");
+        }
+    }
+    let _ = writeln!(
+        out,
+        "  central thickness {:.4e} m ({:.4} l0)   minimum {:.4e} m ({:.4} l0)",
+        f.central_thickness,
+        f.central_thickness / l0,
+        f.minimum_thickness,
+        f.minimum_thickness / l0
+    );
+    let _ = writeln!(
+        out,
+        "  max pressure {:.5e} Pa ({:.4} p_h)   contact diameter {:.4e} m ({:.4} x 2a)   dry diameter {:.4e} m",
+        f.max_pressure,
+        f.max_pressure / s.p_h,
+        f.contact_diameter,
+        f.contact_diameter / (2.0 * s.a),
+        f.dry_diameter
+    );
+    if f.lateral_wiggle > 0.05 * s.p_h {
+        let _ = writeln!(
+            out,
+            "  note: row-to-row pressure wiggle {:.3} p_h: the lateral short-wave instability of the layer model (see README)",
+            f.lateral_wiggle / s.p_h
+        );
+    }
+
+    out
 }

@@ -1,12 +1,19 @@
-//! The workbench's runner and writers, behind the `ehl` command-line tool and the xtask harness:
-//! a [`Scene`](ehl_scene::Scene) goes in, an [`Outcome`] comes out, and [`output::write`] turns it
-//! into `summary.json`, `centreline.csv`, `.npy` fields and PNG figures.
+//! The workbench's library, behind the `ehl` command-line tool and the xtask harness: a
+//! [`Scene`](ehl_scene::Scene) goes in, each model in the registry ([`run::MODELS`]) that the
+//! scene lists runs it through the one [`model::Outcome`] interface, and [`output::write`] turns
+//! an outcome into `summary.json`, `centreline.csv`, `.npy` fields and PNG figures;
+//! [`compare`] puts several models' outcomes side by side.
 
+pub mod compare;
+pub mod dry;
 pub mod layer;
+pub mod model;
 pub mod output;
 pub mod plot;
 pub mod progress;
 pub mod reynolds;
 pub mod run;
 
-pub use run::{DryOutcome, Outcome, run_scene};
+pub use dry::DryOutcome;
+pub use model::{ContactModel, Outcome};
+pub use run::{MODELS, run_scene};

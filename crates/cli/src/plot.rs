@@ -338,12 +338,14 @@ where
             ramp((v - lo) / span).filled(),
         )
     }))?;
+    // Tick labels to the right of the bar, left-aligned from its edge: drawn on the left they
+    // were right-aligned by an estimated text width and ran into the bar.
     let mut bar = ChartBuilder::on(&right)
         .margin_top(44)
         .margin_bottom(57)
-        .margin_right(30)
-        .margin_left(4)
-        .y_label_area_size(78)
+        .margin_right(4)
+        .margin_left(8)
+        .right_y_label_area_size(80)
         .build_cartesian_2d(0.0..1.0, lo..lo + span)?;
     bar.configure_mesh()
         .disable_mesh()

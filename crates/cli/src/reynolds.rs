@@ -1,9 +1,10 @@
 //! Reynolds-model scenes: the steady EHL solve and what it writes.
 
+use crate::model::{ContactModel, Outcome};
 use crate::output::{Centreline, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use anyhow::{Context, Result, bail};
-use ehl_core::{Grid, hertz};
+use ehl_core::{Grid, HertzScales, hertz};
 use ehl_reynolds::formulas::{hamrock_dowson_central, nvm_central};
 use ehl_reynolds::{ReynoldsParams, ReynoldsReport, ReynoldsSolver};
 use ehl_scene::Scene;
@@ -55,6 +56,66 @@ pub struct TransientRecord {
 
 /// The dimensionless parameters and a solver (hierarchy built, Hertz start) for a Reynolds
 /// scene.
+
+/// The registered Reynolds model.
+pub struct Reynolds;
+
+impl ContactModel for Reynolds {
+    fn kind(&self) -> ehl_scene::Model {
+        ehl_scene::Model::Reynolds
+    }
+    fn run(&self, scene: &Scene) -> Result<Box<dyn Outcome>> {
+        Ok(Box::new(run_reynolds(scene)?))
+    }
+}
+
+impl Outcome for ReynoldsOutcome {
+    fn scene(&self) -> &Scene {
+        &self.scene
+    }
+    fn scales(&self) -> HertzScales {
+        self.prm.scales
+    }
+    fn grid(&self) -> &Grid {
+        &self.grid
+    }
+    fn pressure(&self) -> &Array2<f64> {
+        &self.p
+    }
+    fn film(&self) -> Array2<f64> {
+        self.film.clone()
+    }
+    fn wall_time_s(&self) -> f64 {
+        self.setup_time_s
+            + self.report.wall_time_s
+            + self.transient.as_ref().map_or(0.0, |t| t.wall_time_s)
+    }
+    fn summary(&self) -> Value {
+        ReynoldsOutcome::summary(self)
+    }
+    fn centreline(&self) -> Centreline {
+        ReynoldsOutcome::centreline(self)
+    }
+    fn fields(&self) -> Vec<(String, Array2<f64>)> {
+        ReynoldsOutcome::fields(self)
+    }
+    fn time_series_csv(&self) -> Option<String> {
+        ReynoldsOutcome::time_series_csv(self)
+    }
+    fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
+        ReynoldsOutcome::figures(self, dir, prefix)
+    }
+    fn report(&self) -> String {
+        reynolds_report(self)
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+    fn into_any(self: Box<Self>) -> Box<dyn std::any::Any> {
+        self
+    }
+}
+
 pub fn build_solver(scene: &Scene) -> (ReynoldsParams, ReynoldsSolver) {
     let spec = scene.reynolds.clone().expect("validated");
     let lub = scene.lubricant.expect("validated").lubricant();
@@ -489,4 +550,42 @@ impl ReynoldsOutcome {
         )?;
         Ok(vec![f_hist, f_snap])
     }
+}
+
+/// The terminal report.
+fn reynolds_report(o: &ReynoldsOutcome) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+
+    let (hc, hmin, pmax) = o.films();
+    let s = &o.prm.scales;
+    let _ = writeln!(
+        out,
+        "scene {} ({}x{}): converged in {} cycles, {:.2} s (setup {:.2} s); M = {:.2}, L = {:.3}",
+        o.scene.name,
+        o.grid.nx,
+        o.grid.ny,
+        o.report.cycles,
+        o.report.wall_time_s,
+        o.setup_time_s,
+        o.prm.moes.m,
+        o.prm.moes.l
+    );
+    let _ = writeln!(
+        out,
+        "  central film {:.4e} m (H = {:.5}), minimum film {:.4e} m (H = {:.5}), max pressure {:.4e} Pa ({:.4} p_h)",
+        s.h_si(hc),
+        hc,
+        s.h_si(hmin),
+        hmin,
+        s.p_si(pmax),
+        pmax
+    );
+    let _ = writeln!(
+        out,
+        "  formulas: Hamrock-Dowson {:.4e} m, Nijenbanning-Venner-Moes {:.4e} m",
+        o.formulas.0, o.formulas.1
+    );
+
+    out
 }

@@ -12,11 +12,13 @@ pub mod deformation;
 pub mod dry;
 pub mod grid;
 pub mod hertz;
+pub mod observe;
 pub mod params;
 
 pub use deformation::Deformation;
 pub use dry::{DryProblem, DryReport, DrySettings, DrySolver, Start};
 pub use grid::Grid;
+pub use observe::Observables;
 pub use params::{Contact, HertzScales, Lubricant, Moes, SEED_CONTACT, SEED_LUBRICANT};
 
 /// A numerical failure, with enough context to find it: which quantity, where, when.

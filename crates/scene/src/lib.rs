@@ -18,8 +18,13 @@ pub struct Scene {
     /// One line on what the scene shows.
     #[serde(default)]
     pub description: String,
-    /// Which model runs it.
-    pub model: Model,
+    /// Which model runs it (a one-model scene) …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<Model>,
+    /// … or which models run it, each on the same conditions, domain and grid (a comparison
+    /// scene, for `ehl compare`). Exactly one of `model` and `models` is given.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub models: Vec<Model>,
     pub conditions: Conditions,
     /// Lubricant (the layer's damper, the Reynolds fluid); required by those models.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -103,6 +108,43 @@ pub struct ReynoldsSpec {
 }
 
 impl Scene {
+    /// The models this scene runs: the one of a one-model scene, or the comparison's list.
+    pub fn models(&self) -> Vec<Model> {
+        match self.model {
+            Some(m) => vec![m],
+            None => self.models.clone(),
+        }
+    }
+
+    /// The one model of a one-model scene.
+    ///
+    /// # Panics
+    /// On a comparison scene: take [`Scene::for_model`] first.
+    pub fn model(&self) -> Model {
+        self.model.expect("a one-model scene (use Scene::for_model on a comparison scene)")
+    }
+
+    /// This scene as `m` alone runs it: the same conditions, domain and grid, `m`'s blocks.
+    /// What `ehl compare` runs per model, and what `ehl run` of that model would run.
+    pub fn for_model(&self, m: Model) -> Scene {
+        let mut s = self.clone();
+        s.model = Some(m);
+        s.models.clear();
+        match m {
+            Model::Dry => {
+                s.layer = None;
+                s.run = None;
+                s.reynolds = None;
+            }
+            Model::Layer => s.reynolds = None,
+            Model::Reynolds => {
+                s.layer = None;
+                s.run = None;
+            }
+        }
+        s
+    }
+
     /// Contact and sum velocity [m/s] a Reynolds scene runs with (Moes input resolved).
     pub fn reynolds_conditions(&self) -> (Contact, f64) {
         let mut c = self.conditions.contact();
@@ -306,6 +348,7 @@ macro_rules! builtin_scenes {
 }
 
 const BUILTINS: &[(&str, &str)] = builtin_scenes!(
+    "seed",
     "hertz",
     "squeeze-steady",
     "rolling-from-squeezed",
@@ -414,6 +457,40 @@ impl Scene {
                 "must be non-empty ASCII letters, digits, '-' or '_'",
             ));
         }
+        match (self.model, self.models.is_empty()) {
+            (Some(_), false) => {
+                return Err(err(
+                    "models",
+                    format!("{:?}", self.models),
+                    "give either `model` (one model) or `models` (a comparison), not both",
+                ));
+            }
+            (None, true) => {
+                return Err(err(
+                    "model",
+                    "(missing)".into(),
+                    "one of \"dry\", \"layer\", \"reynolds\"; or `models`, a list of them",
+                ));
+            }
+            (None, false) => {
+                for (k, m) in self.models.iter().enumerate() {
+                    if self.models[..k].contains(m) {
+                        return Err(err(
+                            &format!("models[{k}]"),
+                            format!("{m:?}"),
+                            "each model once",
+                        ));
+                    }
+                }
+                // Each model checks the scene as it would run it alone: the field names are the
+                // scene's own.
+                for &m in &self.models {
+                    self.for_model(m).validate(origin)?;
+                }
+                return Ok(());
+            }
+            (Some(_), true) => {}
+        }
         let c = &self.conditions;
         positive("conditions.ball_radius_m", c.ball_radius_m, "m")?;
         positive("conditions.load_n", c.load_n, "N")?;
@@ -477,7 +554,7 @@ impl Scene {
                 positive("layer.reference_pressure_pa", p, "Pa")?;
             }
         }
-        if self.model == Model::Reynolds {
+        if self.model == Some(Model::Reynolds) {
             let missing = |f: &str| err(f, "(missing)".into(), "required by the Reynolds model");
             let l = self.lubricant.ok_or_else(|| missing("lubricant"))?;
             let r = self.reynolds.as_ref().ok_or_else(|| missing("reynolds"))?;
@@ -547,7 +624,7 @@ impl Scene {
                 ));
             }
         }
-        if self.model == Model::Layer {
+        if self.model == Some(Model::Layer) {
             let missing = |f: &str| err(f, "(missing)".into(), "required by the layer model");
             if self.lubricant.is_none() {
                 return Err(missing("lubricant"));
@@ -734,7 +811,7 @@ mod tests {
     use super::*;
 
     fn hertz_text() -> String {
-        BUILTINS[0].1.to_string()
+        BUILTINS.iter().find(|(n, _)| *n == "hertz").unwrap().1.to_string()
     }
 
     fn refused(text: &str) -> String {

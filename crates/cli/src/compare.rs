@@ -1,0 +1,317 @@
+//! One case, every model: runs each model a comparison scene lists on the identical grid and
+//! domain, and puts their standard observables side by side (`comparison.json`, `.csv`, a
+//! terminal table), with overlaid centrelines and the film difference map. A model that fails is
+//! listed with its diagnosis; the others still write their results.
+
+use crate::model::Outcome;
+use crate::output::{self, q};
+use crate::plot::{self, MapPanel, Mark, Panel, Series};
+use anyhow::Result;
+use ehl_core::{HertzScales, Observables};
+use ehl_scene::{Model, Scene};
+use plotters::prelude::SeriesLabelPosition;
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// One model's part of a comparison.
+pub struct Entry {
+    pub model: Model,
+    /// The outcome, or the diagnosis of why there is none.
+    pub outcome: Result<Box<dyn Outcome>, String>,
+    pub wall_time_s: f64,
+}
+
+impl Entry {
+    pub fn name(&self) -> String {
+        model_name(self.model)
+    }
+    pub fn observables(&self) -> Option<Observables> {
+        self.outcome.as_ref().ok().map(|o| o.observables())
+    }
+}
+
+/// The scene's spelling of a model.
+pub fn model_name(m: Model) -> String {
+    serde_json::to_value(m).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default()
+}
+
+/// Every model's run of one scene.
+pub struct Comparison {
+    pub scene: Scene,
+    pub entries: Vec<Entry>,
+}
+
+/// Runs every model of `scene` (validated), one after the other (each uses all cores inside),
+/// each on `scene.for_model(m)`: the same conditions, domain and grid.
+pub fn run(scene: &Scene) -> Comparison {
+    let entries = scene
+        .models()
+        .into_iter()
+        .map(|m| {
+            let t0 = Instant::now();
+            let one = scene.for_model(m);
+            let outcome = crate::run::run_scene(&one).map_err(|e| format!("{e:#}"));
+            Entry { model: m, outcome, wall_time_s: t0.elapsed().as_secs_f64() }
+        })
+        .collect();
+    Comparison { scene: scene.clone(), entries }
+}
+
+impl Comparison {
+    pub fn all_converged(&self) -> bool {
+        self.entries.iter().all(|e| e.outcome.is_ok())
+    }
+
+    pub fn scales(&self) -> HertzScales {
+        HertzScales::new(&self.scene.conditions.contact())
+    }
+
+    /// The table as JSON: per model the observables (SI), wall time, converged or the diagnosis;
+    /// the conditions and the Hertz scales.
+    pub fn to_json(&self) -> Value {
+        let s = self.scales();
+        let g = self.scene.grid();
+        let rows: Vec<Value> = self
+            .entries
+            .iter()
+            .map(|e| match &e.outcome {
+                Ok(o) => {
+                    let ob = o.observables();
+                    json!({
+                        "model": e.name(), "converged": true,
+                        "central_film_m": ob.central_film_m, "minimum_film_m": ob.minimum_film_m,
+                        "minimum_film_at_m": [ob.minimum_film_at_m.0, ob.minimum_film_at_m.1],
+                        "max_pressure_pa": ob.max_pressure_pa,
+                        "max_pressure_at_m": [ob.max_pressure_at_m.0, ob.max_pressure_at_m.1],
+                        "contact_extent_x_m": ob.contact_extent_x_m,
+                        "contact_extent_y_m": ob.contact_extent_y_m,
+                        "load_error": ob.load_error, "wall_time_s": e.wall_time_s,
+                    })
+                }
+                Err(d) => json!({
+                    "model": e.name(), "converged": false, "diagnosis": d,
+                    "wall_time_s": e.wall_time_s,
+                }),
+            })
+            .collect();
+        json!({
+            "scene": self.scene.name,
+            "description": self.scene.description,
+            "conditions": self.scene.conditions,
+            "lubricant": self.scene.lubricant,
+            "layer": self.scene.layer,
+            "scales": {
+                "a": q(s.a, "m"), "p_h": q(s.p_h, "Pa"), "a2_over_r": q(s.delta, "m"),
+            },
+            "grid": {"nx": g.nx, "ny": g.ny, "x_a": [g.x_min, g.x_max], "y_a": [g.y_min, g.y_max]},
+            "definitions": {
+                "film": "separation of the solid surfaces: Reynolds film, layer thickness plus any gap above it, dry gap",
+                "minimum_film": "smallest film over the domain",
+                "contact_extent": format!("length along y = 0 (x) and x = 0 (y) where p >= {} p_h, crossings interpolated", ehl_core::observe::EXTENT_THRESHOLD),
+            },
+            "models": rows,
+        })
+    }
+
+    /// The same table as CSV; a failed model has empty numbers and its diagnosis.
+    pub fn to_csv(&self) -> String {
+        let mut s = String::from(
+            "model,converged,central_film_m,minimum_film_m,max_pressure_pa,contact_extent_x_m,contact_extent_y_m,load_error,wall_time_s,diagnosis\n",
+        );
+        for e in &self.entries {
+            match &e.outcome {
+                Ok(o) => {
+                    let ob = o.observables();
+                    s += &format!(
+                        "{},true,{:e},{:e},{:e},{:e},{:e},{:e},{:.3},\n",
+                        e.name(),
+                        ob.central_film_m,
+                        ob.minimum_film_m,
+                        ob.max_pressure_pa,
+                        ob.contact_extent_x_m,
+                        ob.contact_extent_y_m,
+                        ob.load_error,
+                        e.wall_time_s
+                    )
+                }
+                Err(d) => {
+                    s += &format!(
+                        "{},false,,,,,,,{:.3},\"{}\"\n",
+                        e.name(),
+                        e.wall_time_s,
+                        d.replace('"', "'").replace('\n', " ")
+                    )
+                }
+            }
+        }
+        s
+    }
+
+    /// The side-by-side table for the terminal.
+    pub fn table(&self) -> String {
+        let s = self.scales();
+        let g = self.scene.grid();
+        let mut t = format!(
+            "scene {} ({}x{} over [{}, {}] x [{}, {}] a; a = {:.4} mm, p_h = {:.4} GPa)\n",
+            self.scene.name,
+            g.nx,
+            g.ny,
+            g.x_min,
+            g.x_max,
+            g.y_min,
+            g.y_max,
+            s.a * 1e3,
+            s.p_h * 1e-9
+        );
+        t += &format!(
+            "  {:<10} {:>10} {:>10} {:>12} {:>11} {:>11} {:>10} {:>9}\n",
+            "model",
+            "h_c [nm]",
+            "h_min [nm]",
+            "p_max [GPa]",
+            "2a_x [mm]",
+            "2a_y [mm]",
+            "load err",
+            "wall [s]"
+        );
+        for e in &self.entries {
+            match &e.outcome {
+                Ok(o) => {
+                    let ob = o.observables();
+                    t += &format!(
+                        "  {:<10} {:>10.3} {:>10.3} {:>12.4} {:>11.4} {:>11.4} {:>10.1e} {:>9.2}\n",
+                        e.name(),
+                        ob.central_film_m * 1e9,
+                        ob.minimum_film_m * 1e9,
+                        ob.max_pressure_pa * 1e-9,
+                        ob.contact_extent_x_m * 1e3,
+                        ob.contact_extent_y_m * 1e3,
+                        ob.load_error,
+                        e.wall_time_s
+                    )
+                }
+                Err(d) => {
+                    t += &format!("  {:<10} FAILED after {:.2} s: {d}\n", e.name(), e.wall_time_s)
+                }
+            }
+        }
+        t
+    }
+
+    /// Writes the comparison into `dir` (replaced as a whole once everything is written):
+    /// the table (JSON, CSV), the overlaid centrelines, the film difference map (layer − Reynolds,
+    /// when both converged), and each model's own outputs in a subfolder.
+    pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        output::replace_dir(dir, |stage| self.write_into(stage))
+    }
+
+    fn write_into(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        let mut files = vec![];
+        let f = dir.join("comparison.json");
+        std::fs::write(&f, serde_json::to_string_pretty(&self.to_json())? + "\n")?;
+        files.push(f);
+        let f = dir.join("comparison.csv");
+        std::fs::write(&f, self.to_csv())?;
+        files.push(f);
+        if self.scene.outputs.figures {
+            files.extend(self.figures(dir)?);
+        }
+        for e in &self.entries {
+            if let Ok(o) = &e.outcome {
+                let sub = dir.join(e.name());
+                std::fs::create_dir_all(&sub)?;
+                files.extend(output::write_into(o.as_ref(), &sub)?);
+            }
+        }
+        Ok(files)
+    }
+
+    fn figures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        let ok: Vec<(String, &dyn Outcome)> = self
+            .entries
+            .iter()
+            .filter_map(|e| e.outcome.as_ref().ok().map(|o| (e.name(), o.as_ref())))
+            .collect();
+        if ok.is_empty() {
+            return Ok(vec![]);
+        }
+        let s = self.scales();
+        let g = self.scene.grid();
+        let j0 = g.row_nearest(0.0);
+        let xs = g.xs();
+        // Films beyond 5x the largest central film (the open gap outside the contact) are left
+        // off the film panel so the contact's films are readable.
+        let hc_max =
+            ok.iter().map(|(_, o)| o.observables().central_film_m).fold(0.0, f64::max).max(1e-9);
+        let cap_nm = 5.0 * hc_max * 1e9;
+        let mut p_series = vec![];
+        let mut h_series = vec![];
+        for (name, o) in &ok {
+            let p = o.pressure();
+            p_series.push(Series::new(
+                name.clone(),
+                xs.iter().zip(p.row(j0)).map(|(&x, &v)| (x, v)).collect(),
+                Mark::Line,
+            ));
+            let film = o.film();
+            h_series.push(Series::new(
+                name.clone(),
+                xs.iter()
+                    .zip(film.row(j0))
+                    .map(|(&x, &v)| (x, s.h_si(v) * 1e9))
+                    .filter(|v| v.1 <= cap_nm)
+                    .collect(),
+                Mark::Line,
+            ));
+        }
+        let note = format!(
+            "{}: R = {} mm, F = {} N, u1 = {} m/s; {}x{}",
+            self.scene.name,
+            self.scene.conditions.ball_radius_m * 1e3,
+            self.scene.conditions.load_n,
+            self.scene.conditions.rolling_velocity_m_s.unwrap_or(0.0),
+            g.nx,
+            g.ny
+        );
+        let centre = dir.join("comparison_centreline.png");
+        plot::charts(
+            &centre,
+            &[
+                Panel::new("Pressure along y = 0", "x / a", "p / p_h", p_series)
+                    .legend(SeriesLabelPosition::UpperLeft),
+                Panel::new(
+                    &format!("Film along y = 0 (up to {cap_nm:.0} nm)"),
+                    "x / a",
+                    "h [nm]",
+                    h_series,
+                )
+                .legend(SeriesLabelPosition::UpperRight),
+            ],
+            &note,
+        )?;
+        let mut files = vec![centre];
+        let find = |m: Model| {
+            self.entries.iter().find(|e| e.model == m).and_then(|e| e.outcome.as_ref().ok())
+        };
+        if let (Some(l), Some(r)) = (find(Model::Layer), find(Model::Reynolds)) {
+            let diff = (l.film() - r.film()).mapv(|v| s.h_si(v) * 1e9);
+            // Outside the contact both films open to micrometres: the map shows the contact,
+            // differences clipped to ±5x the largest central film.
+            let clip = diff.mapv(|v| v.clamp(-cap_nm, cap_nm));
+            let map = dir.join("comparison_film_difference.png");
+            plot::heat_maps(
+                &map,
+                &[MapPanel {
+                    field: &clip,
+                    title: "Film difference layer − Reynolds".into(),
+                    bar_label: "Δh [nm]".into(),
+                }],
+                &g,
+                &note,
+            )?;
+            files.push(map);
+        }
+        Ok(files)
+    }
+}

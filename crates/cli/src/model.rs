@@ -1,0 +1,73 @@
+//! The one model interface: every model (dry contact, layer, Reynolds) builds from a scene, runs
+//! it, and answers in the same terms: the standard observables, the fields, its own outputs.
+//! Nothing outside a model's own module matches on which model it is; the registry in
+//! [`crate::run`] is the one place that lists them.
+
+use crate::output::Centreline;
+use anyhow::Result;
+use ehl_core::{Grid, HertzScales, Observables};
+use ehl_scene::Scene;
+use ndarray::Array2;
+use serde_json::Value;
+use std::any::Any;
+use std::path::{Path, PathBuf};
+
+/// A model the workbench can run: one registration line in [`crate::run::MODELS`].
+pub trait ContactModel: Sync {
+    /// The scene's name for it (`"dry"`, `"layer"`, `"reynolds"`).
+    fn kind(&self) -> ehl_scene::Model;
+    /// Runs a one-model scene (validated) for this model; fails with a diagnosis (what, where,
+    /// when) if the model diverges or does not converge.
+    fn run(&self, scene: &Scene) -> Result<Box<dyn Outcome>>;
+}
+
+/// What a run produced. Hertz units inside (`P` in `p_h`, films in `a²/R`, lengths in `a`); the
+/// writers turn them into SI.
+pub trait Outcome: Any + Send {
+    fn scene(&self) -> &Scene;
+    fn scales(&self) -> HertzScales;
+    fn grid(&self) -> &Grid;
+    /// Pressure `P` [p_h].
+    fn pressure(&self) -> &Array2<f64>;
+    /// Separation of the two solid surfaces [a²/R]: the Reynolds film, the layer plus any gap
+    /// above it, the dry gap.
+    fn film(&self) -> Array2<f64>;
+    /// The standard observables, one definition for all models.
+    fn observables(&self) -> Observables {
+        Observables::from_fields(self.grid(), &self.scales(), self.pressure(), &self.film())
+    }
+    /// Wall time of the whole run [s].
+    fn wall_time_s(&self) -> f64;
+    /// Every scalar the model reports, with units (the observables are added by the writer).
+    fn summary(&self) -> Value;
+    fn centreline(&self) -> Centreline;
+    /// Fields to write as `.npy`, SI, with their file stems.
+    fn fields(&self) -> Vec<(String, Array2<f64>)>;
+    /// A history, for runs in time.
+    fn time_series_csv(&self) -> Option<String> {
+        None
+    }
+    fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>;
+    /// The terminal report.
+    fn report(&self) -> String;
+    fn as_any(&self) -> &dyn Any;
+    fn into_any(self: Box<Self>) -> Box<dyn Any>;
+}
+
+impl dyn Outcome {
+    /// The model's own outcome type, for what only that model has.
+    pub fn downcast_ref<T: Outcome>(&self) -> Option<&T> {
+        self.as_any().downcast_ref()
+    }
+    pub fn downcast<T: Outcome>(self: Box<Self>) -> Option<Box<T>> {
+        self.into_any().downcast().ok()
+    }
+    /// Grid axes [m].
+    pub fn axes(&self) -> (ndarray::Array1<f64>, ndarray::Array1<f64>) {
+        let (g, a) = (self.grid(), self.scales().a);
+        (
+            ndarray::Array1::from_shape_fn(g.nx, |i| g.x(i) * a),
+            ndarray::Array1::from_shape_fn(g.ny, |j| g.y(j) * a),
+        )
+    }
+}
