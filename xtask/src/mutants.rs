@@ -10,7 +10,7 @@ use std::process::Command;
 /// The files the test-strength target covers (issue: laws, formulas, params, hertz, deformation,
 /// dry, level, transport, stepper).
 pub const DEFAULT_FILES: &[&str] = &[
-    "crates/reynolds/src/laws.rs",
+    "crates/core/src/laws.rs",
     "crates/layer/src/laws.rs",
     "crates/reynolds/src/formulas.rs",
     "crates/reynolds/src/params.rs",

@@ -97,7 +97,7 @@ fn interrupted(signal: &str) {
         ehl().args(["run", "hertz", "--grid", "17", "--out"]).arg(&out).status().unwrap().success()
     );
     // rolling-from-uniform on 129² marches ~1600 steps (4-5 s): interrupted 1.5 s in.
-    let mut child = ehl()
+    let child = ehl()
         .args(["run", "rolling-from-uniform", "--grid", "129", "--out"])
         .arg(&out)
         .stdout(std::process::Stdio::null())

@@ -12,6 +12,7 @@ pub mod deformation;
 pub mod dry;
 pub mod grid;
 pub mod hertz;
+pub mod laws;
 pub mod observe;
 pub mod params;
 

@@ -43,8 +43,8 @@ impl Lubricant {
     }
     /// Roelands viscosity `η(p)` [Pa s] at pressure `p` [Pa].
     pub fn roelands(&self, p: f64) -> f64 {
-        let z = self.roelands_z();
-        self.eta0 * ((self.eta0.ln() + 9.67) * (-1.0 + (1.0 + p / self.p0_roelands).powf(z))).exp()
+        // The Hertz-unit law with p_h = 1 Pa: pressures in Pa.
+        self.eta0 * crate::laws::Viscosity::roelands(self, 1.0).eta(p)
     }
 }
 

@@ -60,22 +60,15 @@ pub enum DamperReading {
 pub struct Damper {
     /// Prefactor `η(0) / p_h` [s]: `κ η0 / p_h` or `κ / p_h` by the reading.
     pub eta_zero: f64,
-    /// `ln η0 + 9.67` [-] (η0 in Pa s).
-    pub roelands_s: f64,
-    /// Roelands index `z` [-].
-    pub z: f64,
-    /// Roelands pressure constant `p0 / p_h` [-].
-    pub p0: f64,
+    /// Its pressure dependence: the lubricant's Roelands law (the core's), pressures in `p_h`.
+    pub shape: ehl_core::laws::Viscosity,
 }
 
 impl Damper {
     /// `η / p_h` [s] at pressure `p` [p_h].
     #[inline]
     pub fn eta(&self, p: f64) -> f64 {
-        if p <= 0.0 {
-            return self.eta_zero;
-        }
-        self.eta_zero * (self.roelands_s * (-1.0 + (1.0 + p.max(0.0) / self.p0).powf(self.z))).exp()
+        self.eta_zero * self.shape.eta(p)
     }
 }
 

@@ -95,9 +95,7 @@ impl LayerModel {
         };
         let damper = Damper {
             eta_zero: eta_zero_pa_s / scales.p_h,
-            roelands_s: lub.eta0.ln() + 9.67,
-            z: lub.roelands_z(),
-            p0: lub.p0_roelands / scales.p_h,
+            shape: ehl_core::laws::Viscosity::roelands(lub, scales.p_h),
         };
         Self {
             l0: spec.supply_thickness_m / scales.delta,

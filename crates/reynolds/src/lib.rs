@@ -4,7 +4,8 @@
 //! `∬ P = 2π/3`, `P ≥ 0`.
 
 pub mod formulas;
-pub mod laws;
+/// The lubricant laws, written once in the core.
+pub use ehl_core::laws;
 pub mod level;
 pub mod params;
 pub mod solver;

@@ -45,11 +45,7 @@ impl ReynoldsParams {
         let scales = HertzScales::new(c);
         let moes = Moes::from_si(c, lub, u_sum);
         let viscosity = match visc {
-            ViscosityLaw::Roelands => Viscosity::Roelands {
-                s: lub.eta0.ln() + 9.67,
-                z: lub.roelands_z(),
-                p0: lub.p0_roelands / scales.p_h,
-            },
+            ViscosityLaw::Roelands => Viscosity::roelands(lub, scales.p_h),
             ViscosityLaw::Barus => Viscosity::Barus { alpha_bar: lub.alpha * scales.p_h },
             ViscosityLaw::Isoviscous => Viscosity::Isoviscous,
         };

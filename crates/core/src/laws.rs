@@ -1,5 +1,6 @@
 //! Lubricant laws in Hertz units (pressures in `p_h`): viscosity `η̄ = η/η0` and density
-//! `ρ̄ = ρ/ρ0` as functions of `P`.
+//! `ρ̄ = ρ/ρ0` as functions of `P`. Written once: the Reynolds solver's fluid and the layer
+//! model's Roelands-shaped damper evaluate the same functions.
 
 use serde::{Deserialize, Serialize};
 
@@ -17,6 +18,16 @@ pub enum Viscosity {
 }
 
 impl Viscosity {
+    /// Roelands for `lub` with pressures in units of `p_h` [Pa].
+    pub fn roelands(lub: &crate::Lubricant, p_h: f64) -> Self {
+        Viscosity::Roelands {
+            s: lub.eta0.ln() + 9.67,
+            z: lub.roelands_z(),
+            p0: lub.p0_roelands / p_h,
+        }
+    }
+
+    /// `η / η0` at `P` [p_h]; negative (cavitated) pressures read as zero.
     #[inline]
     pub fn eta(&self, p: f64) -> f64 {
         let p = p.max(0.0);
