@@ -2,8 +2,8 @@
 //! films and Hertz, a user-written scene under other conditions, and each model's result in a
 //! comparison equal to the model run alone.
 
-use ehl_cli::compare::{self, Comparison};
 use ehl_scene::{Model, Scene};
+use ehl_workbench::compare::{self, Comparison};
 
 fn user_scene() -> Scene {
     Scene::from_json(include_str!("data/user-10n.json"), "user-10n.json").unwrap()
@@ -71,7 +71,7 @@ fn user_scene_runs_every_model_and_each_equals_the_model_alone() {
     let c = compare::run(&scene);
     assert!(c.all_converged(), "{}", c.table());
     for m in [Model::Layer, Model::Reynolds, Model::Dry] {
-        let alone = ehl_cli::run_scene(&scene.for_model(m)).unwrap().observables();
+        let alone = ehl_workbench::run_scene(&scene.for_model(m)).unwrap().observables();
         let together = observables(&c, m);
         // Same scene, same solver, same grid: equal but for rayon's summation order (1e-12).
         for (what, a, b) in [

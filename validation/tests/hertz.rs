@@ -1,7 +1,7 @@
 //! The dry contact core against Hertz, end to end through the scene runner, and the scene's
 //! derived scales against the reference values stored in `reference/hertz.json`.
 
-use ehl_cli::run_scene;
+use ehl_workbench::run_scene;
 use serde_json::Value;
 
 fn reference() -> Value {
@@ -9,9 +9,12 @@ fn reference() -> Value {
     serde_json::from_str(text).unwrap()
 }
 
-fn hertz_at(n: usize) -> ehl_cli::DryOutcome {
+fn hertz_at(n: usize) -> ehl_workbench::DryOutcome {
     let scene = ehl_scene::builtin("hertz").unwrap().with_points(n).unwrap();
-    *run_scene(&scene).unwrap().downcast::<ehl_cli::DryOutcome>().expect("the hertz scene is dry")
+    *run_scene(&scene)
+        .unwrap()
+        .downcast::<ehl_workbench::DryOutcome>()
+        .expect("the hertz scene is dry")
 }
 
 #[test]

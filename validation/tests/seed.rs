@@ -2,7 +2,7 @@
 //! Hertz-normalised form, on grids coarse enough for CI. Each tolerance is the grid's own
 //! discretisation error (measured by `cargo xtask convergence layer`) plus the seed's rounding.
 
-use ehl_cli::{layer::LayerOutcome, run_scene};
+use ehl_workbench::{layer::LayerOutcome, run_scene};
 use serde_json::Value;
 
 fn seed(id: &str) -> f64 {

@@ -6,8 +6,10 @@
 //! (5 decimals for the dry contact, 4 for the layer and Reynolds): a snapshot changes only when
 //! the numbers do. Every snapshot starts with the observables and where they sit.
 
-use ehl_cli::{DryOutcome, Outcome, layer::LayerOutcome, reynolds::ReynoldsOutcome, run_scene};
 use ehl_core::Grid;
+use ehl_workbench::{
+    DryOutcome, Outcome, layer::LayerOutcome, reynolds::ReynoldsOutcome, run_scene,
+};
 use ndarray::Array2;
 
 fn fmt(v: f64, d: usize) -> String {

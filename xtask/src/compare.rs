@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 /// Runs the `seed` comparison into `out/seed-comparison` and prints its table.
 pub fn fig7(out: &Path) -> Result<Vec<PathBuf>> {
     let scene = ehl_scene::builtin("seed")?;
-    let c = ehl_cli::compare::run(&scene);
+    let c = ehl_workbench::compare::run(&scene);
     print!("{}", c.table());
     if !c.all_converged() {
         bail!("the seed comparison did not converge for every model");

@@ -1,9 +1,9 @@
 //! Grid convergence studies, with observed orders printed.
 
 use anyhow::Result;
-use ehl_cli::plot::{self, Mark, Panel, Series};
 use ehl_core::hertz::{self, observed_order};
 use ehl_core::{DryProblem, DrySettings, DrySolver, Grid, Start};
+use ehl_workbench::plot::{self, Mark, Panel, Series};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

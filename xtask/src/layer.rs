@@ -3,11 +3,11 @@
 //! per-step bench.
 
 use anyhow::Result;
-use ehl_cli::layer::LayerOutcome;
-use ehl_cli::plot::{self, Mark, Panel, Series};
-use ehl_cli::{Outcome, run_scene};
 use ehl_layer::{LayerModel, ModulusLaw, Scheme, Stepper, TimeSettings, squeeze_steady};
 use ehl_scene::Scene;
+use ehl_workbench::layer::LayerOutcome;
+use ehl_workbench::plot::{self, Mark, Panel, Series};
+use ehl_workbench::{Outcome, run_scene};
 use plotters::prelude::SeriesLabelPosition;
 use serde_json::json;
 use std::path::{Path, PathBuf};

@@ -133,11 +133,11 @@ fn figures(out: &std::path::Path) -> Result<()> {
         if scene.model.is_none() {
             continue; // comparison scenes: Fig. 7 below
         }
-        let outcome = ehl_cli::run_scene(&scene)?;
+        let outcome = ehl_workbench::run_scene(&scene)?;
         written.extend(outcome.figures(out, &format!("{}_", scene.name))?);
         // The numbers behind the figures, for the validation table.
         let f = out.join(format!("{}_summary.json", scene.name));
-        let summary = ehl_cli::output::summary_with_observables(outcome.as_ref());
+        let summary = ehl_workbench::output::summary_with_observables(outcome.as_ref());
         std::fs::write(&f, serde_json::to_string_pretty(&summary)? + "\n")?;
         written.push(f);
         if let Some(csv) = outcome.time_series_csv() {

@@ -2,10 +2,10 @@
 //! published formulas (`reference/reynolds_cases.json`).
 
 use anyhow::Result;
-use ehl_cli::plot::{self, Mark, Panel, Series};
 use ehl_core::{Contact, Grid, Lubricant, Moes};
 use ehl_reynolds::formulas::{hamrock_dowson_central, nvm_central};
 use ehl_reynolds::{DensityLaw, ReynoldsParams, ReynoldsSettings, ReynoldsSolver, ViscosityLaw};
+use ehl_workbench::plot::{self, Mark, Panel, Series};
 use plotters::prelude::SeriesLabelPosition;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -170,7 +170,7 @@ struct Solve {
 
 fn solve_scene(name: &str, n: usize) -> Result<Solve> {
     let scene = ehl_scene::builtin(name)?.with_points(n)?;
-    let (prm, mut s) = ehl_cli::reynolds::build_solver(&scene);
+    let (prm, mut s) = ehl_workbench::reynolds::build_solver(&scene);
     let nm = prm.scales.delta * 1e9;
     let rep = s.solve(&mut |_| {})?;
     let (hc, hmin) = s.films();

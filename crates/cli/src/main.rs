@@ -2,7 +2,7 @@
 
 use anyhow::{Result, bail};
 use clap::{Parser, Subcommand};
-use ehl_cli::{compare, output, run_scene};
+use ehl_workbench::{compare, output, run_scene};
 use std::path::PathBuf;
 
 #[derive(Parser)]

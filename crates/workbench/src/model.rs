@@ -3,12 +3,11 @@
 //! Nothing outside a model's own module matches on which model it is; the registry in
 //! [`crate::run`] is the one place that lists them.
 
-use crate::output::Centreline;
 use anyhow::Result;
 use ehl_core::{Grid, HertzScales, Observables};
 use ehl_scene::Scene;
 use ndarray::Array2;
-use serde_json::Value;
+use serde_json::{Value, json};
 use std::any::Any;
 use std::path::{Path, PathBuf};
 
@@ -69,5 +68,28 @@ impl dyn Outcome {
             ndarray::Array1::from_shape_fn(g.nx, |i| g.x(i) * a),
             ndarray::Array1::from_shape_fn(g.ny, |j| g.y(j) * a),
         )
+    }
+}
+
+/// A scalar with its unit.
+pub fn q(value: f64, unit: &str) -> Value {
+    json!({ "value": value, "unit": unit })
+}
+
+/// Columns of the centreline table: header (with unit) and values.
+pub struct Centreline {
+    pub columns: Vec<(String, Vec<f64>)>,
+}
+
+impl Centreline {
+    pub fn to_csv(&self) -> String {
+        let mut s = self.columns.iter().map(|c| c.0.as_str()).collect::<Vec<_>>().join(",");
+        s.push('\n');
+        for k in 0..self.columns[0].1.len() {
+            let row: Vec<String> = self.columns.iter().map(|c| format!("{:e}", c.1[k])).collect();
+            s.push_str(&row.join(","));
+            s.push('\n');
+        }
+        s
     }
 }

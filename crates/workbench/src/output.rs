@@ -3,32 +3,10 @@
 //! them were written, so a failed run leaves nothing half-written.
 
 use crate::model::Outcome;
+pub use crate::model::{Centreline, q};
 use anyhow::{Context, Result};
-use serde_json::{Value, json};
+use serde_json::Value;
 use std::path::{Path, PathBuf};
-
-/// A scalar with its unit.
-pub fn q(value: f64, unit: &str) -> Value {
-    json!({ "value": value, "unit": unit })
-}
-
-/// Columns of the centreline table: header (with unit) and values.
-pub struct Centreline {
-    pub columns: Vec<(String, Vec<f64>)>,
-}
-
-impl Centreline {
-    pub fn to_csv(&self) -> String {
-        let mut s = self.columns.iter().map(|c| c.0.as_str()).collect::<Vec<_>>().join(",");
-        s.push('\n');
-        for k in 0..self.columns[0].1.len() {
-            let row: Vec<String> = self.columns.iter().map(|c| format!("{:e}", c.1[k])).collect();
-            s.push_str(&row.join(","));
-            s.push('\n');
-        }
-        s
-    }
-}
 
 /// Writes everything the scene asks for into `dir`, replacing it as a whole (see
 /// [`replace_dir`]); returns the files written.

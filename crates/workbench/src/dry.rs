@@ -1,7 +1,6 @@
 //! The dry contact as a workbench model: the contact core alone, checked against Hertz.
 
-use crate::model::{ContactModel, Outcome};
-use crate::output::{Centreline, q};
+use crate::model::{Centreline, ContactModel, Outcome, q};
 use crate::plot::{self, Mark, Panel, Series};
 use anyhow::{Context, Result};
 use ehl_core::hertz::{self, Comparison};

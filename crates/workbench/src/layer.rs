@@ -1,7 +1,6 @@
 //! Layer-model scenes: the run (start state, motion, stop rule) and what it writes.
 
-use crate::model::{ContactModel, Outcome};
-use crate::output::{Centreline, q};
+use crate::model::{Centreline, ContactModel, Outcome, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use anyhow::{Context, Result};
 use ehl_core::{Grid, HertzScales, hertz};

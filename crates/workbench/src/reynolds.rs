@@ -1,7 +1,6 @@
 //! Reynolds-model scenes: the steady EHL solve and what it writes.
 
-use crate::model::{ContactModel, Outcome};
-use crate::output::{Centreline, q};
+use crate::model::{Centreline, ContactModel, Outcome, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use anyhow::{Context, Result, bail};
 use ehl_core::{Grid, HertzScales, hertz};
