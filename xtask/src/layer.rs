@@ -93,9 +93,9 @@ fn measure_scene(scene: &Scene) -> Result<Point> {
     Ok(p)
 }
 
-/// `log2(|q1 − q2| / |q2 − q3|)` for three results with refinement ratio 2.
+/// Observed order of three results with refinement ratio 2 (the core's one definition).
 fn order3(q1: f64, q2: f64, q3: f64) -> f64 {
-    ((q1 - q2).abs() / (q2 - q3).abs()).log2()
+    ehl_core::hertz::observed_order_of_three(q1, q2, q3, 2.0)
 }
 
 fn print_orders(label: &str, pts: &[&Point]) -> Vec<serde_json::Value> {

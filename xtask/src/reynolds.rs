@@ -223,7 +223,7 @@ pub fn convergence(out: &Path, max_points: usize) -> Result<Vec<PathBuf>> {
         let ok: Vec<&Solve> = pts.iter().filter(|p| p.converged).collect();
         for w in ok.windows(3) {
             let o = |f: fn(&Solve) -> f64| {
-                ((f(w[0]) - f(w[1])).abs() / (f(w[1]) - f(w[2])).abs()).log2()
+                ehl_core::hertz::observed_order_of_three(f(w[0]), f(w[1]), f(w[2]), 2.0)
             };
             let (oc, om) = (o(|p| p.central_nm), o(|p| p.minimum_nm));
             // Richardson with the observed order of the central film.

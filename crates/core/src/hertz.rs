@@ -76,8 +76,54 @@ pub fn compare(grid: &crate::Grid, p: &ndarray::Array2<f64>, h0: f64) -> Compari
     }
 }
 
-/// Observed order of convergence between two grids whose spacing differs by `ratio`:
-/// `log(|e_coarse| / |e_fine|) / log(ratio)`.
+/// Observed order of convergence between two grids whose spacing differs by `ratio`, from known
+/// errors: `log(|e_coarse| / |e_fine|) / log(ratio)`.
 pub fn observed_order(e_coarse: f64, e_fine: f64, ratio: f64) -> f64 {
     (e_coarse.abs() / e_fine.abs()).ln() / ratio.ln()
+}
+
+/// Observed order from a quantity on three grids refined by `ratio` each time (no exact value
+/// needed): `log(|q1 − q2| / |q2 − q3|) / log(ratio)`. Every convergence study uses this one.
+pub fn observed_order_of_three(q_coarse: f64, q_medium: f64, q_fine: f64, ratio: f64) -> f64 {
+    observed_order(q_coarse - q_medium, q_medium - q_fine, ratio)
+}
+
+#[cfg(test)]
+mod comparison_tests {
+    use super::*;
+    use crate::Grid;
+
+    #[test]
+    fn comparison_of_the_exact_field_and_of_known_errors() {
+        let g = Grid::square(201, 1.25);
+        let exact = g.field(pressure);
+        let c = compare(&g, &exact, APPROACH);
+        assert_eq!((c.p_max, c.p_max_error, c.approach, c.approach_error), (1.0, 0.0, 1.0, 0.0));
+        assert_eq!(c.pressure_l2_error, 0.0);
+        // Cells with p > 0 cover the disc to within the ring of edge cells (ΔX = 0.0125).
+        assert!(c.contact_radius_error.abs() < 0.0125, "{}", c.contact_radius_error);
+        // Known errors: 1 % too much pressure everywhere, an approach 0.1 too deep.
+        let c = compare(&g, &exact.mapv(|v| 1.01 * v), -1.1);
+        assert!((c.p_max_error - 0.01).abs() < 1e-14 && (c.pressure_l2_error - 0.01).abs() < 1e-14);
+        assert!((c.approach - 1.1).abs() < 1e-14 && (c.approach_error - 0.1).abs() < 1e-14);
+        // A contact of radius 0.5: the area-equivalent radius halves.
+        let half = g.field(|x, y| pressure(2.0 * x, 2.0 * y));
+        let c = compare(&g, &half, APPROACH);
+        assert!(
+            (c.contact_radius - 0.5).abs() < 0.0125
+                && (c.contact_radius_error + 0.5).abs() < 0.0125
+        );
+    }
+
+    #[test]
+    fn observed_orders() {
+        // e = h²: halving h quarters the error.
+        assert!((observed_order(4e-4, 1e-4, 2.0) - 2.0).abs() < 1e-12);
+        assert!((observed_order(-3e-3, 1e-3, 3.0) - 1.0).abs() < 1e-12);
+        // q = 1 + h: 1.4, 1.2, 1.1 -> first order.
+        assert!((observed_order_of_three(1.4, 1.2, 1.1, 2.0) - 1.0).abs() < 1e-12);
+        assert!(
+            (observed_order_of_three(1.0 + 0.16, 1.0 + 0.04, 1.0 + 0.01, 2.0) - 2.0).abs() < 1e-12
+        );
+    }
 }
