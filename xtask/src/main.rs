@@ -9,6 +9,7 @@ mod convergence;
 mod layer;
 mod mutants;
 mod reynolds;
+mod scene_study;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -30,10 +31,15 @@ enum Command {
     },
     /// Grid (and, for time-dependent models, time-step) convergence studies.
     Convergence {
-        /// Which study: `dry` (Hertz grid study) or `layer` (steady rolling: grids, time steps,
-        /// explicit stability, speed against accuracy) or `reynolds` (grid studies of the
-        /// built-in Reynolds scenes, speed against accuracy, side by side with the layer's).
-        study: Study,
+        /// Which study: `dry` (Hertz grid study), `layer` (steady rolling: grids, time steps,
+        /// explicit stability, speed against accuracy), `layer-steady` (the direct steady solve),
+        /// `reynolds` (grid studies of the built-in Reynolds scenes); or any scene, built-in or a
+        /// file (one model or a comparison): every model's grid study on `--grids`, observed
+        /// orders, one speed-against-accuracy chart.
+        study: String,
+        /// Grids of a scene study, points per side.
+        #[arg(long, value_delimiter = ',', default_value = "65,129,257,513")]
+        grids: Vec<usize>,
         #[arg(long, default_value = "out/convergence")]
         out: PathBuf,
         /// Finest grid, points per side.
@@ -99,17 +105,14 @@ enum Study {
 fn main() -> Result<()> {
     match Cli::parse().command {
         Command::Figures { out } => figures(&out),
-        Command::Convergence { study: Study::Dry, out, max_points, .. } => {
-            convergence::dry(&out, max_points).map(|_| ())
-        }
-        Command::Convergence { study: Study::Layer, out, max_points, nt_points } => {
-            layer::convergence(&out, max_points, nt_points).map(|_| ())
-        }
-        Command::Convergence { study: Study::LayerSteady, out, max_points, .. } => {
-            layer::steady_study(&out, max_points, true).map(|_| ())
-        }
-        Command::Convergence { study: Study::Reynolds, out, max_points, .. } => {
-            reynolds::convergence(&out, max_points).map(|_| ())
+        Command::Convergence { study, grids, out, max_points, nt_points } => {
+            match <Study as clap::ValueEnum>::from_str(&study, false) {
+                Ok(Study::Dry) => convergence::dry(&out, max_points).map(|_| ()),
+                Ok(Study::Layer) => layer::convergence(&out, max_points, nt_points).map(|_| ()),
+                Ok(Study::LayerSteady) => layer::steady_study(&out, max_points, true).map(|_| ()),
+                Ok(Study::Reynolds) => reynolds::convergence(&out, max_points).map(|_| ()),
+                Err(_) => scene_study::run(&study, &grids, &out).map(|_| ()),
+            }
         }
         Command::Bench { out, max_points } => bench::run(&out, max_points),
         Command::Mutants { file, shard, timeout, out } => {

@@ -1,0 +1,155 @@
+//! `cargo xtask convergence <scene> [--grids 65,129,257,513]`: a grid study of any scene, one-model
+//! or comparison, through the same path as `ehl compare`: each model's observables per grid, the
+//! observed orders of its central and minimum film, a Richardson reference, and one
+//! speed-against-accuracy chart with every model on the same axes.
+
+use anyhow::{Result, bail};
+use ehl_core::hertz::observed_order_of_three;
+use ehl_workbench::compare;
+use ehl_workbench::plot::{self, Mark, Panel, Series};
+use serde_json::json;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+#[derive(Clone, Debug, serde::Serialize)]
+struct Point {
+    n: usize,
+    converged: bool,
+    diagnosis: Option<String>,
+    central_film_nm: f64,
+    minimum_film_nm: f64,
+    max_pressure_gpa: f64,
+    wall_time_s: f64,
+}
+
+pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
+    if grids.len() < 2 {
+        bail!("--grids: at least two grids (three for observed orders)");
+    }
+    let base = ehl_scene::load(scene)?;
+    std::fs::create_dir_all(out)?;
+    let mut by_model: BTreeMap<String, Vec<Point>> = BTreeMap::new();
+    for &n in grids {
+        let mut s = base.with_points(n)?;
+        s.outputs.figures = false;
+        println!("{} on {n}²:", s.name);
+        let c = compare::run(&s);
+        for e in &c.entries {
+            let p = match &e.outcome {
+                Ok(o) => {
+                    let ob = o.observables();
+                    Point {
+                        n,
+                        converged: true,
+                        diagnosis: None,
+                        central_film_nm: ob.central_film_m * 1e9,
+                        minimum_film_nm: ob.minimum_film_m * 1e9,
+                        max_pressure_gpa: ob.max_pressure_pa * 1e-9,
+                        wall_time_s: e.wall_time_s,
+                    }
+                }
+                Err(d) => Point {
+                    n,
+                    converged: false,
+                    diagnosis: Some(d.clone()),
+                    central_film_nm: f64::NAN,
+                    minimum_film_nm: f64::NAN,
+                    max_pressure_gpa: f64::NAN,
+                    wall_time_s: e.wall_time_s,
+                },
+            };
+            match &p.diagnosis {
+                None => println!(
+                    "  {:<9} h_c {:>10.4} nm  h_min {:>9.4} nm  p_max {:.5} GPa  {:>7.2} s",
+                    e.name(),
+                    p.central_film_nm,
+                    p.minimum_film_nm,
+                    p.max_pressure_gpa,
+                    p.wall_time_s
+                ),
+                Some(d) => println!("  {:<9} FAILED ({:.2} s): {d}", e.name(), p.wall_time_s),
+            }
+            by_model.entry(e.name()).or_default().push(p);
+        }
+    }
+    let mut summary = serde_json::Map::new();
+    let mut series = vec![];
+    for (model, pts) in &by_model {
+        let ok: Vec<&Point> = pts.iter().filter(|p| p.converged).collect();
+        let mut orders = vec![];
+        for w in ok.windows(3) {
+            if w[1].n != 2 * w[0].n - 1 || w[2].n != 2 * w[1].n - 1 {
+                continue; // orders need grids refined by 2
+            }
+            let oc = observed_order_of_three(
+                w[0].central_film_nm,
+                w[1].central_film_nm,
+                w[2].central_film_nm,
+                2.0,
+            );
+            let om = observed_order_of_three(
+                w[0].minimum_film_nm,
+                w[1].minimum_film_nm,
+                w[2].minimum_film_nm,
+                2.0,
+            );
+            println!(
+                "  {model}: observed order {}→{}→{}: h_c {oc:.2}, h_min {om:.2}",
+                w[0].n, w[1].n, w[2].n
+            );
+            orders.push(
+                json!({"grids": [w[0].n, w[1].n, w[2].n], "central_film": oc, "minimum_film": om}),
+            );
+        }
+        // Reference: Richardson from the finest three at their observed order when it is
+        // sensible (0.5 … 4), else the finest grid's value.
+        let reference = match ok.len() {
+            k if k >= 3 => {
+                let (a, b, c) = (
+                    ok[k - 3].central_film_nm,
+                    ok[k - 2].central_film_nm,
+                    ok[k - 1].central_film_nm,
+                );
+                let o = observed_order_of_three(a, b, c, 2.0);
+                if (0.5..=4.0).contains(&o) { c + (c - b) / (2f64.powf(o) - 1.0) } else { c }
+            }
+            k if k >= 1 => ok[k - 1].central_film_nm,
+            _ => f64::NAN,
+        };
+        let pts_xy: Vec<(f64, f64)> = ok
+            .iter()
+            .map(|p| (p.wall_time_s, (p.central_film_nm - reference).abs()))
+            .filter(|(t, e)| *t > 0.0 && *e > 0.0)
+            .collect();
+        series.push(Series::new(
+            format!("{model} (h_c against {reference:.4} nm)"),
+            pts_xy,
+            Mark::LinePoints,
+        ));
+        summary.insert(
+            model.clone(),
+            json!({"points": pts, "observed_orders": orders, "reference_central_film_nm": reference}),
+        );
+    }
+    let stem = base.name.clone();
+    let png = out.join(format!("{stem}_speed_accuracy.png"));
+    plot::charts(
+        &png,
+        &[Panel::new(
+            &format!("{stem}: error in h_c against wall time, grids {grids:?}"),
+            "wall time [s]",
+            "|h_c − reference| [nm]",
+            series,
+        )
+        .log_log()],
+        "reference: Richardson extrapolation of each model's finest three grids (its own finest grid when the order is not sensible)",
+    )?;
+    let js = out.join(format!("{stem}_convergence.json"));
+    std::fs::write(
+        &js,
+        serde_json::to_string_pretty(&json!({"scene": stem, "grids": grids, "models": summary}))?
+            + "\n",
+    )?;
+    println!("wrote {} and {}", png.display(), js.display());
+    Ok(vec![png, js])
+}
