@@ -142,7 +142,7 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
             series,
         )
         .log_log()],
-        "reference: Richardson extrapolation of each model's finest three grids (its own finest grid when the order is not sensible)",
+        "reference: Richardson from each model's finest 3 grids (its finest grid if the order is off 0.5-4)",
     )?;
     let js = out.join(format!("{stem}_convergence.json"));
     std::fs::write(
