@@ -77,6 +77,17 @@ mod tests {
     use super::*;
 
     #[test]
+    fn modulus_laws_at_a_hand_computed_point() {
+        // Eo = 0.25, p_ref = 1, p = 0.5, eps = 0.5: the exponent is p_ref/Eo = 4, eps^4 = 0.0625.
+        // Power: 0.25 + 0.25 * 0.0625 = 0.265625; geometric: 0.25^0.9375 * 0.5^0.0625 =
+        // 0.26106845 (by hand, Python); power-linear: 0.25 + 0.25 * 0.5 = 0.375.
+        let e = |law: ModulusLaw| law.modulus(0.5, 0.5, 0.25, 1.0);
+        assert!((e(ModulusLaw::Power) - 0.265625).abs() < 1e-15);
+        assert!((e(ModulusLaw::Geometric) - 0.26106845).abs() < 1e-8);
+        assert!((e(ModulusLaw::PowerLinear) - 0.375).abs() < 1e-15);
+    }
+
+    #[test]
     fn modulus_laws_meet_the_papers_constraints() {
         let (eo, p_ref) = (0.2557, 1.0); // Eo/p_h for the seed: 0.1346 / 0.5265
         for law in [ModulusLaw::Power, ModulusLaw::PowerLinear, ModulusLaw::Geometric] {
