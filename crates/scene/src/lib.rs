@@ -553,6 +553,14 @@ impl Scene {
             if let Some(p) = l.reference_pressure_pa {
                 positive("layer.reference_pressure_pa", p, "Pa")?;
             }
+            let sm = l.coefficient_smoothing_a;
+            if !(sm.is_finite() && (0.0..=0.5).contains(&sm)) {
+                return Err(err(
+                    "layer.coefficient_smoothing_a",
+                    format!("{sm}"),
+                    "must be in [0, 0.5] (units of a; wider smooths the contact itself away)",
+                ));
+            }
         }
         if self.model == Some(Model::Reynolds) {
             let missing = |f: &str| err(f, "(missing)".into(), "required by the Reynolds model");

@@ -1,0 +1,157 @@
+//! Bad input, tried at scale: every built-in scene mutated (fields removed, types changed, extreme
+//! numbers, unknown enum values, huge arrays, unknown fields), 2000 cases. Never a panic; every
+//! refusal names the field path; every accepted mutation runs on a 17² grid or stops with a
+//! diagnosis, and what it reports is finite.
+
+use ehl_scene::{Scene, SceneError};
+use proptest::prelude::*;
+use serde_json::Value;
+
+/// Every path in a JSON value: object keys and array indices, the root excluded.
+fn paths(v: &Value, prefix: &mut Vec<String>, out: &mut Vec<Vec<String>>) {
+    match v {
+        Value::Object(m) => {
+            for (k, c) in m {
+                prefix.push(k.clone());
+                out.push(prefix.clone());
+                paths(c, prefix, out);
+                prefix.pop();
+            }
+        }
+        Value::Array(a) => {
+            for (i, c) in a.iter().enumerate() {
+                prefix.push(i.to_string());
+                out.push(prefix.clone());
+                paths(c, prefix, out);
+                prefix.pop();
+            }
+        }
+        _ => {}
+    }
+}
+
+fn parent_mut<'a>(v: &'a mut Value, path: &[String]) -> &'a mut Value {
+    let mut cur = v;
+    for k in &path[..path.len() - 1] {
+        cur = match cur {
+            Value::Object(m) => m.get_mut(k).unwrap(),
+            Value::Array(a) => &mut a[k.parse::<usize>().unwrap()],
+            _ => unreachable!(),
+        };
+    }
+    cur
+}
+
+const EXTREMES: &[f64] =
+    &[0.0, -1.0, 1e300, -1e300, 1e-300, 5e-324, 1e20, 0.5, 3.0, 1e6, -0.0, 4097.0, 1e9];
+
+/// Applies mutation `kind` at `path`; the replacement value from `k`.
+fn mutate(v: &mut Value, path: &[String], kind: u8, k: usize) {
+    let last = path.last().unwrap().clone();
+    let parent = parent_mut(v, path);
+    let new = match kind {
+        0 => {
+            match parent {
+                Value::Object(m) => {
+                    m.remove(&last);
+                }
+                Value::Array(a) => {
+                    a.remove(last.parse::<usize>().unwrap());
+                }
+                _ => {}
+            }
+            return;
+        }
+        1 => Value::String("bogus".into()),
+        2 => serde_json::json!(EXTREMES[k % EXTREMES.len()]),
+        3 => Value::Null,
+        4 => Value::Array(vec![serde_json::json!(0.01); 100_000]),
+        5 => serde_json::json!({}),
+        6 => Value::Bool(true),
+        _ => {
+            if let Value::Object(m) = parent {
+                m.insert("unknown_field".into(), serde_json::json!(1));
+            }
+            return;
+        }
+    };
+    match parent {
+        Value::Object(m) => {
+            m.insert(last, new);
+        }
+        Value::Array(a) => a[last.parse::<usize>().unwrap()] = new,
+        _ => {}
+    }
+}
+
+fn env_or(key: &str, default: u64) -> u64 {
+    std::env::var(key).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
+}
+
+fn check(text: &str) -> Result<(), TestCaseError> {
+    let parsed = std::panic::catch_unwind(|| Scene::from_json(text, "fuzz"));
+    let parsed = parsed.map_err(|_| TestCaseError::fail("Scene::from_json panicked"))?;
+    let scene = match parsed {
+        Err(SceneError::Parse { path, message, .. }) => {
+            // The path is serde's (`.` at the root, where the message names the field).
+            prop_assert!(!path.is_empty(), "no path: {message}");
+            prop_assert!(path != "." || message.contains('`'), "no field named: {message}");
+            return Ok(());
+        }
+        Err(SceneError::Range { field, .. }) => {
+            prop_assert!(!field.is_empty());
+            return Ok(());
+        }
+        Err(e) => return Err(TestCaseError::fail(format!("unexpected refusal: {e}"))),
+        Ok(s) => s,
+    };
+    let Ok(mut scene) = scene.with_points(17) else { return Ok(()) }; // refused with its field
+    scene.outputs.figures = false;
+    let run = std::panic::catch_unwind(|| ehl_workbench::compare::run(&scene));
+    let c = run.map_err(|_| TestCaseError::fail(format!("run panicked on {text}")))?;
+    for e in &c.entries {
+        match &e.outcome {
+            Ok(o) => {
+                let ob = o.observables();
+                for v in [ob.central_film_m, ob.minimum_film_m, ob.max_pressure_pa] {
+                    prop_assert!(v.is_finite(), "{}: non-finite result {ob:?}", e.name());
+                }
+            }
+            Err(d) => prop_assert!(!d.is_empty()),
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    // A fixed seed, so CI runs the same 2000 cases every time (30-45 s here); FUZZ_SEED=<u64>
+    // explores others, FUZZ_CASES changes the count.
+    #![proptest_config(ProptestConfig {
+        cases: env_or("FUZZ_CASES", 2000) as u32,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(env_or("FUZZ_SEED", 0x5eed_2026)),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    #[test]
+    fn mutated_scenes_are_refused_by_field_or_run(
+        scene in 0..ehl_scene::builtin_names().len(),
+        pick in any::<usize>(),
+        kind in 0u8..8,
+        k in any::<usize>(),
+    ) {
+        let name = ehl_scene::builtin_names()[scene];
+        let mut v: Value = serde_json::from_str(&ehl_scene::builtin(name).unwrap().to_json()).unwrap();
+        let mut all = vec![];
+        paths(&v, &mut vec![], &mut all);
+        let path = all[pick % all.len()].clone();
+        mutate(&mut v, &path, kind, k);
+        let t0 = std::time::Instant::now();
+        let r = check(&v.to_string());
+        let dt = t0.elapsed().as_secs_f64();
+        if dt > 0.5 {
+            eprintln!("SLOW {dt:.1} s: {name} {path:?} kind {kind} k {}", k % EXTREMES.len());
+        }
+        r?;
+    }
+}
