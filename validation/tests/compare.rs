@@ -122,6 +122,16 @@ fn comparison_scenes_are_checked_per_model() {
     let twice = text.replace("[\"layer\", \"reynolds\", \"dry\"]", "[\"layer\", \"layer\"]");
     let e = Scene::from_json(&twice, "t").unwrap_err().to_string();
     assert!(e.contains("models[1]"), "{e}");
+    // Moes input would give the Reynolds model its own load and speed: refused in a comparison,
+    // and, in a one-model scene, refused beside a rolling velocity it would override.
+    let moes =
+        text.replace("\"reynolds\": {}", "\"reynolds\": {\"moes\": {\"m\": 20.0, \"l\": 10.0}}");
+    let e = Scene::from_json(&moes, "t").unwrap_err().to_string();
+    assert!(e.contains("reynolds.moes") && e.contains("same load"), "{e}");
+    let one =
+        moes.replace("\"models\": [\"layer\", \"reynolds\", \"dry\"]", "\"model\": \"reynolds\"");
+    let e = Scene::from_json(&one, "t").unwrap_err().to_string();
+    assert!(e.contains("conditions.rolling_velocity_m_s") && e.contains("moes"), "{e}");
     // A field one model needs, named as in the scene: the Reynolds solver needs square cells.
     let skew = text.replace("\"ny\": 129", "\"ny\": 65");
     let e = Scene::from_json(&skew, "t").unwrap_err().to_string();

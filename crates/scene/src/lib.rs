@@ -482,6 +482,13 @@ impl Scene {
                         ));
                     }
                 }
+                if self.reynolds.as_ref().is_some_and(|r| r.moes.is_some()) {
+                    return Err(err(
+                        "reynolds.moes",
+                        "(given)".into(),
+                        "not in a comparison: every model must run the same load and velocity (give conditions.load_n and rolling_velocity_m_s)",
+                    ));
+                }
                 // Each model checks the scene as it would run it alone: the field names are the
                 // scene's own.
                 for &m in &self.models {
@@ -568,6 +575,13 @@ impl Scene {
             let r = self.reynolds.as_ref().ok_or_else(|| missing("reynolds"))?;
             match r.moes {
                 Some(m) => {
+                    if let Some(u) = c.rolling_velocity_m_s {
+                        return Err(err(
+                            "conditions.rolling_velocity_m_s",
+                            format!("{u}"),
+                            "must be absent with reynolds.moes (M and L set the load and the velocity; conditions.load_n is replaced too, and the run says so)",
+                        ));
+                    }
                     positive("reynolds.moes.m", m.m, "1")?;
                     positive("reynolds.moes.l", m.l, "1")?;
                     positive(

@@ -570,6 +570,16 @@ fn reynolds_report(o: &ReynoldsOutcome) -> String {
         o.prm.moes.m,
         o.prm.moes.l
     );
+    if o.scene.reynolds.as_ref().is_some_and(|r| r.moes.is_some()) {
+        let (c, u_sum) = o.scene.reynolds_conditions();
+        let _ = writeln!(
+            out,
+            "  load and velocity from Moes M, L: F = {:.4} N, u1 = u2 = {:.4e} m/s (conditions.load_n = {} N not used)",
+            c.load,
+            0.5 * u_sum,
+            o.scene.conditions.load_n
+        );
+    }
     let _ = writeln!(
         out,
         "  central film {:.4e} m (H = {:.5}), minimum film {:.4e} m (H = {:.5}), max pressure {:.4e} Pa ({:.4} p_h)",
