@@ -12,36 +12,28 @@ struct Cli {
     command: Command,
 }
 
+/// What `run` and `compare` take.
+#[derive(clap::Args)]
+struct RunArgs {
+    /// Built-in scene name (see `ehl scenes`) or path to a scene JSON file.
+    scene: String,
+    /// Output folder (default: out/<scene name>); replaced as a whole when the run is done.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Points per side, overriding the scene's grid.
+    #[arg(long)]
+    grid: Option<usize>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
 #[derive(Subcommand)]
 enum Command {
-    /// Run a scene (a built-in name or a JSON file) and write its results.
-    Run {
-        /// Built-in scene name (see `ehl scenes`) or path to a scene JSON file.
-        scene: String,
-        /// Output folder (default: out/<scene name>).
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Points per side, overriding the scene's grid.
-        #[arg(long)]
-        grid: Option<usize>,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
-    },
+    /// Run a one-model scene (a built-in name or a JSON file) and write its results.
+    Run(RunArgs),
     /// Run every model a comparison scene lists on the same grid and put them side by side.
-    Compare {
-        /// Built-in comparison scene (e.g. `seed`) or path to a scene JSON file with `models`.
-        scene: String,
-        /// Output folder (default: out/<scene name>); replaced as a whole when the run is done.
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Points per side, overriding the scene's grid.
-        #[arg(long)]
-        grid: Option<usize>,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
-    },
+    Compare(RunArgs),
     /// List the built-in scenes.
     Scenes,
     /// Check a scene file without running it; prints it with all defaults filled in.
@@ -72,7 +64,7 @@ fn real_main() -> Result<()> {
             let s = ehl_scene::load(&scene)?;
             println!("{}", s.to_json());
         }
-        Command::Run { scene, out, grid, threads } => {
+        Command::Run(RunArgs { scene, out, grid, threads }) => {
             let s = prepare(&scene, grid, threads)?;
             if s.model.is_none() {
                 bail!(
@@ -90,7 +82,7 @@ fn real_main() -> Result<()> {
                 println!("  {}", f.display());
             }
         }
-        Command::Compare { scene, out, grid, threads } => {
+        Command::Compare(RunArgs { scene, out, grid, threads }) => {
             let s = prepare(&scene, grid, threads)?;
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
             let c = compare::run(&s);
