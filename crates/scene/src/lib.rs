@@ -165,6 +165,37 @@ impl Scene {
     }
 }
 
+/// The range checks' vocabulary: each refusal names the scene, the field, the value and what is
+/// allowed.
+struct Check<'a> {
+    origin: &'a str,
+}
+
+impl Check<'_> {
+    fn err(&self, field: &str, value: String, allowed: &str) -> SceneError {
+        SceneError::Range {
+            origin: self.origin.into(),
+            field: field.into(),
+            value,
+            allowed: allowed.into(),
+        }
+    }
+    fn positive(&self, field: &str, v: f64, unit: &str) -> Result<(), SceneError> {
+        if v.is_finite() && v > 0.0 {
+            Ok(())
+        } else {
+            Err(self.err(field, format!("{v}"), &format!("must be finite and > 0 ({unit})")))
+        }
+    }
+    fn nonneg(&self, field: &str, v: f64, unit: &str) -> Result<(), SceneError> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(())
+        } else {
+            Err(self.err(field, format!("{v}"), &format!("must be finite and >= 0 ({unit})")))
+        }
+    }
+}
+
 /// Conditions in SI; each field's unit is in its name.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -435,23 +466,11 @@ impl Scene {
 
     /// Range checks, each naming the field and what it allows.
     pub fn validate(&self, origin: &str) -> Result<(), SceneError> {
-        let err = |field: &str, value: String, allowed: &str| SceneError::Range {
-            origin: origin.into(),
-            field: field.into(),
-            value,
-            allowed: allowed.into(),
-        };
-        let positive = |field: &str, v: f64, unit: &str| {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(err(field, format!("{v}"), &format!("must be finite and > 0 ({unit})")))
-            }
-        };
+        let ck = Check { origin };
         if self.name.trim().is_empty()
             || !self.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
         {
-            return Err(err(
+            return Err(ck.err(
                 "name",
                 format!("{:?}", self.name),
                 "must be non-empty ASCII letters, digits, '-' or '_'",
@@ -459,14 +478,14 @@ impl Scene {
         }
         match (self.model, self.models.is_empty()) {
             (Some(_), false) => {
-                return Err(err(
+                return Err(ck.err(
                     "models",
                     format!("{:?}", self.models),
                     "give either `model` (one model) or `models` (a comparison), not both",
                 ));
             }
             (None, true) => {
-                return Err(err(
+                return Err(ck.err(
                     "model",
                     "(missing)".into(),
                     "one of \"dry\", \"layer\", \"reynolds\"; or `models`, a list of them",
@@ -475,7 +494,7 @@ impl Scene {
             (None, false) => {
                 for (k, m) in self.models.iter().enumerate() {
                     if self.models[..k].contains(m) {
-                        return Err(err(
+                        return Err(ck.err(
                             &format!("models[{k}]"),
                             format!("{m:?}"),
                             "each model once",
@@ -483,7 +502,7 @@ impl Scene {
                     }
                 }
                 if self.reynolds.as_ref().is_some_and(|r| r.moes.is_some()) {
-                    return Err(err(
+                    return Err(ck.err(
                         "reynolds.moes",
                         "(given)".into(),
                         "not in a comparison: every model must run the same load and velocity (give conditions.load_n and rolling_velocity_m_s)",
@@ -499,331 +518,330 @@ impl Scene {
             (Some(_), true) => {}
         }
         let c = &self.conditions;
-        positive("conditions.ball_radius_m", c.ball_radius_m, "m")?;
-        positive("conditions.load_n", c.load_n, "N")?;
-        positive("conditions.reduced_modulus_pa", c.reduced_modulus_pa, "Pa")?;
+        ck.positive("conditions.ball_radius_m", c.ball_radius_m, "m")?;
+        ck.positive("conditions.load_n", c.load_n, "N")?;
+        ck.positive("conditions.reduced_modulus_pa", c.reduced_modulus_pa, "Pa")?;
         for (field, r) in [("domain.x_a", self.domain.x_a), ("domain.y_a", self.domain.y_a)] {
             if !(r[0].is_finite() && r[1].is_finite() && r[0] < r[1]) {
-                return Err(err(
+                return Err(ck.err(
                     field,
                     format!("{r:?}"),
                     "must be [min, max] with finite min < max (units of a)",
                 ));
             }
             if !(r[0] <= 0.0 && r[1] >= 0.0) {
-                return Err(err(field, format!("{r:?}"), "must contain 0 (the contact centre)"));
+                return Err(ck.err(field, format!("{r:?}"), "must contain 0 (the contact centre)"));
             }
         }
         // 5 points is the least that resolves anything; 4097² fields are 128 MiB each.
         for (field, n) in [("grid.nx", self.grid.nx), ("grid.ny", self.grid.ny)] {
             if !(5..=4097).contains(&n) {
-                return Err(err(field, n.to_string(), "must be 5 ..= 4097 points"));
+                return Err(ck.err(field, n.to_string(), "must be 5 ..= 4097 points"));
             }
         }
         let s = &self.solver;
         if !(s.tolerance.is_finite() && s.tolerance > 0.0 && s.tolerance < 1.0) {
-            return Err(err(
+            return Err(ck.err(
                 "solver.tolerance",
                 format!("{}", s.tolerance),
                 "must be in (0, 1) (RMS gap on the contact, units of a²/R)",
             ));
         }
         if s.max_iterations == 0 {
-            return Err(err("solver.max_iterations", "0".into(), "must be >= 1"));
+            return Err(ck.err("solver.max_iterations", "0".into(), "must be >= 1"));
         }
-        let nonneg = |field: &str, v: f64, unit: &str| {
-            if v.is_finite() && v >= 0.0 {
-                Ok(())
-            } else {
-                Err(err(field, format!("{v}"), &format!("must be finite and >= 0 ({unit})")))
-            }
-        };
         if let Some(u) = c.rolling_velocity_m_s {
-            nonneg("conditions.rolling_velocity_m_s", u, "m/s")?;
+            ck.nonneg("conditions.rolling_velocity_m_s", u, "m/s")?;
         }
         if let Some(l) = &self.lubricant {
-            positive("lubricant.eta0_pa_s", l.eta0_pa_s, "Pa s")?;
-            nonneg("lubricant.alpha_per_pa", l.alpha_per_pa, "1/Pa")?;
-            positive("lubricant.p0_roelands_pa", l.p0_roelands_pa, "Pa")?;
+            ck.positive("lubricant.eta0_pa_s", l.eta0_pa_s, "Pa s")?;
+            ck.nonneg("lubricant.alpha_per_pa", l.alpha_per_pa, "1/Pa")?;
+            ck.positive("lubricant.p0_roelands_pa", l.p0_roelands_pa, "Pa")?;
         }
         if let Some(l) = &self.layer {
-            positive("layer.supply_thickness_m", l.supply_thickness_m, "m")?;
-            positive("layer.modulus_pa", l.modulus_pa, "Pa")?;
+            ck.positive("layer.supply_thickness_m", l.supply_thickness_m, "m")?;
+            ck.positive("layer.modulus_pa", l.modulus_pa, "Pa")?;
             if !(l.poisson_ratio.is_finite() && (0.0..0.5).contains(&l.poisson_ratio)) {
-                return Err(err(
+                return Err(ck.err(
                     "layer.poisson_ratio",
                     format!("{}", l.poisson_ratio),
                     "must be in [0, 0.5) (the oedometric modulus diverges at 0.5)",
                 ));
             }
-            positive("layer.damper_constant", l.damper_constant, "1, or Pa s when literal")?;
+            ck.positive("layer.damper_constant", l.damper_constant, "1, or Pa s when literal")?;
             if let Some(p) = l.reference_pressure_pa {
-                positive("layer.reference_pressure_pa", p, "Pa")?;
+                ck.positive("layer.reference_pressure_pa", p, "Pa")?;
             }
             let sm = l.coefficient_smoothing_a;
             if !(sm.is_finite() && (0.0..=0.5).contains(&sm)) {
-                return Err(err(
+                return Err(ck.err(
                     "layer.coefficient_smoothing_a",
                     format!("{sm}"),
                     "must be in [0, 0.5] (units of a; wider smooths the contact itself away)",
                 ));
             }
         }
-        if self.model == Some(Model::Reynolds) {
-            let missing = |f: &str| err(f, "(missing)".into(), "required by the Reynolds model");
-            let l = self.lubricant.ok_or_else(|| missing("lubricant"))?;
-            let r = self.reynolds.as_ref().ok_or_else(|| missing("reynolds"))?;
-            match r.moes {
-                Some(m) => {
-                    if let Some(u) = c.rolling_velocity_m_s {
-                        return Err(err(
-                            "conditions.rolling_velocity_m_s",
-                            format!("{u}"),
-                            "must be absent with reynolds.moes (M and L set the load and the velocity; conditions.load_n is replaced too, and the run says so)",
+        match self.model {
+            Some(Model::Reynolds) => self.validate_reynolds(&ck),
+            Some(Model::Layer) => self.validate_layer(&ck),
+            _ => Ok(()),
+        }
+    }
+
+    /// The Reynolds model's block and grid.
+    fn validate_reynolds(&self, ck: &Check) -> Result<(), SceneError> {
+        let c = &self.conditions;
+        let missing = |f: &str| ck.err(f, "(missing)".into(), "required by the Reynolds model");
+        let l = self.lubricant.ok_or_else(|| missing("lubricant"))?;
+        let r = self.reynolds.as_ref().ok_or_else(|| missing("reynolds"))?;
+        match r.moes {
+            Some(m) => {
+                if let Some(u) = c.rolling_velocity_m_s {
+                    return Err(ck.err(
+                        "conditions.rolling_velocity_m_s",
+                        format!("{u}"),
+                        "must be absent with reynolds.moes (M and L set the load and the velocity; conditions.load_n is replaced too, and the run says so)",
+                    ));
+                }
+                ck.positive("reynolds.moes.m", m.m, "1")?;
+                ck.positive("reynolds.moes.l", m.l, "1")?;
+                ck.positive(
+                    "lubricant.alpha_per_pa",
+                    l.alpha_per_pa,
+                    "1/Pa (Moes input derives U from L)",
+                )?;
+            }
+            None => {
+                let u = c.rolling_velocity_m_s.unwrap_or(0.0);
+                ck.positive(
+                    "conditions.rolling_velocity_m_s",
+                    u,
+                    "m/s (a Reynolds film needs motion)",
+                )?;
+            }
+        }
+        if let Some(t) = &r.transient {
+            ck.positive("reynolds.transient.dent.width_a", t.dent.width_a, "a")?;
+            ck.positive("reynolds.transient.steps_per_cell", t.steps_per_cell, "1")?;
+            if !t.dent.depth_m.is_finite() {
+                return Err(ck.err(
+                    "reynolds.transient.dent.depth_m",
+                    format!("{}", t.dent.depth_m),
+                    "finite (m)",
+                ));
+            }
+            let (x0, x1) = (t.dent.x_start_a, t.x_end_a);
+            if !(x1 > x0) {
+                return Err(ck.err(
+                    "reynolds.transient.x_end_a",
+                    format!("{x1}"),
+                    &format!("> dent.x_start_a = {x0} (a)"),
+                ));
+            }
+            if let Some(&x) = t.snapshots_a.iter().find(|&&x| !(x >= x0 && x <= x1)) {
+                return Err(ck.err(
+                    "reynolds.transient.snapshots_a",
+                    format!("{x}"),
+                    &format!("within [{x0}, {x1}] (a)"),
+                ));
+            }
+        }
+        let s = &r.solver;
+        if s.max_cycles == 0 || s.gamma == 0 || s.gamma > 2 {
+            return Err(ck.err(
+                "reynolds.solver",
+                format!("max_cycles {}, gamma {}", s.max_cycles, s.gamma),
+                "max_cycles >= 1, gamma 1 (V) or 2 (W)",
+            ));
+        }
+        if self.grid.nx != self.grid.ny
+            || ((self.domain.x_a[1] - self.domain.x_a[0]) / (self.grid.nx - 1) as f64
+                - (self.domain.y_a[1] - self.domain.y_a[0]) / (self.grid.ny - 1) as f64)
+                .abs()
+                > 1e-12
+        {
+            return Err(ck.err(
+                "grid",
+                format!("{}x{}", self.grid.nx, self.grid.ny),
+                "the Reynolds solver needs square cells (equal spacing in x and y)",
+            ));
+        }
+
+        Ok(())
+    }
+
+    /// The layer model's blocks: the layer, the run (method, start, motion, features, steps,
+    /// stop rule, snapshots).
+    fn validate_layer(&self, ck: &Check) -> Result<(), SceneError> {
+        let c = &self.conditions;
+        let missing = |f: &str| ck.err(f, "(missing)".into(), "required by the layer model");
+        if self.lubricant.is_none() {
+            return Err(missing("lubricant"));
+        }
+        if self.layer.is_none() {
+            return Err(missing("layer"));
+        }
+        let r = self.run.as_ref().ok_or_else(|| missing("run"))?;
+        let u = c.rolling_velocity_m_s.unwrap_or(0.0);
+        match (r.method(), r.start) {
+            (Method::March, None) => {
+                return Err(ck.err(
+                    "run.start",
+                    "(missing)".into(),
+                    "required by the march method (uniform, squeezed or steady-rolling); a rolling scene with no start, features or snapshots is solved steady",
+                ));
+            }
+            (Method::Steady, Some(s)) => {
+                return Err(ck.err(
+                    "run.start",
+                    format!("{s:?}"),
+                    "the steady method solves the steady state directly and has no start: remove run.start, or set run.method to \"march\"",
+                ));
+            }
+            _ => {}
+        }
+        if r.method() == Method::Steady {
+            let why = if r.motion != Motion::Rolling {
+                Some(("run.motion", format!("{:?}", r.motion), "must be rolling"))
+            } else if !r.features.is_empty() {
+                Some((
+                    "run.features",
+                    format!("{} feature(s)", r.features.len()),
+                    "a feature passing is not steady: none allowed",
+                ))
+            } else if !r.snapshots_s.is_empty() {
+                Some((
+                    "run.snapshots_s",
+                    format!("{:?}", r.snapshots_s),
+                    "snapshots in time need a history: none allowed",
+                ))
+            } else {
+                None
+            };
+            if let Some((field, value, allowed)) = why {
+                return Err(ck.err(
+                    field,
+                    value,
+                    &format!("{allowed} with run.method \"steady\" (use \"march\")"),
+                ));
+            }
+        }
+        let sd = &r.steady;
+        if !(sd.strain_tolerance.is_finite()
+            && sd.strain_tolerance >= 1e-12
+            && sd.strain_tolerance <= 1e-2)
+        {
+            return Err(ck.err(
+                "run.steady.strain_tolerance",
+                format!("{}", sd.strain_tolerance),
+                "must be in [1e-12, 1e-2]",
+            ));
+        }
+        if !(1..=100_000).contains(&sd.max_iterations) {
+            return Err(ck.err(
+                "run.steady.max_iterations",
+                sd.max_iterations.to_string(),
+                "must be 1 ..= 100000",
+            ));
+        }
+        if !(1..=64).contains(&sd.substeps) {
+            return Err(ck.err("run.steady.substeps", sd.substeps.to_string(), "must be 1 ..= 64"));
+        }
+        let needs_rolling =
+            r.motion == Motion::Rolling || r.start == Some(StartState::SteadyRolling);
+        if needs_rolling && !(u > 0.0) {
+            return Err(ck.err(
+                "conditions.rolling_velocity_m_s",
+                format!("{u}"),
+                "must be > 0 (m/s) for rolling motion or a steady-rolling start",
+            ));
+        }
+        let t = &r.time;
+        if !(t.steps_per_cell.is_finite() && t.steps_per_cell >= 0.5 && t.steps_per_cell <= 1000.0)
+        {
+            return Err(ck.err(
+                "run.time.steps_per_cell",
+                format!("{}", t.steps_per_cell),
+                "must be in [0.5, 1000] (time steps per grid interval)",
+            ));
+        }
+        if let Some(dt) = t.dt_s {
+            ck.positive("run.time.dt_s", dt, "s")?;
+        }
+        if !(t.error_tolerance.is_finite() && t.error_tolerance > 0.0 && t.error_tolerance < 1.0) {
+            return Err(ck.err(
+                "run.time.error_tolerance",
+                format!("{}", t.error_tolerance),
+                "must be in (0, 1)",
+            ));
+        }
+        if t.picard > 10 {
+            return Err(ck.err("run.time.picard", t.picard.to_string(), "must be 0 ..= 10"));
+        }
+        let st = &r.stop;
+        if !(st.steady_tolerance.is_finite()
+            && st.steady_tolerance > 0.0
+            && st.steady_tolerance < 1.0)
+        {
+            return Err(ck.err(
+                "run.stop.steady_tolerance",
+                format!("{}", st.steady_tolerance),
+                "must be in (0, 1)",
+            ));
+        }
+        ck.positive("run.stop.window_travel_a", st.window_travel_a, "units of a")?;
+        ck.positive("run.stop.window_time_s", st.window_time_s, "s")?;
+        ck.positive("run.stop.max_time_s", st.max_time_s, "s")?;
+        if st.until_features_passed && r.features.is_empty() {
+            return Err(ck.err(
+                "run.stop.until_features_passed",
+                "true".into(),
+                "needs at least one feature in run.features",
+            ));
+        }
+        for (k, f) in r.features.iter().enumerate() {
+            match f {
+                Feature::Dent(d) => {
+                    if !d.amplitude.is_finite() {
+                        return Err(ck.err(
+                            &format!("run.features[{k}].dent.amplitude"),
+                            format!("{}", d.amplitude),
+                            "must be finite",
                         ));
                     }
-                    positive("reynolds.moes.m", m.m, "1")?;
-                    positive("reynolds.moes.l", m.l, "1")?;
-                    positive(
-                        "lubricant.alpha_per_pa",
-                        l.alpha_per_pa,
-                        "1/Pa (Moes input derives U from L)",
+                    ck.positive(
+                        &format!("run.features[{k}].dent.width_a"),
+                        d.width_a,
+                        "units of a",
                     )?;
-                }
-                None => {
-                    let u = c.rolling_velocity_m_s.unwrap_or(0.0);
-                    positive(
-                        "conditions.rolling_velocity_m_s",
-                        u,
-                        "m/s (a Reynolds film needs motion)",
-                    )?;
-                }
-            }
-            if let Some(t) = &r.transient {
-                positive("reynolds.transient.dent.width_a", t.dent.width_a, "a")?;
-                positive("reynolds.transient.steps_per_cell", t.steps_per_cell, "1")?;
-                if !t.dent.depth_m.is_finite() {
-                    return Err(err(
-                        "reynolds.transient.dent.depth_m",
-                        format!("{}", t.dent.depth_m),
-                        "finite (m)",
-                    ));
-                }
-                let (x0, x1) = (t.dent.x_start_a, t.x_end_a);
-                if !(x1 > x0) {
-                    return Err(err(
-                        "reynolds.transient.x_end_a",
-                        format!("{x1}"),
-                        &format!("> dent.x_start_a = {x0} (a)"),
-                    ));
-                }
-                if let Some(&x) = t.snapshots_a.iter().find(|&&x| !(x >= x0 && x <= x1)) {
-                    return Err(err(
-                        "reynolds.transient.snapshots_a",
-                        format!("{x}"),
-                        &format!("within [{x0}, {x1}] (a)"),
-                    ));
-                }
-            }
-            let s = &r.solver;
-            if s.max_cycles == 0 || s.gamma == 0 || s.gamma > 2 {
-                return Err(err(
-                    "reynolds.solver",
-                    format!("max_cycles {}, gamma {}", s.max_cycles, s.gamma),
-                    "max_cycles >= 1, gamma 1 (V) or 2 (W)",
-                ));
-            }
-            if self.grid.nx != self.grid.ny
-                || ((self.domain.x_a[1] - self.domain.x_a[0]) / (self.grid.nx - 1) as f64
-                    - (self.domain.y_a[1] - self.domain.y_a[0]) / (self.grid.ny - 1) as f64)
-                    .abs()
-                    > 1e-12
-            {
-                return Err(err(
-                    "grid",
-                    format!("{}x{}", self.grid.nx, self.grid.ny),
-                    "the Reynolds solver needs square cells (equal spacing in x and y)",
-                ));
-            }
-        }
-        if self.model == Some(Model::Layer) {
-            let missing = |f: &str| err(f, "(missing)".into(), "required by the layer model");
-            if self.lubricant.is_none() {
-                return Err(missing("lubricant"));
-            }
-            if self.layer.is_none() {
-                return Err(missing("layer"));
-            }
-            let r = self.run.as_ref().ok_or_else(|| missing("run"))?;
-            let u = c.rolling_velocity_m_s.unwrap_or(0.0);
-            match (r.method(), r.start) {
-                (Method::March, None) => {
-                    return Err(err(
-                        "run.start",
-                        "(missing)".into(),
-                        "required by the march method (uniform, squeezed or steady-rolling); a rolling scene with no start, features or snapshots is solved steady",
-                    ));
-                }
-                (Method::Steady, Some(s)) => {
-                    return Err(err(
-                        "run.start",
-                        format!("{s:?}"),
-                        "the steady method solves the steady state directly and has no start: remove run.start, or set run.method to \"march\"",
-                    ));
-                }
-                _ => {}
-            }
-            if r.method() == Method::Steady {
-                let why = if r.motion != Motion::Rolling {
-                    Some(("run.motion", format!("{:?}", r.motion), "must be rolling"))
-                } else if !r.features.is_empty() {
-                    Some((
-                        "run.features",
-                        format!("{} feature(s)", r.features.len()),
-                        "a feature passing is not steady: none allowed",
-                    ))
-                } else if !r.snapshots_s.is_empty() {
-                    Some((
-                        "run.snapshots_s",
-                        format!("{:?}", r.snapshots_s),
-                        "snapshots in time need a history: none allowed",
-                    ))
-                } else {
-                    None
-                };
-                if let Some((field, value, allowed)) = why {
-                    return Err(err(
-                        field,
-                        value,
-                        &format!("{allowed} with run.method \"steady\" (use \"march\")"),
-                    ));
-                }
-            }
-            let sd = &r.steady;
-            if !(sd.strain_tolerance.is_finite()
-                && sd.strain_tolerance >= 1e-12
-                && sd.strain_tolerance <= 1e-2)
-            {
-                return Err(err(
-                    "run.steady.strain_tolerance",
-                    format!("{}", sd.strain_tolerance),
-                    "must be in [1e-12, 1e-2]",
-                ));
-            }
-            if !(1..=100_000).contains(&sd.max_iterations) {
-                return Err(err(
-                    "run.steady.max_iterations",
-                    sd.max_iterations.to_string(),
-                    "must be 1 ..= 100000",
-                ));
-            }
-            if !(1..=64).contains(&sd.substeps) {
-                return Err(err(
-                    "run.steady.substeps",
-                    sd.substeps.to_string(),
-                    "must be 1 ..= 64",
-                ));
-            }
-            let needs_rolling =
-                r.motion == Motion::Rolling || r.start == Some(StartState::SteadyRolling);
-            if needs_rolling && !(u > 0.0) {
-                return Err(err(
-                    "conditions.rolling_velocity_m_s",
-                    format!("{u}"),
-                    "must be > 0 (m/s) for rolling motion or a steady-rolling start",
-                ));
-            }
-            let t = &r.time;
-            if !(t.steps_per_cell.is_finite()
-                && t.steps_per_cell >= 0.5
-                && t.steps_per_cell <= 1000.0)
-            {
-                return Err(err(
-                    "run.time.steps_per_cell",
-                    format!("{}", t.steps_per_cell),
-                    "must be in [0.5, 1000] (time steps per grid interval)",
-                ));
-            }
-            if let Some(dt) = t.dt_s {
-                positive("run.time.dt_s", dt, "s")?;
-            }
-            if !(t.error_tolerance.is_finite()
-                && t.error_tolerance > 0.0
-                && t.error_tolerance < 1.0)
-            {
-                return Err(err(
-                    "run.time.error_tolerance",
-                    format!("{}", t.error_tolerance),
-                    "must be in (0, 1)",
-                ));
-            }
-            if t.picard > 10 {
-                return Err(err("run.time.picard", t.picard.to_string(), "must be 0 ..= 10"));
-            }
-            let st = &r.stop;
-            if !(st.steady_tolerance.is_finite()
-                && st.steady_tolerance > 0.0
-                && st.steady_tolerance < 1.0)
-            {
-                return Err(err(
-                    "run.stop.steady_tolerance",
-                    format!("{}", st.steady_tolerance),
-                    "must be in (0, 1)",
-                ));
-            }
-            positive("run.stop.window_travel_a", st.window_travel_a, "units of a")?;
-            positive("run.stop.window_time_s", st.window_time_s, "s")?;
-            positive("run.stop.max_time_s", st.max_time_s, "s")?;
-            if st.until_features_passed && r.features.is_empty() {
-                return Err(err(
-                    "run.stop.until_features_passed",
-                    "true".into(),
-                    "needs at least one feature in run.features",
-                ));
-            }
-            for (k, f) in r.features.iter().enumerate() {
-                match f {
-                    Feature::Dent(d) => {
-                        if !d.amplitude.is_finite() {
-                            return Err(err(
-                                &format!("run.features[{k}].dent.amplitude"),
-                                format!("{}", d.amplitude),
-                                "must be finite",
-                            ));
-                        }
-                        positive(
-                            &format!("run.features[{k}].dent.width_a"),
-                            d.width_a,
-                            "units of a",
-                        )?;
-                        if !(d.x_start_a.is_finite() && d.y_a.is_finite()) {
-                            return Err(err(
-                                &format!("run.features[{k}].dent"),
-                                "non-finite position".into(),
-                                "x_start_a, y_a must be finite",
-                            ));
-                        }
+                    if !(d.x_start_a.is_finite() && d.y_a.is_finite()) {
+                        return Err(ck.err(
+                            &format!("run.features[{k}].dent"),
+                            "non-finite position".into(),
+                            "x_start_a, y_a must be finite",
+                        ));
                     }
-                    Feature::Hole(h) => {
-                        positive(
-                            &format!("run.features[{k}].hole.radius_a"),
-                            h.radius_a,
-                            "units of a",
-                        )?;
-                        if !(h.x_start_a.is_finite() && h.y_a.is_finite()) {
-                            return Err(err(
-                                &format!("run.features[{k}].hole"),
-                                "non-finite position".into(),
-                                "x_start_a, y_a must be finite",
-                            ));
-                        }
+                }
+                Feature::Hole(h) => {
+                    ck.positive(
+                        &format!("run.features[{k}].hole.radius_a"),
+                        h.radius_a,
+                        "units of a",
+                    )?;
+                    if !(h.x_start_a.is_finite() && h.y_a.is_finite()) {
+                        return Err(ck.err(
+                            &format!("run.features[{k}].hole"),
+                            "non-finite position".into(),
+                            "x_start_a, y_a must be finite",
+                        ));
                     }
                 }
             }
-            for (k, &ts) in r.snapshots_s.iter().enumerate() {
-                nonneg(&format!("run.snapshots_s[{k}]"), ts, "s")?;
-            }
         }
+        for (k, &ts) in r.snapshots_s.iter().enumerate() {
+            ck.nonneg(&format!("run.snapshots_s[{k}]"), ts, "s")?;
+        }
+
         Ok(())
     }
 }
