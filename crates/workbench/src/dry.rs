@@ -83,12 +83,6 @@ impl Outcome for DryOutcome {
     fn report(&self) -> String {
         dry_report(self)
     }
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-    fn into_any(self: Box<Self>) -> Box<dyn std::any::Any> {
-        self
-    }
 }
 
 fn run_dry(scene: &Scene) -> Result<DryOutcome> {

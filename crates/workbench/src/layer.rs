@@ -88,12 +88,6 @@ impl Outcome for LayerOutcome {
     fn report(&self) -> String {
         layer_report(self)
     }
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-    fn into_any(self: Box<Self>) -> Box<dyn std::any::Any> {
-        self
-    }
 }
 
 pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {

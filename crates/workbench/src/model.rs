@@ -20,9 +20,24 @@ pub trait ContactModel: Sync {
     fn run(&self, scene: &Scene) -> Result<Box<dyn Outcome>>;
 }
 
+/// Any outcome as `Any`, so a caller that needs one model's own fields can downcast.
+pub trait AsAny {
+    fn as_any(&self) -> &dyn Any;
+    fn into_any(self: Box<Self>) -> Box<dyn Any>;
+}
+
+impl<T: Any> AsAny for T {
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+    fn into_any(self: Box<Self>) -> Box<dyn Any> {
+        self
+    }
+}
+
 /// What a run produced. Hertz units inside (`P` in `p_h`, films in `a²/R`, lengths in `a`); the
 /// writers turn them into SI.
-pub trait Outcome: Any + Send {
+pub trait Outcome: AsAny + Send + 'static {
     fn scene(&self) -> &Scene;
     fn scales(&self) -> HertzScales;
     fn grid(&self) -> &Grid;
@@ -49,8 +64,6 @@ pub trait Outcome: Any + Send {
     fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>;
     /// The terminal report.
     fn report(&self) -> String;
-    fn as_any(&self) -> &dyn Any;
-    fn into_any(self: Box<Self>) -> Box<dyn Any>;
 }
 
 impl dyn Outcome {

@@ -107,12 +107,6 @@ impl Outcome for ReynoldsOutcome {
     fn report(&self) -> String {
         reynolds_report(self)
     }
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-    fn into_any(self: Box<Self>) -> Box<dyn std::any::Any> {
-        self
-    }
 }
 
 pub fn build_solver(scene: &Scene) -> (ReynoldsParams, ReynoldsSolver) {
