@@ -209,3 +209,19 @@ fn check_fills_defaults_and_names_bad_fields() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("run.steady.substeps"));
 }
+
+#[test]
+fn a_run_that_does_not_converge_writes_nothing_and_says_why() {
+    // The seed's Reynolds case on 65² (measured: the film closes at x = 0.16 a, y = 0.98 a).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("seed65");
+    let o =
+        ehl().args(["run", "reynolds-seed", "--grid", "65", "--out"]).arg(&out).output().unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("did not converge") && err.contains("film closed") && err.contains("x ="),
+        "{err}"
+    );
+    assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none(), "something was written");
+}

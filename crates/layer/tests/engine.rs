@@ -131,3 +131,33 @@ fn published_model_is_laterally_unstable_at_the_inlet() {
     assert!(m.instability_indicator(0.05, 0.0) < 0.0);
     assert!(m.instability_indicator(0.2, 0.2 / m.eo) < 0.0);
 }
+
+#[test]
+fn literal_damper_reading_is_the_factor_reading_times_eta0() {
+    // `literal` takes the damper constant in Pa s, `factor` as a multiple of η0: the same damper
+    // written both ways gives the same law at every pressure.
+    let lub = ehl_core::SEED_LUBRICANT;
+    let make = |spec: LayerSpec| {
+        LayerModel::new(
+            &ehl_core::SEED_CONTACT,
+            &lub,
+            &spec,
+            0.01,
+            Grid::square(17, 1.25),
+            DrySettings::default(),
+            vec![],
+        )
+    };
+    let factor = make(LayerSpec { damper_reading: DamperReading::Factor, ..SEED_LAYER });
+    let literal = make(LayerSpec {
+        damper_reading: DamperReading::Literal,
+        damper_constant: SEED_LAYER.damper_constant * lub.eta0,
+        ..SEED_LAYER
+    });
+    for p in [0.0, 0.3, 1.0, 1.5] {
+        assert!((literal.eta(p) / factor.eta(p) - 1.0).abs() < 1e-14, "p = {p}");
+    }
+    // and a literal constant equal to the factor's number is η0 times softer.
+    let raw = make(LayerSpec { damper_reading: DamperReading::Literal, ..SEED_LAYER });
+    assert!((raw.eta(0.5) / factor.eta(0.5) - 1.0 / lub.eta0).abs() < 1e-9);
+}
