@@ -291,11 +291,10 @@ impl Comparison {
             &note,
         )?;
         let mut files = vec![centre];
-        let find = |m: Model| {
-            self.entries.iter().find(|e| e.model == m).and_then(|e| e.outcome.as_ref().ok())
-        };
-        if let (Some(l), Some(r)) = (find(Model::Layer), find(Model::Reynolds)) {
-            let diff = (l.film() - r.film()).mapv(|v| s.h_si(v) * 1e9);
+        // The first two lubricated models in the scene's order (the seed's: layer − Reynolds).
+        let wet: Vec<&(String, &dyn Outcome)> = ok.iter().filter(|(_, o)| o.lubricated()).collect();
+        if let [(name_a, a), (name_b, b), ..] = wet.as_slice() {
+            let diff = (a.film() - b.film()).mapv(|v| s.h_si(v) * 1e9);
             // Outside the contact both films open to micrometres: the map shows the contact,
             // differences clipped to ±5x the largest central film.
             let clip = diff.mapv(|v| v.clamp(-cap_nm, cap_nm));
@@ -304,7 +303,7 @@ impl Comparison {
                 &map,
                 &[MapPanel {
                     field: &clip,
-                    title: "Film difference layer − Reynolds".into(),
+                    title: format!("Film difference {name_a} − {name_b}"),
                     bar_label: "Δh [nm]".into(),
                 }],
                 &g,

@@ -63,6 +63,9 @@ impl Outcome for DryOutcome {
     fn wall_time_s(&self) -> f64 {
         self.setup_time_s + self.solve_time_s
     }
+    fn lubricated(&self) -> bool {
+        false
+    }
     fn summary(&self) -> Value {
         dry_summary(self)
     }

@@ -46,6 +46,11 @@ pub trait Outcome: AsAny + Send + 'static {
     /// Separation of the two solid surfaces [a²/R]: the Reynolds film, the layer plus any gap
     /// above it, the dry gap.
     fn film(&self) -> Array2<f64>;
+    /// Whether a film separates the surfaces (false for the dry contact): the comparison's film
+    /// difference map is between the first two lubricated models.
+    fn lubricated(&self) -> bool {
+        true
+    }
     /// The standard observables, one definition for all models.
     fn observables(&self) -> Observables {
         Observables::from_fields(self.grid(), &self.scales(), self.pressure(), &self.film())
