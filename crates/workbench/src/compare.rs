@@ -7,7 +7,7 @@ use crate::model::Outcome;
 use crate::output::{self, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use anyhow::Result;
-use ehl_core::{HertzScales, Observables};
+use ehl_core::HertzScales;
 use ehl_scene::{Model, Scene};
 use plotters::prelude::SeriesLabelPosition;
 use serde_json::{Value, json};
@@ -25,9 +25,6 @@ pub struct Entry {
 impl Entry {
     pub fn name(&self) -> String {
         model_name(self.model)
-    }
-    pub fn observables(&self) -> Option<Observables> {
-        self.outcome.as_ref().ok().map(|o| o.observables())
     }
 }
 

@@ -249,13 +249,11 @@ fn run_transient<F: Fn(f64, f64) -> f64 + Copy>(
 }
 
 impl ReynoldsOutcome {
-    /// Central and minimum film [a²/R], maximum pressure [p_h].
+    /// Central and minimum film [a²/R], maximum pressure [p_h]: the standard observables in
+    /// Hertz units (one definition, `ehl_core::observe`).
     pub fn films(&self) -> (f64, f64, f64) {
-        let g = &self.grid;
-        let hc = self.film[[g.row_nearest(0.0), g.col_nearest(0.0)]];
-        let hmin = self.film.iter().cloned().fold(f64::INFINITY, f64::min);
-        let pmax = self.p.iter().cloned().fold(0.0, f64::max);
-        (hc, hmin, pmax)
+        let (ob, sc) = (self.observables(), self.prm.scales);
+        (ob.central_film_m / sc.delta, ob.minimum_film_m / sc.delta, ob.max_pressure_pa / sc.p_h)
     }
 
     /// A film in Hertz units to Moes' `h/R · U^(−1/2)` (U with the sum velocity).
