@@ -157,12 +157,13 @@ fn reynolds_pressure_spike_on_257() {
     insta::assert_snapshot!("reynolds-m20-l10_spike_257", reynolds_text(o, 4));
 }
 
-/// A layer scene stopped when its feature is centred at `x = 0` (travel `x_travel` a at `u1`).
-fn feature_centred(name: &str, points: usize, steps_per_cell: f64, x_travel: f64) -> String {
+/// A layer scene stopped when its feature is centred at `x = 0` (a travel of `−x_start` at `u1`).
+fn feature_centred(name: &str, points: usize, steps_per_cell: f64) -> String {
     let mut scene = quiet(name, points);
     let a = ehl_core::HertzScales::new(&scene.conditions.contact()).a;
     let u1 = scene.conditions.rolling_velocity_m_s.unwrap();
     let r = scene.run.as_mut().unwrap();
+    let x_travel = -r.features[0].x_start();
     r.time.steps_per_cell = steps_per_cell;
     r.stop.until_features_passed = false;
     r.stop.max_time_s = x_travel * a / u1;
@@ -174,21 +175,18 @@ fn feature_centred(name: &str, points: usize, steps_per_cell: f64, x_travel: f64
 fn dent_deep_centred_on_257() {
     // The dent (W = 0.1 a: e-folding radius 0.021 a) needs 257² (cells of 0.0098 a) to be seen;
     // 2 steps a cell keeps it at 6 s. The window x in [-0.3, 0.3] a along y = 0.
-    insta::assert_snapshot!("dent-deep_centred_257", feature_centred("dent-deep", 257, 2.0, 1.25));
+    insta::assert_snapshot!("dent-deep_centred_257", feature_centred("dent-deep", 257, 2.0));
 }
 
 #[test]
 fn dent_shallow_centred_on_257() {
-    insta::assert_snapshot!(
-        "dent-shallow_centred_257",
-        feature_centred("dent-shallow", 257, 2.0, 1.25)
-    );
+    insta::assert_snapshot!("dent-shallow_centred_257", feature_centred("dent-shallow", 257, 2.0));
 }
 
 #[test]
 fn hole_centred_on_129() {
     // The hole (radius 0.2 a) spans 20 cells on 129².
-    insta::assert_snapshot!("hole_centred_129", feature_centred("hole", 129, 10.0, 1.45));
+    insta::assert_snapshot!("hole_centred_129", feature_centred("hole", 129, 10.0));
 }
 
 #[test]
