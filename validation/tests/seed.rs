@@ -82,9 +82,11 @@ fn hole_central_pressure_drop_matches_the_seed() {
     // The hole (radius 0.2 a) centred at x = 0 at t = 1.45 a / u1; its drop of the central
     // pressure against the steady rolling state it passes through (the run's start).
     let o = layer("hole", 129, |s| {
+        let a = ehl_core::HertzScales::new(&s.conditions.contact()).a;
+        let u1 = s.conditions.rolling_velocity_m_s.unwrap();
         let r = s.run.as_mut().unwrap();
         r.stop.until_features_passed = false;
-        r.stop.max_time_s = 1.45 * 0.13466873866224826e-3 / 0.01;
+        r.stop.max_time_s = -r.features[0].x_start() * a / u1;
     });
     let steady = layer("rolling-steady", 129, |_| {});
     let drop = 1.0 - o.final_monitor.central_pressure / steady.final_monitor.central_pressure;
