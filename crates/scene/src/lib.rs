@@ -9,6 +9,9 @@ use ehl_reynolds::{DensityLaw, ReynoldsSettings, ViscosityLaw};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
+pub mod sweep;
+pub use sweep::{Axis, Parameter, Sweep, builtin_sweep_names, load_sweep};
+
 /// A scene. Unknown fields are refused, so a typo never silently falls back to a default.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
