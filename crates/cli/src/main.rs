@@ -28,13 +28,59 @@ struct RunArgs {
     threads: Option<usize>,
 }
 
+/// `ehl sweep SWEEP [--out DIR] [--jobs N]` plans, runs and merges locally (rerun to resume);
+/// the subcommands split that for a cluster.
+#[derive(clap::Args)]
+#[command(args_conflicts_with_subcommands = true)]
+struct SweepArgs {
+    #[command(subcommand)]
+    step: Option<SweepStep>,
+    /// Built-in sweep name (see `ehl scenes`) or path to a sweep JSON file.
+    sweep: Option<String>,
+    /// Sweep folder (default: out/sweep-<name>); a rerun into it skips finished points.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Points run at once, each on one thread (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+}
+
+#[derive(Subcommand)]
+enum SweepStep {
+    /// Write the point list (`plan.json`) and a SLURM array script (`sweep.sbatch`).
+    Plan {
+        sweep: String,
+        /// Array tasks; task I runs the points k with k % N = I.
+        #[arg(long, default_value_t = 1)]
+        shards: usize,
+        /// Cores each task asks SLURM for (points it runs at once).
+        #[arg(long, default_value_t = 1)]
+        cpus_per_task: usize,
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Run the unfinished points of a planned sweep, or of one shard of it (`--shard I/N`).
+    Run {
+        dir: PathBuf,
+        #[arg(long)]
+        shard: Option<ehl_workbench::sweep::Shard>,
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
+    /// Write the results and charts of a sweep whose points have all finished.
+    Merge { dir: PathBuf },
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Run a one-model scene (a built-in name or a JSON file) and write its results.
     Run(RunArgs),
     /// Run every model a comparison scene lists on the same grid and put them side by side.
     Compare(RunArgs),
-    /// List the built-in scenes.
+    /// Run one scene over one or two parameters (`ehl sweep SWEEP`), or the cluster steps
+    /// (`ehl sweep plan|run|merge`).
+    Sweep(SweepArgs),
+    /// List the built-in scenes and sweeps.
     Scenes,
     /// Check a scene file without running it; prints it with all defaults filled in.
     Check { scene: String },
@@ -59,7 +105,13 @@ fn real_main() -> Result<()> {
             for s in ehl_scene::builtins() {
                 println!("{:<24} {}", s.name, s.description);
             }
+            println!("\nbuilt-in sweeps (ehl sweep NAME):");
+            for n in ehl_scene::builtin_sweep_names() {
+                let (s, _) = ehl_scene::load_sweep(n)?;
+                println!("{:<24} {}", s.name, s.description);
+            }
         }
+        Command::Sweep(args) => sweep(args)?,
         Command::Check { scene } => {
             let s = ehl_scene::load(&scene)?;
             println!("{}", s.to_json());
@@ -97,6 +149,53 @@ fn real_main() -> Result<()> {
                 bail!("not every model converged (see the table)");
             }
         }
+    }
+    Ok(())
+}
+
+fn sweep(args: SweepArgs) -> Result<()> {
+    use ehl_workbench::sweep::{self, Plan, Shard};
+    let cores = || std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+    let report = |dir: &std::path::Path, s: &sweep::RunSummary| {
+        println!(
+            "ran {} points in {:.1} s ({} already finished) in {}",
+            s.ran,
+            s.wall_time_s,
+            s.skipped,
+            dir.display()
+        );
+    };
+    match (args.step, args.sweep) {
+        (Some(SweepStep::Plan { sweep: name, shards, cpus_per_task, out }), _) => {
+            let (sw, base) = ehl_scene::load_sweep(&name)?;
+            let plan = Plan::new(&sw, base.as_deref())?;
+            plan.write(&out)?;
+            let script = sweep::write_sbatch(&out, shards, cpus_per_task)?;
+            println!(
+                "planned {} points of sweep {} in {}; submit with `sbatch {}`, then `ehl sweep merge {}`",
+                plan.points.len(),
+                sw.name,
+                out.display(),
+                script.display(),
+                out.display()
+            );
+        }
+        (Some(SweepStep::Run { dir, shard, jobs }), _) => {
+            let s = sweep::run(&dir, shard.unwrap_or(Shard::all()), jobs.unwrap_or_else(cores))?;
+            report(&dir, &s);
+        }
+        (Some(SweepStep::Merge { dir }), _) => {
+            let files = sweep::merge::merge(&dir)?;
+            println!("wrote {} files to {}", files.len(), dir.display());
+        }
+        (None, Some(name)) => {
+            let (sw, base) = ehl_scene::load_sweep(&name)?;
+            let dir = args.out.unwrap_or_else(|| PathBuf::from("out").join(format!("sweep-{}", sw.name)));
+            let (s, files) = sweep::run_local(&sw, base.as_deref(), &dir, args.jobs.unwrap_or_else(cores))?;
+            report(&dir, &s);
+            println!("wrote {} result files to {}", files.len(), dir.display());
+        }
+        (None, None) => bail!("give a sweep (a built-in name or a file), or a step: plan, run, merge"),
     }
     Ok(())
 }

@@ -3,7 +3,7 @@
 
 use crate::{Grid, HertzScales};
 use ndarray::Array2;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Pressure threshold of the contact extent, as a fraction of `p_h`. A Reynolds pressure is
 /// positive far into the inlet (0.001 `p_h` at 1.5 `a` for the seed), a dry or layer pressure is
@@ -12,7 +12,7 @@ pub const EXTENT_THRESHOLD: f64 = 0.01;
 
 /// A model's answer in SI. Films are the separation of the two solid surfaces (the layer model's
 /// layer plus any gap above it; the Reynolds film; the dry gap).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Observables {
     /// Film at the contact centre `(0, 0)` [m].
     pub central_film_m: f64,

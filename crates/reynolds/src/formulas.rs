@@ -14,6 +14,17 @@ pub fn hamrock_dowson_central(c: &Contact, lub: &Lubricant, u_mean: f64) -> f64 
     r * 2.69 * u.powf(0.67) * g.powf(0.53) * w.powf(-0.067) * (1.0 - 0.61 * (-0.73f64).exp())
 }
 
+/// Hamrock & Dowson (1977), minimum film [m], circular contact (`k = 1`):
+/// `h_min / R = 3.63 U^0.68 G^0.49 W^−0.073 (1 − e^−0.68)`, the same `U`, `G`, `W` as
+/// [`hamrock_dowson_central`].
+pub fn hamrock_dowson_minimum(c: &Contact, lub: &Lubricant, u_mean: f64) -> f64 {
+    let (r, e) = (c.ball_radius, c.reduced_modulus);
+    let u = lub.eta0 * u_mean / (e * r);
+    let g = lub.alpha * e;
+    let w = c.load / (e * r * r);
+    r * 3.63 * u.powf(0.68) * g.powf(0.49) * w.powf(-0.073) * (1.0 - (-0.68f64).exp())
+}
+
 /// Nijenbanning, Venner & Moes (Wear 176 (1994) 217–229), central film in Moes' units
 /// `H = h_c / R · U^(−1/2)` (`U` with the sum velocity), circular contact (`D = 1`): a blend of
 /// the rigid/elastic, isoviscous/piezoviscous asymptotes.
@@ -63,6 +74,9 @@ mod tests {
         // with u_m = 0.01 m/s gives Hamrock–Dowson 14.060099 nm; with u_s = 0.02 m/s (M = 2222.79,
         // L = 2.49138) NVM 14.882409 nm. Relative 1e-6: the references' printed digits.
         assert!((hd / 14.060099e-9 - 1.0).abs() < 1e-6, "HD {hd:e}");
+        // The minimum-film fit, by hand the same way: 7.871681 nm.
+        let hd_min = hamrock_dowson_minimum(&c, &lub, 0.01);
+        assert!((hd_min / 7.871681e-9 - 1.0).abs() < 1e-6, "HD min {hd_min:e}");
         assert!((nvm / 14.882409e-9 - 1.0).abs() < 1e-6, "NVM {nvm:e}");
     }
 

@@ -13,6 +13,7 @@ pub mod plot;
 pub mod progress;
 pub mod reynolds;
 pub mod run;
+pub mod sweep;
 
 pub use dry::DryOutcome;
 pub use model::{ContactModel, Outcome};

@@ -363,3 +363,101 @@ where
     }))?;
     Ok(())
 }
+
+/// One panel of a map over two sweep parameters: `values[row][col]` (`row` the second
+/// parameter, `col` the first); `None` is drawn blank (a failed point).
+pub struct CellPanel {
+    pub title: String,
+    pub values: Vec<Vec<Option<f64>>>,
+    /// Cells drawn with a heavy border (e.g. where two models agree).
+    pub outline: Vec<Vec<bool>>,
+    /// Colour by the logarithm (values over decades, e.g. wall times).
+    pub log_colour: bool,
+    /// Significant digits of the value printed in each cell.
+    pub digits: usize,
+}
+
+/// Maps over two sweep parameters, one cell per point with its value printed, side by side.
+pub fn cell_maps(
+    path: &Path,
+    panels: &[CellPanel],
+    x_ticks: &[String],
+    y_ticks: &[String],
+    x_label: &str,
+    y_label: &str,
+    footnote: &str,
+) -> Result<()> {
+    register_font();
+    let width = 700 * panels.len() as u32;
+    let root = BitMapBackend::new(path, (width, 600)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (main, foot) = root.split_vertically(570);
+    foot.draw(&Text::new(footnote.to_string(), (12, 6), (FONT, 14).into_font().color(&BLACK)))?;
+    for (area, panel) in main.split_evenly((1, panels.len())).iter().zip(panels) {
+        let (nx, ny) = (x_ticks.len(), y_ticks.len());
+        let key = |v: f64| if panel.log_colour { v.max(1e-300).ln() } else { v };
+        let vals: Vec<f64> = panel.values.iter().flatten().flatten().map(|&v| key(v)).collect();
+        let lo = vals.iter().cloned().fold(f64::INFINITY, f64::min);
+        let hi = vals.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        let span = if hi > lo { hi - lo } else { 1.0 };
+        let xt = x_ticks.to_vec();
+        let yt = y_ticks.to_vec();
+        let mut chart = ChartBuilder::on(area)
+            .caption(&panel.title, (FONT, 18))
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(70)
+            .build_cartesian_2d(-0.5..nx as f64 - 0.5, -0.5..ny as f64 - 0.5)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_labels(nx)
+            .y_labels(ny)
+            .x_label_formatter(&|v: &f64| {
+                let k = v.round();
+                if (v - k).abs() < 1e-6 && k >= 0.0 { xt.get(k as usize).cloned().unwrap_or_default() } else { String::new() }
+            })
+            .y_label_formatter(&|v: &f64| {
+                let k = v.round();
+                if (v - k).abs() < 1e-6 && k >= 0.0 { yt.get(k as usize).cloned().unwrap_or_default() } else { String::new() }
+            })
+            .x_desc(x_label)
+            .y_desc(y_label)
+            .label_style((FONT, 13))
+            .axis_desc_style((FONT, 15))
+            .draw()?;
+        for (j, row) in panel.values.iter().enumerate() {
+            for (i, v) in row.iter().enumerate() {
+                let (x, y) = (i as f64, j as f64);
+                let cell = [(x - 0.5, y - 0.5), (x + 0.5, y + 0.5)];
+                match v {
+                    Some(v) => {
+                        let t = (key(*v) - lo) / span;
+                        chart.draw_series(std::iter::once(Rectangle::new(cell, ramp(t).filled())))?;
+                        let ink = if t > 0.6 { BLACK } else { WHITE };
+                        let label = format!("{:.*}", panel.digits, v);
+                        chart.draw_series(std::iter::once(Text::new(
+                            label,
+                            (x - 0.3, y + 0.1),
+                            (FONT, 13).into_font().color(&ink),
+                        )))?;
+                    }
+                    None => {
+                        chart.draw_series(std::iter::once(Rectangle::new(cell, RGBColor(230, 230, 230).filled())))?;
+                        chart.draw_series(std::iter::once(Text::new(
+                            "failed".to_string(),
+                            (x - 0.3, y + 0.1),
+                            (FONT, 13).into_font().color(&BLACK),
+                        )))?;
+                    }
+                }
+                if panel.outline.get(j).and_then(|r| r.get(i)).copied().unwrap_or(false) {
+                    let inset = [(x - 0.46, y - 0.46), (x + 0.46, y + 0.46)];
+                    chart.draw_series(std::iter::once(Rectangle::new(inset, RED.stroke_width(3))))?;
+                }
+            }
+        }
+    }
+    root.present().with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}

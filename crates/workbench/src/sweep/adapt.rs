@@ -1,0 +1,222 @@
+//! The domain and grid each sweep point needs, from the point's own scales, and the two check
+//! runs that measure how much its answer still depends on them.
+//!
+//! **The rule.** The inlet must lie beyond the distance at which the film starts to starve.
+//! - Reynolds: Hamrock & Dowson's starvation boundary for a circular contact (Isothermal EHL of
+//!   point contacts, Part IV: starvation results, J. Lubr. Technol. 99 (1977) 15–23) is
+//!   `m* = 1 + 3.06 [(R/b)² H]^0.58`, `H = h/R`; for `b = a`, `(R/a)² h/R` is the film in Hertz
+//!   units `h / (a²/R)`, here the Nijenbanning–Venner–Moes central film. At `m*` itself the film
+//!   is still ~3 % short (measured: the domain check moves `h_c` by +3.0 % at every speed of
+//!   `seed-speed` with the inlet at `m*`), so the inlet goes to `1 + 2 (m* − 1)` (measured: 0.5 %
+//!   short at 1 + 1.8 (m* − 1) for 0.2 m/s).
+//! - Layer: nothing happens before the layer touches the ball, where the Hertz separation equals
+//!   the supply thickness `l0`; the inlet goes where the separation is `2 l0`.
+//! So `x_min = −max(|x_min of the scene|, each listed model's inlet)`; the outlet is kept. The cells are
+//! never coarser than the scene's (its author's resolution: 0.0098 `a` in the seed scenes, the
+//! ~0.01 `a` the thin-film regime needs); a grown domain gets more points, rounded up to a count
+//! the multigrid coarsens well (`c·2^k + 1`, `c` odd ≤ 9: steps of at most 1.125×). When the scene has square cells and as
+//! many points in `y` as in `x` (the Reynolds solver needs both), the domain stays square: `y`
+//! grows symmetrically with `x`. A point that needs nothing more than the scene runs on the
+//! scene's own domain and grid.
+//!
+//! **The checks.** The rule is a published estimate, not a proof, so each point is run twice
+//! more for each model, at half the points per side: once on the same domain (against the point's
+//! own run: the grid's share), once at the same coarse cells on a domain whose inlet distance is
+//! 1.5 times the point's, `y` grown by as much in total, half on each side (against the coarse
+//! run: the domain's share). Their relative changes of `h_c`, `h_min` and `p_max` are
+//! reported, and a point is flagged when one exceeds the sweep's `flag_change_above`.
+
+use ehl_core::HertzScales;
+use ehl_scene::{Domain, GridSpec, Model, Scene};
+
+/// Hamrock & Dowson's fully flooded inlet distance [a] for a central film `h_hertz` [a²/R].
+pub fn starvation_boundary(h_hertz: f64) -> f64 {
+    1.0 + 3.06 * h_hertz.max(0.0).powf(0.58)
+}
+
+/// Where the Hertz separation outside the contact reaches `h` [a²/R]: radius [a].
+pub fn separation_radius(h: f64) -> f64 {
+    let (mut lo, mut hi) = (1.0, 100.0);
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        if ehl_core::hertz::gap(mid) < h { lo = mid } else { hi = mid }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The inlet distance [a] the models of `scene` need (the rule above); 0 when none needs one.
+pub fn inlet_needed(scene: &Scene) -> f64 {
+    let s = HertzScales::new(&scene.conditions.contact());
+    let mut x: f64 = 0.0;
+    if scene.runs(Model::Reynolds) {
+        if let Some(l) = &scene.lubricant {
+            let (c, u_sum) = scene.reynolds_conditions();
+            if u_sum > 0.0 {
+                let h = s.h_dimless(ehl_reynolds::formulas::nvm_central(&c, &l.lubricant(), u_sum));
+                x = x.max(1.0 + 2.0 * (starvation_boundary(h) - 1.0));
+            }
+        }
+    }
+    if scene.runs(Model::Layer) {
+        if let Some(l) = &scene.layer {
+            x = x.max(separation_radius(2.0 * s.h_dimless(l.supply_thickness_m)));
+        }
+    }
+    x
+}
+
+/// Whether the Reynolds solver's shape rules apply (square cells, `nx = ny`).
+fn square(scene: &Scene) -> bool {
+    let (d, g) = (&scene.domain, &scene.grid);
+    g.nx == g.ny
+        && ((d.x_a[1] - d.x_a[0]) / (g.nx - 1) as f64 - (d.y_a[1] - d.y_a[0]) / (g.ny - 1) as f64)
+            .abs()
+            < 1e-12
+}
+
+/// The smallest point count `c·2^k + 1` (`c` odd ≤ 9, coarsest level ≥ 17 points) of at least `n`.
+pub fn multigrid_count(n: usize) -> usize {
+    let mut best = usize::MAX;
+    for base in [1usize, 3, 5, 7, 9] {
+        let mut m = base;
+        while m < 16 {
+            m *= 2;
+        }
+        let mut m = base;
+        while m + 1 < n {
+            m *= 2;
+        }
+        best = best.min(m + 1);
+    }
+    best.max(5)
+}
+
+/// The point's scene with the domain and grid the rule asks for, and what changed (`None` when
+/// the scene's own already suffice).
+pub fn adapt(scene: &Scene) -> (Scene, Option<String>) {
+    let inlet = inlet_needed(scene);
+    let d = scene.domain;
+    if -d.x_a[0] >= inlet {
+        return (scene.clone(), None);
+    }
+    let mut s = scene.clone();
+    let dx = (d.x_a[1] - d.x_a[0]) / (scene.grid.nx - 1) as f64;
+    let x_min = -inlet;
+    let len = d.x_a[1] - x_min;
+    // 1e-9: a length that is a whole number of cells up to rounding keeps its count.
+    let nx = multigrid_count((len / dx - 1e-9).ceil() as usize + 1);
+    if square(scene) {
+        let grow = 0.5 * (len - (d.x_a[1] - d.x_a[0]));
+        s.domain = Domain { x_a: [x_min, d.x_a[1]], y_a: [d.y_a[0] - grow, d.y_a[1] + grow] };
+        s.grid = GridSpec { nx, ny: nx };
+    } else {
+        s.domain.x_a[0] = x_min;
+        s.grid.nx = nx;
+    }
+    let what = format!(
+        "inlet at {x_min:.3} a, {}x{} over [{:.3}, {:.3}] x [{:.3}, {:.3}] a",
+        s.grid.nx,
+        s.grid.ny,
+        s.domain.x_a[0],
+        s.domain.x_a[1],
+        s.domain.y_a[0],
+        s.domain.y_a[1]
+    );
+    (s, Some(what))
+}
+
+/// The grid check: the same domain with half the points per side (rounded up).
+pub fn grid_check(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    let half = |n: usize| (n - 1).div_ceil(2) + 1;
+    s.grid = GridSpec { nx: half(scene.grid.nx), ny: half(scene.grid.ny) };
+    s
+}
+
+/// The domain check: the grid check's cells, the inlet distance 1.5 times the point's, `y`
+/// grown by as much in total (half on each side), the point count rounded up to a multigrid
+/// count (the extra length goes to the inlet).
+pub fn domain_check(scene: &Scene) -> Scene {
+    let c = grid_check(scene);
+    let mut s = c.clone();
+    let (d, g) = (&c.domain, &c.grid);
+    let (dx, dy) =
+        ((d.x_a[1] - d.x_a[0]) / (g.nx - 1) as f64, (d.y_a[1] - d.y_a[0]) / (g.ny - 1) as f64);
+    let grow = 0.5 * d.x_a[0].abs().max(dx);
+    let nx = multigrid_count(g.nx + (grow / dx).ceil() as usize);
+    let ny = if square(&c) { nx } else { multigrid_count(g.ny + (grow / dy).ceil() as usize) };
+    s.grid = GridSpec { nx, ny };
+    let wide = 0.5 * dy * (ny - g.ny) as f64;
+    s.domain = Domain {
+        x_a: [d.x_a[1] - dx * (nx - 1) as f64, d.x_a[1]],
+        y_a: [d.y_a[0] - wide, d.y_a[1] + wide],
+    };
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn multigrid_counts() {
+        for (n, m) in [(257, 257), (258, 289), (290, 321), (322, 385), (386, 449), (450, 513), (129, 129), (130, 145)] {
+            assert_eq!(multigrid_count(n), m, "{n}");
+        }
+    }
+
+    #[test]
+    fn separation_radius_inverts_the_hertz_gap() {
+        // Hertz separation at r = 1.25 by hand: 0.78125 − 1 + (0.4375 asin 0.8 + 0.75)/π = 0.149118.
+        assert!((separation_radius(0.149118) - 1.25).abs() < 1e-5);
+    }
+
+    #[test]
+    fn the_seed_point_gets_the_reynolds_inlet() {
+        let seed = ehl_scene::builtin("seed").unwrap();
+        // NVM 14.88 nm on a²/R = 1.905 µm: H = 0.00781, m* = 1 + 3.06 H^0.58 = 1.1836, inlet
+        // 1 + 2 (m* − 1) = 1.367 a; the layer (2 l0 = 0.0262 a²/R) needs only ~1.06 a.
+        let x = inlet_needed(&seed);
+        assert!((x - 1.367).abs() < 2e-3, "{x}");
+        let (s, what) = adapt(&seed);
+        assert!(what.is_some());
+        assert!((s.domain.x_a[0] + x).abs() < 1e-12 && s.domain.x_a[1] == 1.25);
+        // 2.617 a at <= 2.5/256 a per cell: 268 cells, rounded up to 289 points (9·32 + 1).
+        assert_eq!((s.grid.nx, s.grid.ny), (289, 289));
+        s.validate("test").unwrap();
+        // A scene that already reaches far enough is kept as it is.
+        let mut wide = seed.clone();
+        wide.domain = ehl_scene::Domain { x_a: [-1.5, 1.0], y_a: [-1.25, 1.25] };
+        assert_eq!(adapt(&wide), (wide.clone(), None));
+    }
+
+    #[test]
+    fn a_fast_point_gets_a_longer_inlet_at_no_coarser_cells() {
+        let seed = ehl_scene::builtin("seed").unwrap();
+        let fast = seed.with_parameter(ehl_scene::Parameter::RollingVelocity, 1.0).unwrap();
+        let (s, what) = adapt(&fast);
+        assert!(what.is_some());
+        // NVM at 1 m/s: H ≈ 0.175 a²/R, m* ≈ 2.11, inlet ≈ 3.23 a.
+        assert!(s.domain.x_a[0] < -3.1 && s.domain.x_a[0] > -3.35, "{:?}", s.domain);
+        assert_eq!(s.domain.x_a[1], 1.25);
+        let dx = (s.domain.x_a[1] - s.domain.x_a[0]) / (s.grid.nx - 1) as f64;
+        let dy = (s.domain.y_a[1] - s.domain.y_a[0]) / (s.grid.ny - 1) as f64;
+        assert!(dx <= 2.5 / 256.0 + 1e-12 && (dx - dy).abs() < 1e-12, "{dx} {dy}");
+        s.validate("test").unwrap();
+    }
+
+    #[test]
+    fn checks_halve_the_grid_and_grow_the_domain_at_the_same_cells() {
+        let seed = ehl_scene::builtin("seed").unwrap();
+        let g = grid_check(&seed);
+        assert_eq!((g.grid.nx, g.domain), (129, seed.domain));
+        let d = domain_check(&seed);
+        // Inlet 1.25 → 1.875 a: 32 more cells of 2.5/128 a, 161 points (5·32 + 1).
+        assert_eq!(d.grid.nx, 161);
+        let dx = |s: &Scene| (s.domain.x_a[1] - s.domain.x_a[0]) / (s.grid.nx - 1) as f64;
+        assert!((dx(&d) - dx(&g)).abs() < 1e-12);
+        assert!((d.domain.x_a[0] + 1.875).abs() < 1e-12 && d.domain.x_a[1] == 1.25);
+        assert!((d.domain.y_a[1] - 1.5625).abs() < 1e-12);
+        d.validate("test").unwrap();
+    }
+}

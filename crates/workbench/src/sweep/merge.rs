@@ -1,0 +1,351 @@
+//! The merged results of a sweep: `results.csv` (a row per point and model; only numbers that
+//! do not depend on the machine, so a sharded run and a local run give the same file byte for
+//! byte), `results.json` (the same with wall times and the checks in full), `cost.csv` (wall
+//! times), and the charts.
+
+use super::{ModelRecord, Plan, PointRecord, records, write_atomic};
+use crate::compare::model_name;
+use crate::plot::{self, CellPanel, Mark, Panel, Series};
+use anyhow::Result;
+use ehl_core::Observables;
+use ehl_reynolds::formulas;
+use ehl_scene::Model;
+use plotters::prelude::SeriesLabelPosition;
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+
+/// The published film formulas at a point [m]: Hamrock–Dowson central and minimum, NVM central
+/// (pure rolling, the point's own conditions). `None` without lubricant or motion.
+pub fn formulas_at(p: &super::PlannedPoint) -> Option<[f64; 3]> {
+    let l = p.scene.lubricant?.lubricant();
+    let (c, u_sum) = p.scene.reynolds_conditions();
+    (u_sum > 0.0).then(|| {
+        [
+            formulas::hamrock_dowson_central(&c, &l, 0.5 * u_sum),
+            formulas::hamrock_dowson_minimum(&c, &l, 0.5 * u_sum),
+            formulas::nvm_central(&c, &l, u_sum),
+        ]
+    })
+}
+
+fn num(v: Option<f64>) -> String {
+    v.map(|x| format!("{x:e}")).unwrap_or_default()
+}
+
+fn text(s: &str) -> String {
+    format!("\"{}\"", s.replace('"', "'").replace('\n', " "))
+}
+
+/// `results.csv`.
+pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
+    let mut s = String::from("point");
+    for a in &plan.sweep.parameters {
+        s += &format!(",{}", a.parameter.name());
+    }
+    s += ",model,converged,central_film_m,minimum_film_m,max_pressure_pa,contact_extent_x_m,contact_extent_y_m,load_error,\
+          hamrock_dowson_central_m,hamrock_dowson_minimum_m,nvm_central_m,nx,ny,x_min_a,x_max_a,y_min_a,y_max_a,\
+          grid_change_h_c,grid_change_h_min,grid_change_p_max,domain_change_h_c,domain_change_h_min,domain_change_p_max,flag,diagnosis\n";
+    for r in recs {
+        let f = formulas_at(&plan.points[r.index]);
+        for m in &r.models {
+            s += &r.index.to_string();
+            for v in &r.values {
+                s += &format!(",{v:e}");
+            }
+            let o = m.observables.as_ref();
+            let g = m.grid_check.as_ref().and_then(|c| c.change);
+            let d = m.domain_check.as_ref().and_then(|c| c.change);
+            let cols: Vec<String> = vec![
+                model_name(m.model),
+                o.is_some().to_string(),
+                num(o.map(|o| o.central_film_m)),
+                num(o.map(|o| o.minimum_film_m)),
+                num(o.map(|o| o.max_pressure_pa)),
+                num(o.map(|o| o.contact_extent_x_m)),
+                num(o.map(|o| o.contact_extent_y_m)),
+                num(o.map(|o| o.load_error)),
+                num(f.map(|f| f[0])),
+                num(f.map(|f| f[1])),
+                num(f.map(|f| f[2])),
+                r.nx.to_string(),
+                r.ny.to_string(),
+                format!("{:e}", r.x_a[0]),
+                format!("{:e}", r.x_a[1]),
+                format!("{:e}", r.y_a[0]),
+                format!("{:e}", r.y_a[1]),
+                num(g.map(|c| c[0])),
+                num(g.map(|c| c[1])),
+                num(g.map(|c| c[2])),
+                num(d.map(|c| c[0])),
+                num(d.map(|c| c[1])),
+                num(d.map(|c| c[2])),
+                m.flag.as_deref().map(text).unwrap_or_default(),
+                m.diagnosis.as_deref().map(text).unwrap_or_default(),
+            ];
+            s += &format!(",{}\n", cols.join(","));
+        }
+    }
+    s
+}
+
+/// `cost.csv`: wall time of each model's run and of its checks at each point.
+pub fn cost_csv(plan: &Plan, recs: &[PointRecord]) -> String {
+    let mut s = String::from("point");
+    for a in &plan.sweep.parameters {
+        s += &format!(",{}", a.parameter.name());
+    }
+    s += ",model,nx,ny,wall_time_s,check_wall_time_s\n";
+    for r in recs {
+        for m in &r.models {
+            s += &r.index.to_string();
+            for v in &r.values {
+                s += &format!(",{v:e}");
+            }
+            s += &format!(
+                ",{},{},{},{:.3},{:.3}\n",
+                model_name(m.model),
+                r.nx,
+                r.ny,
+                m.wall_time_s,
+                m.check_wall_time_s
+            );
+        }
+    }
+    s
+}
+
+/// `results.json`: the sweep, its parameters, and every point's record in full.
+pub fn results_json(plan: &Plan, recs: &[PointRecord]) -> Value {
+    let points: Vec<Value> = recs
+        .iter()
+        .map(|r| {
+            let p = &plan.points[r.index];
+            let f = formulas_at(p);
+            json!({
+                "point": r.index,
+                "values": r.values,
+                "adapted": p.adapted,
+                "formulas_m": f.map(|f| json!({
+                    "hamrock_dowson_central": f[0], "hamrock_dowson_minimum": f[1], "nvm_central": f[2],
+                })),
+                "record": r,
+            })
+        })
+        .collect();
+    json!({
+        "sweep": plan.sweep,
+        "parameters": plan.sweep.parameters.iter().map(|a| json!({
+            "name": a.parameter.name(), "unit": a.parameter.unit(), "values": a.values(), "log": a.is_log(),
+        })).collect::<Vec<_>>(),
+        "definitions": {
+            "film": "separation of the solid surfaces (see comparison.json of `ehl compare`)",
+            "grid_change": "(this point - the same domain at half the points per side) / this point",
+            "domain_change": "(larger domain - the half-points run) / the half-points run, same cells",
+            "flag": format!("a change beyond {} (relative) or a check that failed", plan.sweep.flag_change_above),
+            "wall_time_s": "one thread per point",
+        },
+        "points": points,
+    })
+}
+
+/// Reads every point's record and writes the results and charts into `dir`.
+pub fn merge(dir: &Path) -> Result<Vec<PathBuf>> {
+    let plan = Plan::load(dir)?;
+    let recs = records(dir, &plan)?;
+    let mut files = vec![];
+    for (name, body) in [
+        ("results.csv", results_csv(&plan, &recs)),
+        ("cost.csv", cost_csv(&plan, &recs)),
+        ("results.json", serde_json::to_string_pretty(&results_json(&plan, &recs))? + "\n"),
+    ] {
+        let f = dir.join(name);
+        write_atomic(&f, &body)?;
+        files.push(f);
+    }
+    files.extend(charts(dir, &plan, &recs)?);
+    Ok(files)
+}
+
+fn obs(m: &ModelRecord) -> Option<&Observables> {
+    m.observables.as_ref()
+}
+
+/// The short reason of a failure, for legends.
+fn short(d: &str) -> String {
+    let first = d.split(':').take(2).collect::<Vec<_>>().join(":");
+    if first.chars().count() > 60 { first.chars().take(57).collect::<String>() + "..." } else { first }
+}
+
+fn charts(dir: &Path, plan: &Plan, recs: &[PointRecord]) -> Result<Vec<PathBuf>> {
+    // Charts are written through a temporary name too, so a reader never sees half a PNG.
+    let mut files = vec![];
+    let tmp = |name: &str| dir.join(format!(".{name}.tmp-{}.png", std::process::id()));
+    let mut put = |name: &str, draw: &dyn Fn(&Path) -> Result<()>| -> Result<()> {
+        let t = tmp(name);
+        draw(&t)?;
+        let f = dir.join(name);
+        std::fs::rename(&t, &f)?;
+        files.push(f);
+        Ok(())
+    };
+    let models: Vec<Model> = plan.points[0].scene.models();
+    let axes = &plan.sweep.parameters;
+    let note = format!(
+        "sweep {} of scene {}: {} points; wall times on one thread per point",
+        plan.sweep.name,
+        plan.sweep.scene,
+        recs.len()
+    );
+    if axes.len() == 1 {
+        let a = &axes[0];
+        let x_label = format!("{} [{}]", a.parameter.name(), a.parameter.unit());
+        let mut hc = vec![];
+        let mut hmin = vec![];
+        let mut fails = vec![];
+        let mut cost = vec![];
+        for (k, &m) in models.iter().enumerate() {
+            let name = model_name(m);
+            let rows: Vec<(&PointRecord, &ModelRecord)> =
+                recs.iter().map(|r| (r, &r.models[k])).collect();
+            if rows.iter().any(|(_, mr)| mr.lubricated) {
+                let pts = |f: &dyn Fn(&Observables) -> f64| -> Vec<(f64, f64)> {
+                    rows.iter()
+                        .filter_map(|(r, mr)| obs(mr).map(|o| (r.values[0], f(o) * 1e9)))
+                        .collect()
+                };
+                hc.push(Series::new(name.clone(), pts(&|o| o.central_film_m), Mark::LinePoints));
+                hmin.push(Series::new(name.clone(), pts(&|o| o.minimum_film_m), Mark::LinePoints));
+                let flagged: Vec<(f64, f64)> = rows
+                    .iter()
+                    .filter(|(_, mr)| mr.flag.is_some())
+                    .filter_map(|(r, mr)| obs(mr).map(|o| (r.values[0], o.central_film_m * 1e9)))
+                    .collect();
+                if !flagged.is_empty() {
+                    hc.push(Series::new(format!("{name}: flagged (grid/domain)"), flagged, Mark::Points));
+                }
+            }
+            let failed: Vec<&(&PointRecord, &ModelRecord)> =
+                rows.iter().filter(|(_, mr)| mr.observables.is_none()).collect();
+            if let Some((_, first)) = failed.first() {
+                fails.push((
+                    format!(
+                        "{name} failed at {} point(s): {}",
+                        failed.len(),
+                        short(first.diagnosis.as_deref().unwrap_or(""))
+                    ),
+                    failed.iter().map(|(r, _)| r.values[0]).collect::<Vec<f64>>(),
+                ));
+            }
+            cost.push(Series::new(
+                name.clone(),
+                rows.iter().map(|(r, mr)| (r.values[0], mr.wall_time_s.max(1e-3))).collect(),
+                Mark::LinePoints,
+            ));
+        }
+        let formula = |k: usize| -> Vec<(f64, f64)> {
+            recs.iter()
+                .filter_map(|r| formulas_at(&plan.points[r.index]).map(|f| (r.values[0], f[k] * 1e9)))
+                .collect()
+        };
+        if plan.points.iter().any(|p| formulas_at(p).is_some()) {
+            hc.push(Series::new("Hamrock-Dowson", formula(0), Mark::Line));
+            hc.push(Series::new("NVM", formula(2), Mark::Line));
+            hmin.push(Series::new("Hamrock-Dowson", formula(1), Mark::Line));
+        }
+        // Failed points sit on the lower edge of the film charts, one row per model.
+        let floor = hc
+            .iter()
+            .chain(&hmin)
+            .flat_map(|s| s.points.iter().map(|p| p.1))
+            .filter(|v| *v > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        let floor = if floor.is_finite() { floor / 1.3 } else { 1.0 };
+        for (label, xs) in fails {
+            let s = Series::new(label, xs.iter().map(|&x| (x, floor)).collect(), Mark::Points);
+            hc.push(s.clone());
+            hmin.push(s);
+        }
+        let log = a.is_log();
+        let panel = |title: &str, y: &str, series: Vec<Series>| {
+            let mut p = Panel::new(title, &x_label, y, series).legend(SeriesLabelPosition::UpperLeft);
+            p.log_x = log;
+            p.log_y = log;
+            p
+        };
+        put("sweep_films.png", &|f| {
+            plot::charts(
+                f,
+                &[
+                    panel("Central film h_c", "h_c [nm]", hc.clone()),
+                    panel("Minimum film h_min", "h_min [nm]", hmin.clone()),
+                ],
+                &note,
+            )
+        })?;
+        put("sweep_cost.png", &|f| {
+            let mut p = Panel::new("Wall time per point (one thread)", &x_label, "wall time [s]", cost.clone())
+                .legend(SeriesLabelPosition::UpperLeft);
+            p.log_x = log;
+            p.log_y = true;
+            plot::charts(f, &[p], &note)
+        })?;
+    } else {
+        let (a0, a1) = (&axes[0], &axes[1]);
+        let (n0, n1) = (a0.values().len(), a1.values().len());
+        let ticks = |a: &ehl_scene::Axis| -> Vec<String> {
+            a.values().iter().map(|v| format!("{v}")).collect()
+        };
+        let at = |i0: usize, i1: usize| &recs[i0 * n1 + i1];
+        let idx = |m: Model| models.iter().position(|&x| x == m);
+        let mut panels = vec![];
+        if let (Some(kl), Some(kr)) = (idx(Model::Layer), idx(Model::Reynolds)) {
+            let mut ratio = vec![vec![None; n0]; n1];
+            let mut agree = vec![vec![false; n0]; n1];
+            for i0 in 0..n0 {
+                for i1 in 0..n1 {
+                    let r = at(i0, i1);
+                    if let (Some(l), Some(re)) = (obs(&r.models[kl]), obs(&r.models[kr])) {
+                        let q = l.central_film_m / re.central_film_m;
+                        ratio[i1][i0] = Some(q);
+                        agree[i1][i0] = (q - 1.0).abs() <= 0.1;
+                    }
+                }
+            }
+            panels.push(CellPanel {
+                title: "Layer h_c / Reynolds h_c (outlined: within 10 %)".into(),
+                values: ratio,
+                outline: agree,
+                log_colour: false,
+                digits: 3,
+            });
+        }
+        let mut cost_panels = vec![];
+        for (k, &m) in models.iter().enumerate() {
+            let mut t = vec![vec![None; n0]; n1];
+            for i0 in 0..n0 {
+                for i1 in 0..n1 {
+                    let mr = &at(i0, i1).models[k];
+                    t[i1][i0] = mr.observables.is_some().then_some(mr.wall_time_s);
+                }
+            }
+            cost_panels.push(CellPanel {
+                title: format!("{} wall time [s] (blank: failed)", model_name(m)),
+                values: t,
+                outline: vec![vec![false; n0]; n1],
+                log_colour: true,
+                digits: 2,
+            });
+        }
+        let xl = format!("{} [{}]", a0.parameter.name(), a0.parameter.unit());
+        let yl = format!("{} [{}]", a1.parameter.name(), a1.parameter.unit());
+        if !panels.is_empty() {
+            put("sweep_film_ratio.png", &|f| {
+                plot::cell_maps(f, &panels, &ticks(a0), &ticks(a1), &xl, &yl, &note)
+            })?;
+        }
+        put("sweep_cost.png", &|f| {
+            plot::cell_maps(f, &cost_panels, &ticks(a0), &ticks(a1), &xl, &yl, &note)
+        })?;
+    }
+    Ok(files)
+}

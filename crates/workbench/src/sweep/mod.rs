@@ -1,0 +1,458 @@
+//! Sweeps: one scene over one or two parameters, every model it lists at every point.
+//!
+//! A sweep runs in three steps that share one folder, so the same sweep runs on a laptop or as a
+//! SLURM array:
+//! 1. **plan** ([`Plan::new`], `plan.json`): every point's scene, built from the sweep file and
+//!    given the domain and grid its physics needs ([`adapt`]), validated before anything runs;
+//! 2. **run** ([`run`]): the points of a shard (all of them locally), in parallel over the cores,
+//!    each in a single-threaded pool so its numbers do not depend on where or beside what it ran;
+//!    each finished point is one file `points/NNNNN.json` written atomically, and points whose
+//!    file exists are skipped: a killed run loses only the points in flight, and shards never
+//!    write the same file;
+//! 3. **merge** ([`merge::merge`]): `results.csv`, `results.json`, `cost.csv` and the charts.
+//!
+//! A model that fails at a point is recorded with its diagnosis; the sweep goes on.
+
+pub mod adapt;
+pub mod merge;
+
+use crate::progress;
+use anyhow::{Context, Result, bail, ensure};
+use ehl_core::Observables;
+use ehl_scene::{Model, Scene, Sweep};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+/// Every point of a sweep, ready to run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Plan {
+    pub sweep: Sweep,
+    pub points: Vec<PlannedPoint>,
+}
+
+/// One point: the parameters' values and the scene that runs them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlannedPoint {
+    pub index: usize,
+    pub values: Vec<f64>,
+    pub scene: Scene,
+    /// What the domain-and-grid rule changed from the base scene, if anything.
+    pub adapted: Option<String>,
+}
+
+/// One model's answer at a point.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ModelRecord {
+    pub model: Model,
+    /// Whether a film separates the surfaces (false for the dry contact).
+    pub lubricated: bool,
+    /// The standard observables (SI); `None` when the model failed.
+    pub observables: Option<Observables>,
+    pub diagnosis: Option<String>,
+    /// Wall time of the model's run at this point [s], single thread.
+    pub wall_time_s: f64,
+    pub grid_check: Option<CheckRecord>,
+    pub domain_check: Option<CheckRecord>,
+    /// Wall time of both checks [s].
+    pub check_wall_time_s: f64,
+    /// Why the point's answer is not to be trusted as it stands (a check's change beyond the
+    /// sweep's limit, or a check that failed); `None` when both checks pass.
+    pub flag: Option<String>,
+}
+
+/// A check run: its grid and domain, its observables, and the relative changes it measures.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CheckRecord {
+    pub nx: usize,
+    pub ny: usize,
+    pub x_a: [f64; 2],
+    pub y_a: [f64; 2],
+    pub observables: Option<Observables>,
+    pub diagnosis: Option<String>,
+    /// Relative changes of `h_c`, `h_min`, `p_max` (grid: point − coarse over point; domain:
+    /// larger − coarse over coarse).
+    pub change: Option<[f64; 3]>,
+}
+
+/// A finished point.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PointRecord {
+    pub index: usize,
+    pub values: Vec<f64>,
+    pub nx: usize,
+    pub ny: usize,
+    pub x_a: [f64; 2],
+    pub y_a: [f64; 2],
+    pub models: Vec<ModelRecord>,
+}
+
+impl Plan {
+    /// Builds every point's scene (adapted when the sweep says so) and checks it.
+    pub fn new(sweep: &Sweep, sweep_dir: Option<&Path>) -> Result<Plan> {
+        let base = sweep.base_scene(sweep_dir)?;
+        let points = sweep
+            .points(&base)?
+            .into_iter()
+            .enumerate()
+            .map(|(index, (values, scene))| {
+                let (scene, adapted) =
+                    if sweep.adapt { adapt::adapt(&scene) } else { (scene, None) };
+                scene.validate(&format!("sweep {} point {index} (adapted)", sweep.name))?;
+                let mut scene = scene;
+                scene.name = format!("{}-{index:05}", sweep.name);
+                Ok(PlannedPoint { index, values, scene, adapted })
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Plan { sweep: sweep.clone(), points })
+    }
+
+    /// Writes `plan.json` into `dir` (created), or, when `dir` already holds a plan, checks that
+    /// it is this one (so a rerun resumes) and refuses otherwise.
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        let f = dir.join("plan.json");
+        if f.exists() {
+            let old = Plan::load(dir)?;
+            ensure!(
+                old == *self,
+                "{} holds the plan of another sweep (or of this one before it was edited): choose another --out, or remove the folder to start again",
+                dir.display()
+            );
+            return Ok(());
+        }
+        std::fs::create_dir_all(dir.join("points"))
+            .with_context(|| format!("creating {}", dir.display()))?;
+        write_atomic(&f, &(serde_json::to_string_pretty(self)? + "\n"))
+    }
+
+    pub fn load(dir: &Path) -> Result<Plan> {
+        let f = dir.join("plan.json");
+        let text = std::fs::read_to_string(&f).with_context(|| {
+            format!("reading {} (is this a sweep folder? `ehl sweep plan` writes it)", f.display())
+        })?;
+        serde_json::from_str(&text).with_context(|| format!("parsing {}", f.display()))
+    }
+
+    /// The record of point `index` if it finished (a file that does not parse, or belongs to
+    /// another point, counts as not finished).
+    pub fn finished(&self, dir: &Path, index: usize) -> Option<PointRecord> {
+        let text = std::fs::read_to_string(point_file(dir, index)).ok()?;
+        let r: PointRecord = serde_json::from_str(&text).ok()?;
+        (r.index == index && r.values == self.points[index].values).then_some(r)
+    }
+}
+
+/// Where point `index`'s record goes.
+pub fn point_file(dir: &Path, index: usize) -> PathBuf {
+    dir.join("points").join(format!("{index:05}.json"))
+}
+
+/// Writes `text` to `path` through a temporary file in the same folder and a rename, so a reader
+/// (or a killed writer) never sees half a file.
+pub fn write_atomic(path: &Path, text: &str) -> Result<()> {
+    let name = path.file_name().context("a file name")?.to_string_lossy();
+    let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+    std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| format!("moving {} into place", path.display()))
+}
+
+/// Shard `index` of `count`: the points `k` with `k % count == index` (neighbouring points,
+/// which cost alike, go to different shards).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let bad = || format!("`{s}`: a shard is I/N with 0 <= I < N (e.g. 0/4)");
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let (index, count) =
+            (i.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
+        if count == 0 || index >= count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+impl Shard {
+    pub fn all() -> Shard {
+        Shard { index: 0, count: 1 }
+    }
+    pub fn holds(&self, point: usize) -> bool {
+        point % self.count == self.index
+    }
+}
+
+/// What a run did.
+pub struct RunSummary {
+    pub ran: usize,
+    pub skipped: usize,
+    pub wall_time_s: f64,
+}
+
+/// Runs the points of `shard` that have no record yet, `jobs` at a time.
+pub fn run(dir: &Path, shard: Shard, jobs: usize) -> Result<RunSummary> {
+    ensure!(jobs >= 1, "--jobs must be >= 1");
+    let plan = Plan::load(dir)?;
+    std::fs::create_dir_all(dir.join("points"))?;
+    let mine: Vec<&PlannedPoint> = plan.points.iter().filter(|p| shard.holds(p.index)).collect();
+    let todo: Vec<&PlannedPoint> =
+        mine.iter().copied().filter(|p| plan.finished(dir, p.index).is_none()).collect();
+    let skipped = mine.len() - todo.len();
+    let t0 = Instant::now();
+    let bar = progress::bar(todo.len() as u64, &format!("sweep {}", plan.sweep.name));
+    let next = AtomicUsize::new(0);
+    let error: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
+    std::thread::scope(|s| {
+        for _ in 0..jobs.min(todo.len().max(1)) {
+            s.spawn(|| {
+                loop {
+                    let k = next.fetch_add(1, Ordering::SeqCst);
+                    if k >= todo.len() || error.lock().unwrap().is_some() {
+                        break;
+                    }
+                    let p = todo[k];
+                    let rec = run_point(&plan.sweep, p);
+                    let line = point_line(&plan.sweep, &rec);
+                    let written = serde_json::to_string_pretty(&rec)
+                        .map_err(anyhow::Error::from)
+                        .and_then(|t| write_atomic(&point_file(dir, p.index), &(t + "\n")));
+                    if let Err(e) = written {
+                        *error.lock().unwrap() = Some(e);
+                        break;
+                    }
+                    bar.suspend(|| eprintln!("{line}"));
+                    bar.inc(1);
+                }
+            });
+        }
+    });
+    bar.finish_and_clear();
+    if let Some(e) = error.into_inner().unwrap() {
+        return Err(e);
+    }
+    Ok(RunSummary { ran: todo.len(), skipped, wall_time_s: t0.elapsed().as_secs_f64() })
+}
+
+/// The one-line report of a finished point.
+fn point_line(sweep: &Sweep, r: &PointRecord) -> String {
+    let vals: Vec<String> = sweep
+        .parameters
+        .iter()
+        .zip(&r.values)
+        .map(|(a, v)| format!("{} = {v}", a.parameter.name()))
+        .collect();
+    let models: Vec<String> = r
+        .models
+        .iter()
+        .map(|m| {
+            let name = crate::compare::model_name(m.model);
+            match (&m.observables, &m.flag) {
+                (Some(o), None) => format!("{name} h_c {:.3} nm ({:.1} s)", o.central_film_m * 1e9, m.wall_time_s),
+                (Some(o), Some(f)) => format!("{name} h_c {:.3} nm ({:.1} s) FLAGGED: {f}", o.central_film_m * 1e9, m.wall_time_s),
+                (None, _) => format!("{name} FAILED ({:.1} s)", m.wall_time_s),
+            }
+        })
+        .collect();
+    format!("point {} ({}; {}x{}): {}", r.index, vals.join(", "), r.nx, r.ny, models.join("; "))
+}
+
+/// Runs one model on one scene in the current (single-thread) pool; a panic is a failure too.
+fn run_model(scene: &Scene) -> (Result<(Observables, bool), String>, f64) {
+    let t0 = Instant::now();
+    let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| crate::run::run_scene(scene)));
+    let out = match r {
+        Ok(Ok(o)) => Ok((o.observables(), o.lubricated())),
+        Ok(Err(e)) => Err(format!("{e:#}")),
+        Err(p) => Err(format!(
+            "panicked: {}",
+            p.downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default()
+        )),
+    };
+    (out, t0.elapsed().as_secs_f64())
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    if b == 0.0 { if a == 0.0 { 0.0 } else { f64::INFINITY } } else { a / b - 1.0 }
+}
+
+fn changes(a: &Observables, b: &Observables) -> [f64; 3] {
+    [
+        rel(a.central_film_m, b.central_film_m),
+        rel(a.minimum_film_m, b.minimum_film_m),
+        rel(a.max_pressure_pa, b.max_pressure_pa),
+    ]
+}
+
+fn check_record(scene: &Scene, run: &Result<(Observables, bool), String>) -> CheckRecord {
+    CheckRecord {
+        nx: scene.grid.nx,
+        ny: scene.grid.ny,
+        x_a: scene.domain.x_a,
+        y_a: scene.domain.y_a,
+        observables: run.as_ref().ok().map(|r| r.0),
+        diagnosis: run.as_ref().err().cloned(),
+        change: None,
+    }
+}
+
+/// Runs every model of a point, and its checks, in a single-thread pool: the numbers are then
+/// the same whichever worker, shard or machine ran it (rayon's parallel sums would otherwise
+/// vary in the last digits with the thread count and scheduling).
+pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("a one-thread pool");
+    pool.install(|| {
+        let scene = &p.scene;
+        let models = scene
+            .models()
+            .into_iter()
+            .map(|m| {
+                let one = scene.for_model(m);
+                let (main, wall_time_s) = run_model(&one);
+                let mut rec = ModelRecord {
+                    model: m,
+                    lubricated: m != Model::Dry,
+                    observables: main.as_ref().ok().map(|r| r.0),
+                    diagnosis: main.as_ref().err().cloned(),
+                    wall_time_s,
+                    grid_check: None,
+                    domain_check: None,
+                    check_wall_time_s: 0.0,
+                    flag: None,
+                };
+                if let Ok((ob, lub)) = &main {
+                    rec.lubricated = *lub;
+                    if sweep.checks {
+                        let (gs, ds) = (adapt::grid_check(&one), adapt::domain_check(&one));
+                        let (g, tg) = run_model(&gs);
+                        let (d, td) = run_model(&ds);
+                        rec.check_wall_time_s = tg + td;
+                        let mut gc = check_record(&gs, &g);
+                        let mut dc = check_record(&ds, &d);
+                        gc.change = g.as_ref().ok().map(|(c, _)| changes(ob, c));
+                        if let (Ok((c, _)), Ok((big, _))) = (&g, &d) {
+                            dc.change = Some(changes(big, c));
+                        }
+                        rec.flag = flag(sweep.flag_change_above, &gc, &dc, *lub);
+                        rec.grid_check = Some(gc);
+                        rec.domain_check = Some(dc);
+                    }
+                }
+                rec
+            })
+            .collect();
+        PointRecord {
+            index: p.index,
+            values: p.values.clone(),
+            nx: scene.grid.nx,
+            ny: scene.grid.ny,
+            x_a: scene.domain.x_a,
+            y_a: scene.domain.y_a,
+            models,
+        }
+    })
+}
+
+/// The flag of a model at a point: each check whose change exceeds `limit`, by how much, or
+/// that failed. Films are not checked for the dry contact (it has none).
+fn flag(limit: f64, grid: &CheckRecord, domain: &CheckRecord, lubricated: bool) -> Option<String> {
+    let mut parts = vec![];
+    for (what, c) in [("grid", grid), ("domain", domain)] {
+        match (&c.change, &c.diagnosis) {
+            (Some(ch), _) => {
+                let names = ["h_c", "h_min", "p_max"];
+                let over: Vec<String> = ch
+                    .iter()
+                    .zip(names)
+                    .skip(if lubricated { 0 } else { 2 })
+                    .filter(|(v, _)| !(v.abs() <= limit))
+                    .map(|(v, n)| format!("{n} {:+.1} %", 100.0 * v))
+                    .collect();
+                if !over.is_empty() {
+                    parts.push(format!("{what} {}", over.join(", ")));
+                }
+            }
+            (None, Some(_)) => parts.push(format!("{what} check failed")),
+            (None, None) => parts.push(format!("{what} check not compared (its reference failed)")),
+        }
+    }
+    (!parts.is_empty()).then(|| parts.join("; "))
+}
+
+/// Writes the SLURM array script for `shards` shards of the sweep in `dir`: one task per shard,
+/// each `ehl sweep run DIR --shard $SLURM_ARRAY_TASK_ID/N` on the cores SLURM gives it.
+pub fn write_sbatch(dir: &Path, shards: usize, cpus_per_task: usize) -> Result<PathBuf> {
+    ensure!(shards >= 1, "--shards must be >= 1");
+    ensure!(cpus_per_task >= 1, "--cpus-per-task must be >= 1");
+    let plan = Plan::load(dir)?;
+    ensure!(
+        shards <= plan.points.len(),
+        "--shards {shards} is more than the sweep's {} points",
+        plan.points.len()
+    );
+    let dir_abs = std::fs::canonicalize(dir)?;
+    let exe = std::env::current_exe().context("locating the ehl binary")?;
+    let q = |p: &Path| format!("'{}'", p.display().to_string().replace('\'', "'\\''"));
+    let text = format!(
+        "#!/bin/bash\n\
+         # SLURM array job for sweep `{name}` ({n} points in {shards} shards), written by `ehl sweep plan`.\n\
+         # Submit with `sbatch {script}`; when every task has finished, `ehl sweep merge {dir}`.\n\
+         # The ehl binary and this folder must be on a file system the compute nodes share.\n\
+         #SBATCH --job-name=ehl-{name}\n\
+         #SBATCH --array=0-{last}\n\
+         #SBATCH --cpus-per-task={cpus_per_task}\n\
+         #SBATCH --output={dir}/slurm-%A_%a.out\n\
+         set -euo pipefail\n\
+         exec {exe} sweep run {dir} --shard \"$SLURM_ARRAY_TASK_ID/{shards}\" --jobs \"${{SLURM_CPUS_PER_TASK:-1}}\"\n",
+        name = plan.sweep.name,
+        n = plan.points.len(),
+        script = q(&dir_abs.join("sweep.sbatch")),
+        dir = q(&dir_abs),
+        last = shards - 1,
+        exe = q(&exe),
+    );
+    let f = dir.join("sweep.sbatch");
+    write_atomic(&f, &text)?;
+    Ok(f)
+}
+
+/// Plans, runs every point not yet finished, and merges: the local sweep.
+pub fn run_local(sweep: &Sweep, sweep_dir: Option<&Path>, dir: &Path, jobs: usize) -> Result<(RunSummary, Vec<PathBuf>)> {
+    let plan = Plan::new(sweep, sweep_dir)?;
+    plan.write(dir)?;
+    let summary = run(dir, Shard::all(), jobs)?;
+    let files = merge::merge(dir)?;
+    Ok((summary, files))
+}
+
+/// The records of every point, in order; the missing ones named.
+pub fn records(dir: &Path, plan: &Plan) -> Result<Vec<PointRecord>> {
+    let mut out = vec![];
+    let mut missing = vec![];
+    for p in &plan.points {
+        match plan.finished(dir, p.index) {
+            Some(r) => out.push(r),
+            None => missing.push(p.index),
+        }
+    }
+    if !missing.is_empty() {
+        let list: Vec<String> = missing.iter().take(12).map(|k| k.to_string()).collect();
+        bail!(
+            "{} of {} points have no result yet (points {}{}): run `ehl sweep run {}` (or the shards that hold them) first",
+            missing.len(),
+            plan.points.len(),
+            list.join(", "),
+            if missing.len() > 12 { ", …" } else { "" },
+            dir.display()
+        );
+    }
+    Ok(out)
+}
