@@ -190,12 +190,16 @@ fn sweep(args: SweepArgs) -> Result<()> {
         }
         (None, Some(name)) => {
             let (sw, base) = ehl_scene::load_sweep(&name)?;
-            let dir = args.out.unwrap_or_else(|| PathBuf::from("out").join(format!("sweep-{}", sw.name)));
-            let (s, files) = sweep::run_local(&sw, base.as_deref(), &dir, args.jobs.unwrap_or_else(cores))?;
+            let dir =
+                args.out.unwrap_or_else(|| PathBuf::from("out").join(format!("sweep-{}", sw.name)));
+            let (s, files) =
+                sweep::run_local(&sw, base.as_deref(), &dir, args.jobs.unwrap_or_else(cores))?;
             report(&dir, &s);
             println!("wrote {} result files to {}", files.len(), dir.display());
         }
-        (None, None) => bail!("give a sweep (a built-in name or a file), or a step: plan, run, merge"),
+        (None, None) => {
+            bail!("give a sweep (a built-in name or a file), or a step: plan, run, merge")
+        }
     }
     Ok(())
 }

@@ -415,11 +415,19 @@ pub fn cell_maps(
             .y_labels(ny)
             .x_label_formatter(&|v: &f64| {
                 let k = v.round();
-                if (v - k).abs() < 1e-6 && k >= 0.0 { xt.get(k as usize).cloned().unwrap_or_default() } else { String::new() }
+                if (v - k).abs() < 1e-6 && k >= 0.0 {
+                    xt.get(k as usize).cloned().unwrap_or_default()
+                } else {
+                    String::new()
+                }
             })
             .y_label_formatter(&|v: &f64| {
                 let k = v.round();
-                if (v - k).abs() < 1e-6 && k >= 0.0 { yt.get(k as usize).cloned().unwrap_or_default() } else { String::new() }
+                if (v - k).abs() < 1e-6 && k >= 0.0 {
+                    yt.get(k as usize).cloned().unwrap_or_default()
+                } else {
+                    String::new()
+                }
             })
             .x_desc(x_label)
             .y_desc(y_label)
@@ -433,7 +441,8 @@ pub fn cell_maps(
                 match v {
                     Some(v) => {
                         let t = (key(*v) - lo) / span;
-                        chart.draw_series(std::iter::once(Rectangle::new(cell, ramp(t).filled())))?;
+                        chart
+                            .draw_series(std::iter::once(Rectangle::new(cell, ramp(t).filled())))?;
                         let ink = if t > 0.6 { BLACK } else { WHITE };
                         let label = format!("{:.*}", panel.digits, v);
                         chart.draw_series(std::iter::once(Text::new(
@@ -443,7 +452,10 @@ pub fn cell_maps(
                         )))?;
                     }
                     None => {
-                        chart.draw_series(std::iter::once(Rectangle::new(cell, RGBColor(230, 230, 230).filled())))?;
+                        chart.draw_series(std::iter::once(Rectangle::new(
+                            cell,
+                            RGBColor(230, 230, 230).filled(),
+                        )))?;
                         chart.draw_series(std::iter::once(Text::new(
                             "failed".to_string(),
                             (x - 0.3, y + 0.1),
@@ -453,7 +465,8 @@ pub fn cell_maps(
                 }
                 if panel.outline.get(j).and_then(|r| r.get(i)).copied().unwrap_or(false) {
                     let inset = [(x - 0.46, y - 0.46), (x + 0.46, y + 0.46)];
-                    chart.draw_series(std::iter::once(Rectangle::new(inset, RED.stroke_width(3))))?;
+                    chart
+                        .draw_series(std::iter::once(Rectangle::new(inset, RED.stroke_width(3))))?;
                 }
             }
         }

@@ -115,12 +115,7 @@ pub fn adapt(scene: &Scene) -> (Scene, Option<String>) {
     }
     let what = format!(
         "inlet at {x_min:.3} a, {}x{} over [{:.3}, {:.3}] x [{:.3}, {:.3}] a",
-        s.grid.nx,
-        s.grid.ny,
-        s.domain.x_a[0],
-        s.domain.x_a[1],
-        s.domain.y_a[0],
-        s.domain.y_a[1]
+        s.grid.nx, s.grid.ny, s.domain.x_a[0], s.domain.x_a[1], s.domain.y_a[0], s.domain.y_a[1]
     );
     (s, Some(what))
 }
@@ -160,7 +155,16 @@ mod tests {
 
     #[test]
     fn multigrid_counts() {
-        for (n, m) in [(257, 257), (258, 289), (290, 321), (322, 385), (386, 449), (450, 513), (129, 129), (130, 145)] {
+        for (n, m) in [
+            (257, 257),
+            (258, 289),
+            (290, 321),
+            (322, 385),
+            (386, 449),
+            (450, 513),
+            (129, 129),
+            (130, 145),
+        ] {
             assert_eq!(multigrid_count(n), m, "{n}");
         }
     }

@@ -53,8 +53,8 @@ pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
                 s += &format!(",{v:e}");
             }
             let o = m.observables.as_ref();
-            let g = m.grid_check.as_ref().and_then(|c| c.change);
-            let d = m.domain_check.as_ref().and_then(|c| c.change);
+            let g = m.grid_check.as_ref().and_then(|c| c.change).unwrap_or_default();
+            let d = m.domain_check.as_ref().and_then(|c| c.change).unwrap_or_default();
             let cols: Vec<String> = vec![
                 model_name(m.model),
                 o.is_some().to_string(),
@@ -73,12 +73,12 @@ pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
                 format!("{:e}", r.x_a[1]),
                 format!("{:e}", r.y_a[0]),
                 format!("{:e}", r.y_a[1]),
-                num(g.map(|c| c[0])),
-                num(g.map(|c| c[1])),
-                num(g.map(|c| c[2])),
-                num(d.map(|c| c[0])),
-                num(d.map(|c| c[1])),
-                num(d.map(|c| c[2])),
+                num(g[0]),
+                num(g[1]),
+                num(g[2]),
+                num(d[0]),
+                num(d[1]),
+                num(d[2]),
                 m.flag.as_deref().map(text).unwrap_or_default(),
                 m.diagnosis.as_deref().map(text).unwrap_or_default(),
             ];
@@ -173,7 +173,11 @@ fn obs(m: &ModelRecord) -> Option<&Observables> {
 /// The short reason of a failure, for legends.
 fn short(d: &str) -> String {
     let first = d.split(':').take(2).collect::<Vec<_>>().join(":");
-    if first.chars().count() > 60 { first.chars().take(57).collect::<String>() + "..." } else { first }
+    if first.chars().count() > 60 {
+        first.chars().take(57).collect::<String>() + "..."
+    } else {
+        first
+    }
 }
 
 fn charts(dir: &Path, plan: &Plan, recs: &[PointRecord]) -> Result<Vec<PathBuf>> {
@@ -221,7 +225,11 @@ fn charts(dir: &Path, plan: &Plan, recs: &[PointRecord]) -> Result<Vec<PathBuf>>
                     .filter_map(|(r, mr)| obs(mr).map(|o| (r.values[0], o.central_film_m * 1e9)))
                     .collect();
                 if !flagged.is_empty() {
-                    hc.push(Series::new(format!("{name}: flagged (grid/domain)"), flagged, Mark::Points));
+                    hc.push(Series::new(
+                        format!("{name}: flagged (grid/domain)"),
+                        flagged,
+                        Mark::Points,
+                    ));
                 }
             }
             let failed: Vec<&(&PointRecord, &ModelRecord)> =
@@ -244,7 +252,9 @@ fn charts(dir: &Path, plan: &Plan, recs: &[PointRecord]) -> Result<Vec<PathBuf>>
         }
         let formula = |k: usize| -> Vec<(f64, f64)> {
             recs.iter()
-                .filter_map(|r| formulas_at(&plan.points[r.index]).map(|f| (r.values[0], f[k] * 1e9)))
+                .filter_map(|r| {
+                    formulas_at(&plan.points[r.index]).map(|f| (r.values[0], f[k] * 1e9))
+                })
                 .collect()
         };
         if plan.points.iter().any(|p| formulas_at(p).is_some()) {
@@ -267,7 +277,8 @@ fn charts(dir: &Path, plan: &Plan, recs: &[PointRecord]) -> Result<Vec<PathBuf>>
         }
         let log = a.is_log();
         let panel = |title: &str, y: &str, series: Vec<Series>| {
-            let mut p = Panel::new(title, &x_label, y, series).legend(SeriesLabelPosition::UpperLeft);
+            let mut p =
+                Panel::new(title, &x_label, y, series).legend(SeriesLabelPosition::UpperLeft);
             p.log_x = log;
             p.log_y = log;
             p
@@ -283,8 +294,13 @@ fn charts(dir: &Path, plan: &Plan, recs: &[PointRecord]) -> Result<Vec<PathBuf>>
             )
         })?;
         put("sweep_cost.png", &|f| {
-            let mut p = Panel::new("Wall time per point (one thread)", &x_label, "wall time [s]", cost.clone())
-                .legend(SeriesLabelPosition::UpperLeft);
+            let mut p = Panel::new(
+                "Wall time per point (one thread)",
+                &x_label,
+                "wall time [s]",
+                cost.clone(),
+            )
+            .legend(SeriesLabelPosition::UpperLeft);
             p.log_x = log;
             p.log_y = true;
             plot::charts(f, &[p], &note)

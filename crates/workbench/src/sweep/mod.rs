@@ -72,8 +72,8 @@ pub struct CheckRecord {
     pub observables: Option<Observables>,
     pub diagnosis: Option<String>,
     /// Relative changes of `h_c`, `h_min`, `p_max` (grid: point − coarse over point; domain:
-    /// larger − coarse over coarse).
-    pub change: Option<[f64; 3]>,
+    /// larger − coarse over coarse); films only for lubricated models, `None` where undefined.
+    pub change: Option<[Option<f64>; 3]>,
 }
 
 /// A finished point.
@@ -222,6 +222,15 @@ pub fn run(dir: &Path, shard: Shard, jobs: usize) -> Result<RunSummary> {
                     let written = serde_json::to_string_pretty(&rec)
                         .map_err(anyhow::Error::from)
                         .and_then(|t| write_atomic(&point_file(dir, p.index), &(t + "\n")));
+                    // A record that does not read back would be rerun forever: stop instead.
+                    let written = written.and_then(|()| match plan.finished(dir, p.index) {
+                        Some(_) => Ok(()),
+                        None => Err(anyhow::anyhow!(
+                            "point {}: its record {} does not read back",
+                            p.index,
+                            point_file(dir, p.index).display()
+                        )),
+                    });
                     if let Err(e) = written {
                         *error.lock().unwrap() = Some(e);
                         break;
@@ -253,8 +262,14 @@ fn point_line(sweep: &Sweep, r: &PointRecord) -> String {
         .map(|m| {
             let name = crate::compare::model_name(m.model);
             match (&m.observables, &m.flag) {
-                (Some(o), None) => format!("{name} h_c {:.3} nm ({:.1} s)", o.central_film_m * 1e9, m.wall_time_s),
-                (Some(o), Some(f)) => format!("{name} h_c {:.3} nm ({:.1} s) FLAGGED: {f}", o.central_film_m * 1e9, m.wall_time_s),
+                (Some(o), None) => {
+                    format!("{name} h_c {:.3} nm ({:.1} s)", o.central_film_m * 1e9, m.wall_time_s)
+                }
+                (Some(o), Some(f)) => format!(
+                    "{name} h_c {:.3} nm ({:.1} s) FLAGGED: {f}",
+                    o.central_film_m * 1e9,
+                    m.wall_time_s
+                ),
                 (None, _) => format!("{name} FAILED ({:.1} s)", m.wall_time_s),
             }
         })
@@ -280,14 +295,17 @@ fn run_model(scene: &Scene) -> (Result<(Observables, bool), String>, f64) {
     (out, t0.elapsed().as_secs_f64())
 }
 
-fn rel(a: f64, b: f64) -> f64 {
-    if b == 0.0 { if a == 0.0 { 0.0 } else { f64::INFINITY } } else { a / b - 1.0 }
+/// `a / b − 1`, `None` where that is not a number (a zero reference).
+fn rel(a: f64, b: f64) -> Option<f64> {
+    Some(a / b - 1.0).filter(|v| v.is_finite())
 }
 
-fn changes(a: &Observables, b: &Observables) -> [f64; 3] {
+/// The relative changes; films only where there is a film (not the dry contact's zero gap).
+fn changes(a: &Observables, b: &Observables, lubricated: bool) -> [Option<f64>; 3] {
+    let film = |x: f64, y: f64| if lubricated { rel(x, y) } else { None };
     [
-        rel(a.central_film_m, b.central_film_m),
-        rel(a.minimum_film_m, b.minimum_film_m),
+        film(a.central_film_m, b.central_film_m),
+        film(a.minimum_film_m, b.minimum_film_m),
         rel(a.max_pressure_pa, b.max_pressure_pa),
     ]
 }
@@ -337,11 +355,11 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                         rec.check_wall_time_s = tg + td;
                         let mut gc = check_record(&gs, &g);
                         let mut dc = check_record(&ds, &d);
-                        gc.change = g.as_ref().ok().map(|(c, _)| changes(ob, c));
+                        gc.change = g.as_ref().ok().map(|(c, _)| changes(ob, c, *lub));
                         if let (Ok((c, _)), Ok((big, _))) = (&g, &d) {
-                            dc.change = Some(changes(big, c));
+                            dc.change = Some(changes(big, c, *lub));
                         }
-                        rec.flag = flag(sweep.flag_change_above, &gc, &dc, *lub);
+                        rec.flag = flag(sweep.flag_change_above, &gc, &dc);
                         rec.grid_check = Some(gc);
                         rec.domain_check = Some(dc);
                     }
@@ -362,8 +380,8 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
 }
 
 /// The flag of a model at a point: each check whose change exceeds `limit`, by how much, or
-/// that failed. Films are not checked for the dry contact (it has none).
-fn flag(limit: f64, grid: &CheckRecord, domain: &CheckRecord, lubricated: bool) -> Option<String> {
+/// that failed. An undefined change (the dry contact's films) is not checked.
+fn flag(limit: f64, grid: &CheckRecord, domain: &CheckRecord) -> Option<String> {
     let mut parts = vec![];
     for (what, c) in [("grid", grid), ("domain", domain)] {
         match (&c.change, &c.diagnosis) {
@@ -372,8 +390,8 @@ fn flag(limit: f64, grid: &CheckRecord, domain: &CheckRecord, lubricated: bool) 
                 let over: Vec<String> = ch
                     .iter()
                     .zip(names)
-                    .skip(if lubricated { 0 } else { 2 })
-                    .filter(|(v, _)| !(v.abs() <= limit))
+                    .filter_map(|(v, n)| v.map(|v| (v, n)))
+                    .filter(|(v, _)| v.abs() > limit)
                     .map(|(v, n)| format!("{n} {:+.1} %", 100.0 * v))
                     .collect();
                 if !over.is_empty() {
@@ -425,7 +443,12 @@ pub fn write_sbatch(dir: &Path, shards: usize, cpus_per_task: usize) -> Result<P
 }
 
 /// Plans, runs every point not yet finished, and merges: the local sweep.
-pub fn run_local(sweep: &Sweep, sweep_dir: Option<&Path>, dir: &Path, jobs: usize) -> Result<(RunSummary, Vec<PathBuf>)> {
+pub fn run_local(
+    sweep: &Sweep,
+    sweep_dir: Option<&Path>,
+    dir: &Path,
+    jobs: usize,
+) -> Result<(RunSummary, Vec<PathBuf>)> {
     let plan = Plan::new(sweep, sweep_dir)?;
     plan.write(dir)?;
     let summary = run(dir, Shard::all(), jobs)?;
