@@ -1,5 +1,5 @@
 //! The workbench's harness: `cargo xtask figures | convergence dry|layer|reynolds |
-//! stability reynolds | bench | mutants`.
+//! stability reynolds | bench | slurm-check | mutants`.
 //!
 //! Fine grids live here, not in the tests: these commands take seconds to minutes.
 
@@ -10,6 +10,7 @@ mod layer;
 mod mutants;
 mod reynolds;
 mod scene_study;
+mod slurm;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -70,6 +71,14 @@ enum Command {
         #[arg(long, default_value_t = 513)]
         max_points: usize,
     },
+    /// The sweep's cluster path against a real SLURM: a one-node cluster on localhost (installed
+    /// with apt-get when missing; root), a 4-point sweep as an array of 2, merged, compared with
+    /// a local run byte for byte; the daemons stopped.
+    SlurmCheck {
+        /// Keep the temporary folder (configuration, logs, both runs).
+        #[arg(long)]
+        keep: bool,
+    },
     /// Mutation testing (cargo-mutants) of the numerical files, each by its own crate's tests;
     /// hours for all files on 2 cores: pick with `--file`, sample with `--shard k/n`.
     Mutants {
@@ -115,6 +124,7 @@ fn main() -> Result<()> {
             }
         }
         Command::Bench { out, max_points } => bench::run(&out, max_points),
+        Command::SlurmCheck { keep } => slurm::check(keep),
         Command::Mutants { file, shard, timeout, out } => {
             mutants::run(&file, shard.as_deref(), timeout, &out)
         }
