@@ -6,6 +6,7 @@
 
 pub mod compare;
 pub mod dry;
+pub mod flow;
 pub mod layer;
 pub mod model;
 pub mod output;

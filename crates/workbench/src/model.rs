@@ -55,6 +55,12 @@ pub trait Outcome: AsAny + Send + 'static {
     fn observables(&self) -> Observables {
         Observables::from_fields(self.grid(), &self.scales(), self.pressure(), &self.film())
     }
+    /// Scalars that say how far the model's own premises hold at this answer (e.g. the Reynolds
+    /// film's pressure-driven share of the flux, the layer model's premise), by name; sweeps
+    /// tabulate and map them.
+    fn indicators(&self) -> Vec<(String, f64)> {
+        vec![]
+    }
     /// Wall time of the whole run [s].
     fn wall_time_s(&self) -> f64;
     /// Every scalar the model reports, with units (the observables are added by the writer).

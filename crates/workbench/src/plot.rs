@@ -24,6 +24,8 @@ pub enum Mark {
     Line,
     Points,
     LinePoints,
+    /// Consecutive pairs of points as separate segments (arrows, ticks).
+    Segments,
 }
 
 /// One named curve.
@@ -177,6 +179,20 @@ where
                         .draw_series(pts.into_iter().map(|p| Circle::new(p, 3, color.filled())))?
                         .label(s.label.as_str())
                         .legend(move |(x, y)| Circle::new((x + 10, y), 3, legend_color.filled())),
+                    Mark::Segments => {
+                        let segs: Vec<Vec<(f64, f64)>> =
+                            pts.chunks_exact(2).map(|c| c.to_vec()).collect();
+                        let style = color.stroke_width(1);
+                        chart
+                            .draw_series(segs.into_iter().map(move |s| PathElement::new(s, style)))?
+                            .label(s.label.as_str())
+                            .legend(move |(x, y)| {
+                                PathElement::new(
+                                    vec![(x, y), (x + 20, y)],
+                                    legend_color.stroke_width(1),
+                                )
+                            })
+                    }
                     Mark::LinePoints => {
                         chart.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?;
                         chart

@@ -84,6 +84,9 @@ impl Outcome for ReynoldsOutcome {
     fn film(&self) -> Array2<f64> {
         self.film.clone()
     }
+    fn indicators(&self) -> Vec<(String, f64)> {
+        vec![("flux_ratio_contact_mean".into(), self.flux_ratio_contact_mean())]
+    }
     fn wall_time_s(&self) -> f64 {
         self.setup_time_s
             + self.report.wall_time_s
@@ -471,6 +474,9 @@ impl ReynoldsOutcome {
         out.push(f);
         if let Some(t) = &self.transient {
             out.extend(self.transient_figures(t, dir, prefix)?);
+        } else {
+            // The seed's Fig. 1: the flow in the film (steady solutions only).
+            out.extend(self.flow_figures(dir, prefix)?);
         }
         Ok(out)
     }

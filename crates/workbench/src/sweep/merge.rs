@@ -38,13 +38,20 @@ fn text(s: &str) -> String {
 
 /// `results.csv`.
 pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
+    // Every premise indicator any model reported, a column each (empty for the others).
+    let names: std::collections::BTreeSet<&String> =
+        recs.iter().flat_map(|r| r.models.iter().flat_map(|m| m.indicators.keys())).collect();
     let mut s = String::from("point");
     for a in &plan.sweep.parameters {
         s += &format!(",{}", a.parameter.name());
     }
     s += ",model,converged,central_film_m,minimum_film_m,max_pressure_pa,contact_extent_x_m,contact_extent_y_m,load_error,\
           hamrock_dowson_central_m,hamrock_dowson_minimum_m,nvm_central_m,nx,ny,x_min_a,x_max_a,y_min_a,y_max_a,\
-          grid_change_h_c,grid_change_h_min,grid_change_p_max,domain_change_h_c,domain_change_h_min,domain_change_p_max,flag,diagnosis\n";
+          grid_change_h_c,grid_change_h_min,grid_change_p_max,domain_change_h_c,domain_change_h_min,domain_change_p_max";
+    for n in &names {
+        s += &format!(",{n}");
+    }
+    s += ",flag,diagnosis\n";
     for r in recs {
         let f = formulas_at(&plan.points[r.index]);
         for m in &r.models {
@@ -55,7 +62,7 @@ pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
             let o = m.observables.as_ref();
             let g = m.grid_check.as_ref().and_then(|c| c.change).unwrap_or_default();
             let d = m.domain_check.as_ref().and_then(|c| c.change).unwrap_or_default();
-            let cols: Vec<String> = vec![
+            let mut cols: Vec<String> = vec![
                 model_name(m.model),
                 o.is_some().to_string(),
                 num(o.map(|o| o.central_film_m)),
@@ -79,9 +86,10 @@ pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
                 num(d[0]),
                 num(d[1]),
                 num(d[2]),
-                m.flag.as_deref().map(text).unwrap_or_default(),
-                m.diagnosis.as_deref().map(text).unwrap_or_default(),
             ];
+            cols.extend(names.iter().map(|n| num(m.indicators.get(*n).copied())));
+            cols.push(m.flag.as_deref().map(text).unwrap_or_default());
+            cols.push(m.diagnosis.as_deref().map(text).unwrap_or_default());
             s += &format!(",{}\n", cols.join(","));
         }
     }
@@ -170,13 +178,18 @@ fn obs(m: &ModelRecord) -> Option<&Observables> {
     m.observables.as_ref()
 }
 
-/// The short reason of a failure, for legends.
+/// The short reason of a failure, for legends: the diagnosis's last clause (its verdict),
+/// without the scene's name.
 fn short(d: &str) -> String {
-    let first = d.split(':').take(2).collect::<Vec<_>>().join(":");
-    if first.chars().count() > 60 {
-        first.chars().take(57).collect::<String>() + "..."
+    let d = match d.split_once("`: ") {
+        Some((head, rest)) if head.starts_with("scene `") => rest,
+        _ => d,
+    };
+    let last = d.rsplit("; ").next().unwrap_or(d).trim();
+    if last.chars().count() > 55 {
+        last.chars().take(52).collect::<String>() + "..."
     } else {
-        first
+        last.to_string()
     }
 }
 
@@ -270,17 +283,28 @@ fn charts(dir: &Path, plan: &Plan, recs: &[PointRecord]) -> Result<Vec<PathBuf>>
             .filter(|v| *v > 0.0)
             .fold(f64::INFINITY, f64::min);
         let floor = if floor.is_finite() { floor / 1.3 } else { 1.0 };
-        for (label, xs) in fails {
-            let s = Series::new(label, xs.iter().map(|&x| (x, floor)).collect(), Mark::Points);
+        for (k, (label, xs)) in fails.into_iter().enumerate() {
+            let y = floor / 1.25f64.powi(k as i32);
+            let s = Series::new(label, xs.iter().map(|&x| (x, y)).collect(), Mark::Points);
             hc.push(s.clone());
             hmin.push(s);
         }
         let log = a.is_log();
+        // Room above the data for the legend: the films rise to the right, so it goes on top.
+        let top = hc
+            .iter()
+            .chain(&hmin)
+            .flat_map(|s| s.points.iter().map(|p| p.1))
+            .filter(|v| v.is_finite())
+            .fold(0.0f64, f64::max);
         let panel = |title: &str, y: &str, series: Vec<Series>| {
             let mut p =
                 Panel::new(title, &x_label, y, series).legend(SeriesLabelPosition::UpperLeft);
             p.log_x = log;
             p.log_y = log;
+            if log && top > 0.0 {
+                p = p.y_range(floor / 2.0, top * 60.0);
+            }
             p
         };
         put("sweep_films.png", &|f| {
@@ -293,6 +317,51 @@ fn charts(dir: &Path, plan: &Plan, recs: &[PointRecord]) -> Result<Vec<PathBuf>>
                 &note,
             )
         })?;
+        let idx = |m: Model| models.iter().position(|&x| x == m);
+        if let (Some(kl), Some(kr)) = (idx(Model::Layer), idx(Model::Reynolds)) {
+            let ratio: Vec<(f64, f64)> = recs
+                .iter()
+                .filter_map(|r| match (obs(&r.models[kl]), obs(&r.models[kr])) {
+                    (Some(l), Some(re)) => {
+                        Some((r.values[0], l.central_film_m / re.central_film_m))
+                    }
+                    _ => None,
+                })
+                .collect();
+            let xs: Vec<f64> = recs.iter().map(|r| r.values[0]).collect();
+            let band = |v: f64| xs.iter().map(|&x| (x, v)).collect::<Vec<_>>();
+            let flux: Vec<(f64, f64)> = recs
+                .iter()
+                .filter_map(|r| {
+                    r.models[kr]
+                        .indicators
+                        .get("flux_ratio_contact_mean")
+                        .map(|&v| (r.values[0], v))
+                })
+                .collect();
+            put("sweep_agreement.png", &|f| {
+                let mut a = Panel::new(
+                    "Layer h_c / Reynolds h_c",
+                    &x_label,
+                    "ratio",
+                    vec![
+                        Series::new("layer / Reynolds", ratio.clone(), Mark::LinePoints),
+                        Series::new("+10 %", band(1.1), Mark::Line),
+                        Series::new("-10 %", band(0.9), Mark::Line),
+                    ],
+                );
+                a.log_x = log;
+                let mut b = Panel::new(
+                    "Reynolds: pressure- / boundary-driven flux (contact mean)",
+                    &x_label,
+                    "mean |r| over p >= 0.01 p_h",
+                    vec![Series::new("Reynolds", flux.clone(), Mark::LinePoints)],
+                );
+                b.log_x = log;
+                b.log_y = true;
+                plot::charts(f, &[a, b], &note)
+            })?;
+        }
         put("sweep_cost.png", &|f| {
             let mut p = Panel::new(
                 "Wall time per point (one thread)",
@@ -327,11 +396,27 @@ fn charts(dir: &Path, plan: &Plan, recs: &[PointRecord]) -> Result<Vec<PathBuf>>
                     }
                 }
             }
+            // The flow's verdict beside it: the Reynolds film's pressure-driven share of the
+            // flux in the contact (the layer model assumes none), with the same outline.
+            let mut flux = vec![vec![None; n0]; n1];
+            for i0 in 0..n0 {
+                for i1 in 0..n1 {
+                    flux[i1][i0] =
+                        at(i0, i1).models[kr].indicators.get("flux_ratio_contact_mean").copied();
+                }
+            }
             panels.push(CellPanel {
                 title: "Layer h_c / Reynolds h_c (outlined: within 10 %)".into(),
                 values: ratio,
-                outline: agree,
+                outline: agree.clone(),
                 log_colour: false,
+                digits: 3,
+            });
+            panels.push(CellPanel {
+                title: "Reynolds: pressure- / boundary-driven flux, contact mean".into(),
+                values: flux,
+                outline: agree,
+                log_colour: true,
                 digits: 3,
             });
         }

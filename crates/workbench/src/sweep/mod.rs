@@ -51,6 +51,9 @@ pub struct ModelRecord {
     /// The standard observables (SI); `None` when the model failed.
     pub observables: Option<Observables>,
     pub diagnosis: Option<String>,
+    /// The model's premise indicators ([`crate::model::Outcome::indicators`]).
+    #[serde(default)]
+    pub indicators: std::collections::BTreeMap<String, f64>,
     /// Wall time of the model's run at this point [s], single thread.
     pub wall_time_s: f64,
     pub grid_check: Option<CheckRecord>,
@@ -278,11 +281,13 @@ fn point_line(sweep: &Sweep, r: &PointRecord) -> String {
 }
 
 /// Runs one model on one scene in the current (single-thread) pool; a panic is a failure too.
-fn run_model(scene: &Scene) -> (Result<(Observables, bool), String>, f64) {
+type Answer = (Observables, bool, std::collections::BTreeMap<String, f64>);
+
+fn run_model(scene: &Scene) -> (Result<Answer, String>, f64) {
     let t0 = Instant::now();
     let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| crate::run::run_scene(scene)));
     let out = match r {
-        Ok(Ok(o)) => Ok((o.observables(), o.lubricated())),
+        Ok(Ok(o)) => Ok((o.observables(), o.lubricated(), o.indicators().into_iter().collect())),
         Ok(Err(e)) => Err(format!("{e:#}")),
         Err(p) => Err(format!(
             "panicked: {}",
@@ -310,7 +315,7 @@ fn changes(a: &Observables, b: &Observables, lubricated: bool) -> [Option<f64>; 
     ]
 }
 
-fn check_record(scene: &Scene, run: &Result<(Observables, bool), String>) -> CheckRecord {
+fn check_record(scene: &Scene, run: &Result<Answer, String>) -> CheckRecord {
     CheckRecord {
         nx: scene.grid.nx,
         ny: scene.grid.ny,
@@ -340,13 +345,14 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                     lubricated: m != Model::Dry,
                     observables: main.as_ref().ok().map(|r| r.0),
                     diagnosis: main.as_ref().err().cloned(),
+                    indicators: main.as_ref().map(|r| r.2.clone()).unwrap_or_default(),
                     wall_time_s,
                     grid_check: None,
                     domain_check: None,
                     check_wall_time_s: 0.0,
                     flag: None,
                 };
-                if let Ok((ob, lub)) = &main {
+                if let Ok((ob, lub, _)) = &main {
                     rec.lubricated = *lub;
                     if sweep.checks {
                         let (gs, ds) = (adapt::grid_check(&one), adapt::domain_check(&one));
@@ -355,8 +361,8 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                         rec.check_wall_time_s = tg + td;
                         let mut gc = check_record(&gs, &g);
                         let mut dc = check_record(&ds, &d);
-                        gc.change = g.as_ref().ok().map(|(c, _)| changes(ob, c, *lub));
-                        if let (Ok((c, _)), Ok((big, _))) = (&g, &d) {
+                        gc.change = g.as_ref().ok().map(|(c, ..)| changes(ob, c, *lub));
+                        if let (Ok((c, ..)), Ok((big, ..))) = (&g, &d) {
                             dc.change = Some(changes(big, c, *lub));
                         }
                         rec.flag = flag(sweep.flag_change_above, &gc, &dc);
