@@ -161,6 +161,7 @@ fn figures(out: &std::path::Path) -> Result<()> {
     }
     // Fig. 7: the seed comparison (layer, Reynolds, dry on one grid).
     written.extend(compare::fig7(out)?);
+    written.extend(compare::fig1(out)?);
     written.extend(convergence::dry(out, 513)?);
     written.push(layer::modulus_figure(out)?);
     println!("figures written to {}:", out.display());

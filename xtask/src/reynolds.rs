@@ -2,10 +2,8 @@
 //! published formulas (`reference/reynolds_cases.json`).
 
 use anyhow::Result;
-use ehl_core::{Contact, Grid, Lubricant, Moes};
-use ehl_reynolds::formulas::{hamrock_dowson_central, nvm_central};
-use ehl_reynolds::{DensityLaw, ReynoldsParams, ReynoldsSettings, ReynoldsSolver, ViscosityLaw};
 use ehl_workbench::plot::{self, Mark, Panel, Series};
+use ehl_workbench::sweep;
 use plotters::prelude::SeriesLabelPosition;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -18,65 +16,65 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
     let cases: Value = serde_json::from_str(include_str!("../../reference/reynolds_cases.json"))?;
     let ms: Vec<f64> = cases["m"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
     let ls: Vec<f64> = cases["l"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
-    let (r, e, eta0, alpha, p0) = (9.525e-3, 1.17e11, 40e-3, 2.2e-8, 1.96e8);
-    let wide = Grid::new(n, n, (-4.5, 1.5), (-3.0, 3.0));
-    let narrow = Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
-    println!(
-        "Reynolds stability map on {n}^2 over [-4.5, 1.5] x [-3, 3], and [-1.25, 1.25]^2 from M = {narrow_from_m} (Roelands, Dowson-Higginson; R, E', eta0, alpha fixed)"
-    );
-    println!(
-        "{:>7} {:>5} {:>10} {:>7} {:>12} {:>12} {:>12} {:>9} {:>9}",
-        "M", "L", "converged", "cycles", "h_c [m]", "HD [m]", "NVM [m]", "vs HD", "vs NVM"
-    );
+    // The map is a sweep of `reynolds-m20-l10` (R, E', η0, α of the classic case) over Moes' L
+    // (slowest) and M, each point on its fixed domain (no adaptation, no checks: the map shows
+    // where the solver itself fails), run in parallel, one thread per point.
+    let sweep: ehl_scene::Sweep = serde_json::from_value(json!({
+        "name": "reynolds-stability",
+        "scene": "reynolds-m20-l10",
+        "parameters": [{"parameter": "moes.l", "values": ls}, {"parameter": "moes.m", "values": ms}],
+        "adapt": false,
+        "checks": false,
+    }))?;
+    sweep.validate("stability map")?;
+    let mut plan = sweep::Plan::new(&sweep, None)?;
+    let wide = ehl_scene::Domain { x_a: [-4.5, 1.5], y_a: [-3.0, 3.0] };
+    let narrow = ehl_scene::Domain { x_a: [-1.25, 1.25], y_a: [-1.25, 1.25] };
+    for p in &mut plan.points {
+        p.scene.domain = if p.values[1] >= narrow_from_m { narrow } else { wide };
+        p.scene.grid = ehl_scene::GridSpec { nx: n, ny: n };
+        p.scene.outputs.figures = false;
+        p.scene.validate("stability map point")?;
+    }
+    let dir = out.join("reynolds-stability-sweep");
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir)?; // the map's cycles and times are measured afresh
+    }
+    plan.write(&dir)?;
+    let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+    sweep::run(&dir, sweep::Shard::all(), cores)?;
+    sweep::merge::merge(&dir)?;
     let mut rows = vec![];
-    for &l in &ls {
-        for &m in &ms {
-            let moes = Moes { m, l };
-            let (load, u_sum) = moes.to_load_and_velocity(r, e, eta0, alpha);
-            let c = Contact { ball_radius: r, load, reduced_modulus: e };
-            let lub = Lubricant { eta0, alpha, p0_roelands: p0 };
-            let prm = ReynoldsParams::from_si(
-                &c,
-                &lub,
-                u_sum,
-                ViscosityLaw::Roelands,
-                DensityLaw::DowsonHigginson,
-            );
-            let grid = if m >= narrow_from_m { narrow } else { wide };
-            let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
-            let (converged, cycles, diagnosis) = match s.solve(&mut |_| {}) {
-                Ok(rep) => (rep.converged, rep.cycles, rep.diagnosis.map(|d| d.text)),
-                Err(e) => (false, 0, Some(e.to_string())),
-            };
-            let (hc, hmin) = s.films();
-            let ok = converged && hmin > 0.0;
-            let hc_m = prm.scales.h_si(hc);
-            let (hd, nvm) =
-                (hamrock_dowson_central(&c, &lub, 0.5 * u_sum), nvm_central(&c, &lub, u_sum));
-            if ok {
-                println!(
-                    "{m:>7} {l:>5} {:>10} {:>7} {:>12.4e} {:>12.4e} {:>12.4e} {:>+8.1}% {:>+8.1}%",
-                    ok,
-                    cycles,
-                    hc_m,
-                    hd,
-                    nvm,
-                    (hc_m / hd - 1.0) * 100.0,
-                    (hc_m / nvm - 1.0) * 100.0
-                );
-            } else {
-                let why: String = diagnosis.clone().unwrap_or_default().chars().take(90).collect();
-                println!(
-                    "{m:>7} {l:>5} {:>10} {:>7} {:>12} {:>12.4e} {:>12.4e}  {why}",
-                    ok, cycles, "-", hd, nvm
-                );
+    for rec in sweep::records(&dir, &plan)? {
+        let (l, m) = (rec.values[0], rec.values[1]);
+        let point = &plan.points[rec.index];
+        let mr = &rec.models[0];
+        let [hd, _, nvm] = sweep::merge::formulas_at(point).expect("a rolling Reynolds scene");
+        let ok = mr.observables.is_some_and(|o| o.minimum_film_m > 0.0);
+        let cycles = mr.indicators.get("cycles").map(|&c| c as u64).unwrap_or(0);
+        let hc_m = mr.observables.map(|o| o.central_film_m);
+        match (ok, hc_m) {
+            (true, Some(hc_m)) => println!(
+                "{m:>7} {l:>5} {:>10} {:>7} {:>12.4e} {:>12.4e} {:>12.4e} {:>+8.1}% {:>+8.1}%",
+                ok,
+                cycles,
+                hc_m,
+                hd,
+                nvm,
+                (hc_m / hd - 1.0) * 100.0,
+                (hc_m / nvm - 1.0) * 100.0
+            ),
+            _ => {
+                let why: String = mr.diagnosis.clone().unwrap_or_default().chars().take(90).collect();
+                println!("{m:>7} {l:>5} {:>10} {:>7} {:>12} {:>12.4e} {:>12.4e}  {why}", ok, cycles, "-", hd, nvm)
             }
-            rows.push(json!({
-                "m": m, "l": l, "converged": ok, "cycles": cycles, "diagnosis": diagnosis,
-                "domain_a": [[grid.x_min, grid.x_max], [grid.y_min, grid.y_max]],
-                "central_film_m": if ok { Some(hc_m) } else { None }, "hamrock_dowson_m": hd, "nvm_m": nvm,
-            }));
         }
+        rows.push(json!({
+            "m": m, "l": l, "converged": ok, "cycles": cycles, "diagnosis": mr.diagnosis,
+            "domain_a": [rec.x_a, rec.y_a],
+            "central_film_m": if ok { hc_m } else { None }, "hamrock_dowson_m": hd, "nvm_m": nvm,
+            "wall_time_s": mr.wall_time_s,
+        }));
     }
     let pick = |ok: bool, cycles: (u64, u64)| -> Vec<(f64, f64)> {
         rows.iter()

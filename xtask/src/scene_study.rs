@@ -1,11 +1,11 @@
 //! `cargo xtask convergence <scene> [--grids 65,129,257,513]`: a grid study of any scene, one-model
 //! or comparison, through the same path as `ehl compare`: each model's observables per grid, the
 //! observed orders of its central and minimum film, a Richardson reference, and one
-//! speed-against-accuracy chart with every model on the same axes.
+//! speed-against-accuracy chart with every model on the same axes (wall times on one thread).
 
 use anyhow::{Result, bail};
 use ehl_core::hertz::observed_order_of_three;
-use ehl_workbench::compare;
+use ehl_workbench::{compare, sweep};
 use ehl_workbench::plot::{self, Mark, Panel, Series};
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -22,54 +22,67 @@ struct Point {
     wall_time_s: f64,
 }
 
+/// The grid study as a sweep over `grid.n` (no domain adaptation, no checks: the study is the
+/// check), run in parallel through `ehl_workbench::sweep`, one thread per grid; its folder
+/// (`<out>/<scene>-grids`) holds the sweep's own results too.
 pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
     if grids.len() < 2 {
         bail!("--grids: at least two grids (three for observed orders)");
     }
     let base = ehl_scene::load(scene)?;
     std::fs::create_dir_all(out)?;
+    let sweep: ehl_scene::Sweep = serde_json::from_value(json!({
+        "name": format!("{}-grids", base.name),
+        "scene": scene,
+        "parameters": [{"parameter": "grid.n", "values": grids}],
+        "adapt": false,
+        "checks": false,
+    }))?;
+    sweep.validate("convergence study")?;
+    let dir = out.join(&sweep.name);
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir)?; // a study measures time: never resume an old one
+    }
+    let plan = sweep::Plan::new(&sweep, None)?;
+    plan.write(&dir)?;
+    let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+    sweep::run(&dir, sweep::Shard::all(), cores)?;
+    sweep::merge::merge(&dir)?;
+    let recs = sweep::records(&dir, &plan)?;
     let mut by_model: BTreeMap<String, Vec<Point>> = BTreeMap::new();
-    for &n in grids {
-        let mut s = base.with_points(n)?;
-        s.outputs.figures = false;
-        println!("{} on {n}²:", s.name);
-        let c = compare::run(&s);
-        for e in &c.entries {
-            let p = match &e.outcome {
-                Ok(o) => {
-                    let ob = o.observables();
-                    Point {
-                        n,
-                        converged: true,
-                        diagnosis: None,
-                        central_film_nm: ob.central_film_m * 1e9,
-                        minimum_film_nm: ob.minimum_film_m * 1e9,
-                        max_pressure_gpa: ob.max_pressure_pa * 1e-9,
-                        wall_time_s: e.wall_time_s,
-                    }
-                }
-                Err(d) => Point {
+    for r in &recs {
+        let n = r.nx;
+        println!("{} on {n}²:", base.name);
+        for m in &r.models {
+            let name = compare::model_name(m.model);
+            let p = match &m.observables {
+                Some(ob) => Point {
+                    n,
+                    converged: true,
+                    diagnosis: None,
+                    central_film_nm: ob.central_film_m * 1e9,
+                    minimum_film_nm: ob.minimum_film_m * 1e9,
+                    max_pressure_gpa: ob.max_pressure_pa * 1e-9,
+                    wall_time_s: m.wall_time_s,
+                },
+                None => Point {
                     n,
                     converged: false,
-                    diagnosis: Some(d.clone()),
+                    diagnosis: m.diagnosis.clone(),
                     central_film_nm: f64::NAN,
                     minimum_film_nm: f64::NAN,
                     max_pressure_gpa: f64::NAN,
-                    wall_time_s: e.wall_time_s,
+                    wall_time_s: m.wall_time_s,
                 },
             };
             match &p.diagnosis {
                 None => println!(
                     "  {:<9} h_c {:>10.4} nm  h_min {:>9.4} nm  p_max {:.5} GPa  {:>7.2} s",
-                    e.name(),
-                    p.central_film_nm,
-                    p.minimum_film_nm,
-                    p.max_pressure_gpa,
-                    p.wall_time_s
+                    name, p.central_film_nm, p.minimum_film_nm, p.max_pressure_gpa, p.wall_time_s
                 ),
-                Some(d) => println!("  {:<9} FAILED ({:.2} s): {d}", e.name(), p.wall_time_s),
+                Some(d) => println!("  {:<9} FAILED ({:.2} s): {d}", name, p.wall_time_s),
             }
-            by_model.entry(e.name()).or_default().push(p);
+            by_model.entry(name).or_default().push(p);
         }
     }
     let mut summary = serde_json::Map::new();
@@ -137,7 +150,7 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
         &png,
         &[Panel::new(
             &format!("{stem}: error in h_c against wall time, grids {grids:?}"),
-            "wall time [s]",
+            "wall time [s], one thread",
             "|h_c − reference| [nm]",
             series,
         )

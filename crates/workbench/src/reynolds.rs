@@ -85,7 +85,10 @@ impl Outcome for ReynoldsOutcome {
         self.film.clone()
     }
     fn indicators(&self) -> Vec<(String, f64)> {
-        vec![("flux_ratio_contact_mean".into(), self.flux_ratio_contact_mean())]
+        vec![
+            ("flux_ratio_contact_mean".into(), self.flux_ratio_contact_mean()),
+            ("cycles".into(), self.report.cycles as f64),
+        ]
     }
     fn wall_time_s(&self) -> f64 {
         self.setup_time_s
