@@ -65,8 +65,12 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
                 (hc_m / nvm - 1.0) * 100.0
             ),
             _ => {
-                let why: String = mr.diagnosis.clone().unwrap_or_default().chars().take(90).collect();
-                println!("{m:>7} {l:>5} {:>10} {:>7} {:>12} {:>12.4e} {:>12.4e}  {why}", ok, cycles, "-", hd, nvm)
+                let why: String =
+                    mr.diagnosis.clone().unwrap_or_default().chars().take(90).collect();
+                println!(
+                    "{m:>7} {l:>5} {:>10} {:>7} {:>12} {:>12.4e} {:>12.4e}  {why}",
+                    ok, cycles, "-", hd, nvm
+                )
             }
         }
         rows.push(json!({

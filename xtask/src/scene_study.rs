@@ -5,8 +5,8 @@
 
 use anyhow::{Result, bail};
 use ehl_core::hertz::observed_order_of_three;
-use ehl_workbench::{compare, sweep};
 use ehl_workbench::plot::{self, Mark, Panel, Series};
+use ehl_workbench::{compare, sweep};
 use serde_json::json;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
