@@ -15,6 +15,7 @@ fn seed(id: &str) -> f64 {
 fn layer(scene: &str, n: usize, edit: impl Fn(&mut ehl_scene::Scene)) -> LayerOutcome {
     let mut s = ehl_scene::builtin(scene).unwrap().with_points(n).unwrap();
     s.run.as_mut().unwrap().snapshots_s.clear();
+    s.run.as_mut().unwrap().snapshots_a.clear();
     edit(&mut s);
     *run_scene(&s).unwrap().downcast::<LayerOutcome>().expect("a layer scene")
 }

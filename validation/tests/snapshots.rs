@@ -95,6 +95,7 @@ fn quiet(name: &str, points: usize) -> ehl_scene::Scene {
     scene.outputs.figures = false;
     if let Some(r) = scene.run.as_mut() {
         r.snapshots_s.clear();
+        r.snapshots_a.clear();
     }
     scene
 }

@@ -20,6 +20,7 @@ pub fn rolling(n: usize, scheme: Scheme, nt: f64) -> Scene {
     r.method = Some(ehl_scene::Method::March);
     r.time = TimeSettings { scheme, steps_per_cell: nt, ..r.time };
     r.snapshots_s.clear();
+    r.snapshots_a.clear();
     s.outputs.figures = false;
     s
 }

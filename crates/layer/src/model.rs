@@ -105,7 +105,13 @@ impl LayerModel {
             damper,
             spec: *spec,
             u1,
-            features,
+            features: features
+                .into_iter()
+                .map(|f| match f {
+                    Feature::Dent(d) => Feature::Dent(d.resolved(spec.supply_thickness_m)),
+                    other => other,
+                })
+                .collect(),
             solver: DrySolver::new(grid, settings),
             shape: grid.paraboloid(),
             load: scales.load_dimensionless(),

@@ -86,9 +86,24 @@ pub struct ReynoldsTransient {
     pub x_end_a: f64,
     /// Time steps per grid cell of travel (`1 / Courant number`).
     pub steps_per_cell: f64,
-    /// Dent positions [a] at which fields are written.
+    /// Dent positions [a] at which fields are written …
     #[serde(default)]
     pub snapshots_a: Vec<f64>,
+    /// … and times [s, from the start] (the dent moves at the rolling velocity: its position is
+    /// `x_start + u1 t / a`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub snapshots_s: Vec<f64>,
+}
+
+impl ReynoldsTransient {
+    /// Every snapshot position [a], in order, for rolling velocity `u1` [m/s] and Hertz radius
+    /// `a` [m].
+    pub fn snapshot_positions(&self, a: f64, u1: f64) -> Vec<f64> {
+        let mut x = self.snapshots_a.clone();
+        x.extend(self.snapshots_s.iter().map(|&t| self.dent.x_start_a + u1 * t / a));
+        x.sort_by(f64::total_cmp);
+        x
+    }
 }
 
 /// The Reynolds model's block.
@@ -288,9 +303,13 @@ pub struct RunSpec {
     pub time: TimeSettings,
     #[serde(default)]
     pub stop: StopSettings,
-    /// Times [s, from the start of the motion] at which fields are written.
+    /// Times [s, from the start of the motion] at which fields are written …
     #[serde(default)]
     pub snapshots_s: Vec<f64>,
+    /// … and positions [a] of the first feature's centre at which fields are written (a
+    /// feature moves at `u1`: the time is `(x − x_start) a / u1`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub snapshots_a: Vec<f64>,
     /// The direct steady solve (method `steady`, and a `steady-rolling` start).
     #[serde(default)]
     pub steady: SteadySettings,
@@ -304,12 +323,22 @@ impl RunSpec {
                 && self.start.is_none()
                 && self.features.is_empty()
                 && self.snapshots_s.is_empty()
+                && self.snapshots_a.is_empty()
             {
                 Method::Steady
             } else {
                 Method::March
             },
         )
+    }
+    /// Every snapshot time [s]: `snapshots_s` and the times `snapshots_a` give for a feature
+    /// starting at `x_start_a` moving at `u1` [m/s] on the Hertz radius `a` [m], in order.
+    pub fn snapshot_times(&self, a: f64, u1: f64) -> Vec<f64> {
+        let x0 = self.features.first().map(|f| f.x_start_a()).unwrap_or(0.0);
+        let mut t: Vec<f64> = self.snapshots_s.clone();
+        t.extend(self.snapshots_a.iter().map(|&x| (x - x0) * a / u1));
+        t.sort_by(f64::total_cmp);
+        t
     }
     /// The start state of a march (validated present).
     pub fn start(&self) -> StartState {
@@ -641,11 +670,22 @@ impl Scene {
                     &format!("> dent.x_start_a = {x0} (a)"),
                 ));
             }
-            if let Some(&x) = t.snapshots_a.iter().find(|&&x| !(x >= x0 && x <= x1)) {
+            let (c, u_sum) = self.reynolds_conditions();
+            let a = ehl_core::HertzScales::new(&c).a;
+            if let Some((k, &ts)) = t.snapshots_s.iter().enumerate().find(|(_, t)| !(**t >= 0.0)) {
+                return Err(ck.err(
+                    &format!("reynolds.transient.snapshots_s[{k}]"),
+                    format!("{ts}"),
+                    "finite and >= 0 (s)",
+                ));
+            }
+            if let Some(&x) =
+                t.snapshot_positions(a, 0.5 * u_sum).iter().find(|&&x| !(x >= x0 && x <= x1))
+            {
                 return Err(ck.err(
                     "reynolds.transient.snapshots_a",
                     format!("{x}"),
-                    &format!("within [{x0}, {x1}] (a)"),
+                    &format!("within [{x0}, {x1}] (a; a time in snapshots_s is taken at the dent position x_start + u1 t / a)"),
                 ));
             }
         }
@@ -805,12 +845,26 @@ impl Scene {
         for (k, f) in r.features.iter().enumerate() {
             match f {
                 Feature::Dent(d) => {
-                    if !d.amplitude.is_finite() {
-                        return Err(ck.err(
-                            &format!("run.features[{k}].dent.amplitude"),
-                            format!("{}", d.amplitude),
-                            "must be finite",
-                        ));
+                    let f = |n: &str| format!("run.features[{k}].dent.{n}");
+                    match (d.amplitude, d.depth_m) {
+                        (Some(_), Some(_)) | (None, None) => {
+                            return Err(ck.err(
+                                &f("depth_m"),
+                                format!("amplitude {:?}, depth_m {:?}", d.amplitude, d.depth_m),
+                                "give exactly one of `depth_m` (m) and `amplitude` (units of the supply thickness l0)",
+                            ));
+                        }
+                        (Some(a), None) if !a.is_finite() => {
+                            return Err(ck.err(&f("amplitude"), format!("{a}"), "must be finite"));
+                        }
+                        (None, Some(m)) if !m.is_finite() => {
+                            return Err(ck.err(
+                                &f("depth_m"),
+                                format!("{m}"),
+                                "must be finite (m)",
+                            ));
+                        }
+                        _ => {}
                     }
                     ck.positive(
                         &format!("run.features[{k}].dent.width_a"),
@@ -843,6 +897,31 @@ impl Scene {
         }
         for (k, &ts) in r.snapshots_s.iter().enumerate() {
             ck.nonneg(&format!("run.snapshots_s[{k}]"), ts, "s")?;
+        }
+        if !r.snapshots_a.is_empty() {
+            let Some(x0) = r.features.first().map(|f| f.x_start_a()) else {
+                return Err(ck.err(
+                    "run.snapshots_a",
+                    format!("{:?}", r.snapshots_a),
+                    "positions of the first feature's centre: needs a feature in run.features",
+                ));
+            };
+            if r.motion != Motion::Rolling || !(u > 0.0) {
+                return Err(ck.err(
+                    "run.snapshots_a",
+                    format!("{:?}", r.snapshots_a),
+                    "needs rolling motion with a rolling velocity (features move at u1); give run.snapshots_s instead",
+                ));
+            }
+            for (k, &x) in r.snapshots_a.iter().enumerate() {
+                if !(x.is_finite() && x >= x0) {
+                    return Err(ck.err(
+                        &format!("run.snapshots_a[{k}]"),
+                        format!("{x}"),
+                        &format!("finite and >= the first feature's start {x0} (a)"),
+                    ));
+                }
+            }
         }
 
         Ok(())
@@ -910,6 +989,41 @@ mod tests {
         assert!(m.contains("reynolds.transient.steps_per_cell"), "{m}");
         let m = refused(&text.replace("[-1.0, -0.5, 0.0, 0.5]", "[-1.0, 4.0]"));
         assert!(m.contains("reynolds.transient.snapshots_a") && m.contains("within"), "{m}");
+    }
+
+    #[test]
+    fn dent_depth_and_snapshots_in_either_unit() {
+        let text = BUILTINS.iter().find(|b| b.0 == "dent-shallow").unwrap().1.to_string();
+        // The depth in metres is the factor times l0 (25 nm): 1.25 l0 = 31.25 nm.
+        let metres = text.replace("\"amplitude\": 1.25", "\"depth_m\": 3.125e-8");
+        let s = Scene::from_json(&metres, "test").unwrap();
+        let ehl_layer::Feature::Dent(d) = s.run.as_ref().unwrap().features[0] else { panic!() };
+        assert!((d.resolved(2.5e-8).amplitude.unwrap() - 1.25).abs() < 1e-12);
+        let both = text.replace("\"amplitude\": 1.25", "\"amplitude\": 1.25, \"depth_m\": 3.1e-8");
+        let m = refused(&both);
+        assert!(m.contains("run.features[0].dent.depth_m") && m.contains("exactly one"), "{m}");
+        let none = text.replace("\"amplitude\": 1.25,", "");
+        assert!(refused(&none).contains("exactly one"));
+        // Snapshots by dent position are the times the dent takes to get there: from -1.25 a
+        // at 0.01 m/s on a = 0.13466 mm, -0.75 a is reached at 6.733e-3 s.
+        let r = Scene::from_json(&text, "test").unwrap().run.unwrap();
+        let t = r.snapshot_times(1.3466e-4, 0.01);
+        assert_eq!(t.len(), 5);
+        assert!((t[0] - 6.733e-3).abs() < 1e-7 && (t[2] - 1.6833e-2).abs() < 1e-6, "{t:?}");
+        let before = text.replace("[-0.75, -0.25, 0.0, 0.25, 0.75]", "[-2.0]");
+        assert!(refused(&before).contains("run.snapshots_a[0]"));
+        // The Reynolds dent takes times as well as positions.
+        let rt = BUILTINS.iter().find(|b| b.0 == "reynolds-m20-l10-dent").unwrap().1.to_string();
+        let timed = rt.replace("\"snapshots_a\": [-1.0, -0.5, 0.0, 0.5]", "\"snapshots_s\": [1e9]");
+        let m = refused(&timed);
+        assert!(
+            m.contains("reynolds.transient.snapshots_a") && m.contains("x_start + u1 t / a"),
+            "{m}"
+        );
+        let ok = rt.replace("\"snapshots_a\": [-1.0, -0.5, 0.0, 0.5]", "\"snapshots_s\": [0.0]");
+        let s = Scene::from_json(&ok, "test").unwrap();
+        let tr = s.reynolds.unwrap().transient.unwrap();
+        assert_eq!(tr.snapshot_positions(1e-4, 0.5), vec![-2.0]);
     }
 
     #[test]

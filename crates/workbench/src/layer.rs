@@ -140,11 +140,11 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
                 stepper.reset();
             }
             let label = format!("{:?}", motion).to_lowercase();
-            let rec =
-                run(&m, &mut state, &mut stepper, &r.time, &r.stop, &r.snapshots_s, &mut |t| {
-                    spin.set_message(format!("{label}: t = {t:.4} s"))
-                })
-                .with_context(|| fail(&format!("{label} run")))?;
+            let times = r.snapshot_times(m.scales.a, m.u1);
+            let rec = run(&m, &mut state, &mut stepper, &r.time, &r.stop, &times, &mut |t| {
+                spin.set_message(format!("{label}: t = {t:.4} s"))
+            })
+            .with_context(|| fail(&format!("{label} run")))?;
             Some(rec)
         }
     };

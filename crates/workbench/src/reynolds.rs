@@ -213,8 +213,8 @@ fn run_transient<F: Fn(f64, f64) -> f64 + Copy>(
     };
     let mut rows = vec![record(solver, 0, 0)];
     // Each snapshot at the step whose dent position is nearest.
-    let snap_steps: Vec<usize> =
-        t.snapshots_a.iter().map(|&x| ((x - x0) / dt).round() as usize).collect();
+    let snap_x = t.snapshot_positions(s.a, u_m);
+    let snap_steps: Vec<usize> = snap_x.iter().map(|&x| ((x - x0) / dt).round() as usize).collect();
     let mut snapshots = vec![];
     let spin = crate::progress::bar(steps as u64, "dent passing");
     for k in 1..=steps {
@@ -239,7 +239,7 @@ fn run_transient<F: Fn(f64, f64) -> f64 + Copy>(
         for (i, &ks) in snap_steps.iter().enumerate() {
             if ks == k {
                 let f = &solver.levels[0];
-                snapshots.push((t.snapshots_a[i], f.p.clone(), f.film.clone()));
+                snapshots.push((snap_x[i], f.p.clone(), f.film.clone()));
             }
         }
         spin.inc(1);
