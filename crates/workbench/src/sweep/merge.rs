@@ -193,260 +193,284 @@ fn short(d: &str) -> String {
     }
 }
 
+/// What every chart needs: the sweep, its records, the models, the footnote.
+struct Ctx<'a> {
+    dir: &'a Path,
+    plan: &'a Plan,
+    recs: &'a [PointRecord],
+    models: Vec<Model>,
+    note: String,
+}
+
+/// Draws a chart through a temporary name (a reader never sees half a PNG) and lists it.
+fn put(
+    files: &mut Vec<PathBuf>,
+    dir: &Path,
+    name: &str,
+    draw: &dyn Fn(&Path) -> Result<()>,
+) -> Result<()> {
+    let t = dir.join(format!(".{name}.tmp-{}.png", std::process::id()));
+    draw(&t)?;
+    let f = dir.join(name);
+    std::fs::rename(&t, &f)?;
+    files.push(f);
+    Ok(())
+}
+
 fn charts(dir: &Path, plan: &Plan, recs: &[PointRecord]) -> Result<Vec<PathBuf>> {
-    // Charts are written through a temporary name too, so a reader never sees half a PNG.
-    let mut files = vec![];
-    let tmp = |name: &str| dir.join(format!(".{name}.tmp-{}.png", std::process::id()));
-    let mut put = |name: &str, draw: &dyn Fn(&Path) -> Result<()>| -> Result<()> {
-        let t = tmp(name);
-        draw(&t)?;
-        let f = dir.join(name);
-        std::fs::rename(&t, &f)?;
-        files.push(f);
-        Ok(())
+    let ctx = Ctx {
+        dir,
+        plan,
+        recs,
+        models: plan.points[0].scene.models(),
+        note: format!(
+            "sweep {} of scene {}: {} points; wall times on one thread per point",
+            plan.sweep.name,
+            plan.sweep.scene,
+            recs.len()
+        ),
     };
-    let models: Vec<Model> = plan.points[0].scene.models();
-    let axes = &plan.sweep.parameters;
-    let note = format!(
-        "sweep {} of scene {}: {} points; wall times on one thread per point",
-        plan.sweep.name,
-        plan.sweep.scene,
-        recs.len()
-    );
-    if axes.len() == 1 {
-        let a = &axes[0];
-        let x_label = format!("{} [{}]", a.parameter.name(), a.parameter.unit());
-        let mut hc = vec![];
-        let mut hmin = vec![];
-        let mut fails = vec![];
-        let mut cost = vec![];
-        for (k, &m) in models.iter().enumerate() {
-            let name = model_name(m);
-            let rows: Vec<(&PointRecord, &ModelRecord)> =
-                recs.iter().map(|r| (r, &r.models[k])).collect();
-            if rows.iter().any(|(_, mr)| mr.lubricated) {
-                let pts = |f: &dyn Fn(&Observables) -> f64| -> Vec<(f64, f64)> {
-                    rows.iter()
-                        .filter_map(|(r, mr)| obs(mr).map(|o| (r.values[0], f(o) * 1e9)))
-                        .collect()
-                };
-                hc.push(Series::new(name.clone(), pts(&|o| o.central_film_m), Mark::LinePoints));
-                hmin.push(Series::new(name.clone(), pts(&|o| o.minimum_film_m), Mark::LinePoints));
-                let flagged: Vec<(f64, f64)> = rows
-                    .iter()
-                    .filter(|(_, mr)| mr.flag.is_some())
-                    .filter_map(|(r, mr)| obs(mr).map(|o| (r.values[0], o.central_film_m * 1e9)))
-                    .collect();
-                if !flagged.is_empty() {
-                    hc.push(Series::new(
-                        format!("{name}: flagged (grid/domain)"),
-                        flagged,
-                        Mark::Points,
-                    ));
-                }
-            }
-            let failed: Vec<&(&PointRecord, &ModelRecord)> =
-                rows.iter().filter(|(_, mr)| mr.observables.is_none()).collect();
-            if let Some((_, first)) = failed.first() {
-                fails.push((
-                    format!(
-                        "{name} failed at {} point(s): {}",
-                        failed.len(),
-                        short(first.diagnosis.as_deref().unwrap_or(""))
-                    ),
-                    failed.iter().map(|(r, _)| r.values[0]).collect::<Vec<f64>>(),
-                ));
-            }
-            cost.push(Series::new(
-                name.clone(),
-                rows.iter().map(|(r, mr)| (r.values[0], mr.wall_time_s.max(1e-3))).collect(),
-                Mark::LinePoints,
-            ));
-        }
-        let formula = |k: usize| -> Vec<(f64, f64)> {
-            recs.iter()
-                .filter_map(|r| {
-                    formulas_at(&plan.points[r.index]).map(|f| (r.values[0], f[k] * 1e9))
-                })
-                .collect()
-        };
-        if plan.points.iter().any(|p| formulas_at(p).is_some()) {
-            hc.push(Series::new("Hamrock-Dowson", formula(0), Mark::Line));
-            hc.push(Series::new("NVM", formula(2), Mark::Line));
-            hmin.push(Series::new("Hamrock-Dowson", formula(1), Mark::Line));
-        }
-        // Failed points sit on the lower edge of the film charts, one row per model.
-        let floor = hc
-            .iter()
-            .chain(&hmin)
-            .flat_map(|s| s.points.iter().map(|p| p.1))
-            .filter(|v| *v > 0.0)
-            .fold(f64::INFINITY, f64::min);
-        let floor = if floor.is_finite() { floor / 1.3 } else { 1.0 };
-        for (k, (label, xs)) in fails.into_iter().enumerate() {
-            let y = floor / 1.25f64.powi(k as i32);
-            let s = Series::new(label, xs.iter().map(|&x| (x, y)).collect(), Mark::Points);
-            hc.push(s.clone());
-            hmin.push(s);
-        }
-        let log = a.is_log();
-        // Room above the data for the legend: the films rise to the right, so it goes on top.
-        let top = hc
-            .iter()
-            .chain(&hmin)
-            .flat_map(|s| s.points.iter().map(|p| p.1))
-            .filter(|v| v.is_finite())
-            .fold(0.0f64, f64::max);
-        let panel = |title: &str, y: &str, series: Vec<Series>| {
-            let mut p =
-                Panel::new(title, &x_label, y, series).legend(SeriesLabelPosition::UpperLeft);
-            p.log_x = log;
-            p.log_y = log;
-            if log && top > 0.0 {
-                p = p.y_range(floor / 2.0, top * 60.0);
-            }
-            p
-        };
-        put("sweep_films.png", &|f| {
-            plot::charts(
-                f,
-                &[
-                    panel("Central film h_c", "h_c [nm]", hc.clone()),
-                    panel("Minimum film h_min", "h_min [nm]", hmin.clone()),
-                ],
-                &note,
-            )
-        })?;
-        let idx = |m: Model| models.iter().position(|&x| x == m);
-        if let (Some(kl), Some(kr)) = (idx(Model::Layer), idx(Model::Reynolds)) {
-            let ratio: Vec<(f64, f64)> = recs
-                .iter()
-                .filter_map(|r| match (obs(&r.models[kl]), obs(&r.models[kr])) {
-                    (Some(l), Some(re)) => {
-                        Some((r.values[0], l.central_film_m / re.central_film_m))
-                    }
-                    _ => None,
-                })
-                .collect();
-            let xs: Vec<f64> = recs.iter().map(|r| r.values[0]).collect();
-            let band = |v: f64| xs.iter().map(|&x| (x, v)).collect::<Vec<_>>();
-            let flux: Vec<(f64, f64)> = recs
-                .iter()
-                .filter_map(|r| {
-                    r.models[kr]
-                        .indicators
-                        .get("flux_ratio_contact_mean")
-                        .map(|&v| (r.values[0], v))
-                })
-                .collect();
-            put("sweep_agreement.png", &|f| {
-                let mut a = Panel::new(
-                    "Layer h_c / Reynolds h_c",
-                    &x_label,
-                    "ratio",
-                    vec![
-                        Series::new("layer / Reynolds", ratio.clone(), Mark::LinePoints),
-                        Series::new("+10 %", band(1.1), Mark::Line),
-                        Series::new("-10 %", band(0.9), Mark::Line),
-                    ],
-                );
-                a.log_x = log;
-                let mut b = Panel::new(
-                    "Reynolds: pressure- / boundary-driven flux (contact mean)",
-                    &x_label,
-                    "mean |r| over p >= 0.01 p_h",
-                    vec![Series::new("Reynolds", flux.clone(), Mark::LinePoints)],
-                );
-                b.log_x = log;
-                b.log_y = true;
-                plot::charts(f, &[a, b], &note)
-            })?;
-        }
-        put("sweep_cost.png", &|f| {
-            let mut p = Panel::new(
-                "Wall time per point (one thread)",
-                &x_label,
-                "wall time [s]",
-                cost.clone(),
-            )
-            .legend(SeriesLabelPosition::UpperLeft);
-            p.log_x = log;
-            p.log_y = true;
-            plot::charts(f, &[p], &note)
-        })?;
+    let mut files = vec![];
+    if plan.sweep.parameters.len() == 1 {
+        one_parameter(&ctx, &mut files)?;
     } else {
-        let (a0, a1) = (&axes[0], &axes[1]);
-        let (n0, n1) = (a0.values().len(), a1.values().len());
-        let ticks = |a: &ehl_scene::Axis| -> Vec<String> {
-            a.values().iter().map(|v| format!("{v}")).collect()
-        };
-        let at = |i0: usize, i1: usize| &recs[i0 * n1 + i1];
-        let idx = |m: Model| models.iter().position(|&x| x == m);
-        let mut panels = vec![];
-        if let (Some(kl), Some(kr)) = (idx(Model::Layer), idx(Model::Reynolds)) {
-            let mut ratio = vec![vec![None; n0]; n1];
-            let mut agree = vec![vec![false; n0]; n1];
-            for i0 in 0..n0 {
-                for i1 in 0..n1 {
-                    let r = at(i0, i1);
-                    if let (Some(l), Some(re)) = (obs(&r.models[kl]), obs(&r.models[kr])) {
-                        let q = l.central_film_m / re.central_film_m;
-                        ratio[i1][i0] = Some(q);
-                        agree[i1][i0] = (q - 1.0).abs() <= 0.1;
-                    }
-                }
-            }
-            // The flow's verdict beside it: the Reynolds film's pressure-driven share of the
-            // flux in the contact (the layer model assumes none), with the same outline.
-            let mut flux = vec![vec![None; n0]; n1];
-            for i0 in 0..n0 {
-                for i1 in 0..n1 {
-                    flux[i1][i0] =
-                        at(i0, i1).models[kr].indicators.get("flux_ratio_contact_mean").copied();
-                }
-            }
-            panels.push(CellPanel {
-                title: "Layer h_c / Reynolds h_c (outlined: within 10 %)".into(),
-                values: ratio,
-                outline: agree.clone(),
-                log_colour: false,
-                digits: 3,
-            });
-            panels.push(CellPanel {
-                title: "Reynolds: pressure- / boundary-driven flux, contact mean".into(),
-                values: flux,
-                outline: agree,
-                log_colour: true,
-                digits: 3,
-            });
-        }
-        let mut cost_panels = vec![];
-        for (k, &m) in models.iter().enumerate() {
-            let mut t = vec![vec![None; n0]; n1];
-            for i0 in 0..n0 {
-                for i1 in 0..n1 {
-                    let mr = &at(i0, i1).models[k];
-                    t[i1][i0] = mr.observables.is_some().then_some(mr.wall_time_s);
-                }
-            }
-            cost_panels.push(CellPanel {
-                title: format!("{} wall time [s] (blank: failed)", model_name(m)),
-                values: t,
-                outline: vec![vec![false; n0]; n1],
-                log_colour: true,
-                digits: 2,
-            });
-        }
-        let xl = format!("{} [{}]", a0.parameter.name(), a0.parameter.unit());
-        let yl = format!("{} [{}]", a1.parameter.name(), a1.parameter.unit());
-        if !panels.is_empty() {
-            put("sweep_film_ratio.png", &|f| {
-                plot::cell_maps(f, &panels, &ticks(a0), &ticks(a1), &xl, &yl, &note)
-            })?;
-        }
-        put("sweep_cost.png", &|f| {
-            plot::cell_maps(f, &cost_panels, &ticks(a0), &ticks(a1), &xl, &yl, &note)
-        })?;
+        two_parameters(&ctx, &mut files)?;
     }
     Ok(files)
+}
+
+/// Films (with the formulas), agreement beside the flux indicator, and cost, against the one
+/// parameter.
+fn one_parameter(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
+    let (plan, recs, models, note) = (ctx.plan, ctx.recs, &ctx.models, &ctx.note);
+    let axes = &plan.sweep.parameters;
+    let a = &axes[0];
+    let x_label = format!("{} [{}]", a.parameter.name(), a.parameter.unit());
+    let mut hc = vec![];
+    let mut hmin = vec![];
+    let mut fails = vec![];
+    let mut cost = vec![];
+    for (k, &m) in models.iter().enumerate() {
+        let name = model_name(m);
+        let rows: Vec<(&PointRecord, &ModelRecord)> =
+            recs.iter().map(|r| (r, &r.models[k])).collect();
+        if rows.iter().any(|(_, mr)| mr.lubricated) {
+            let pts = |f: &dyn Fn(&Observables) -> f64| -> Vec<(f64, f64)> {
+                rows.iter()
+                    .filter_map(|(r, mr)| obs(mr).map(|o| (r.values[0], f(o) * 1e9)))
+                    .collect()
+            };
+            hc.push(Series::new(name.clone(), pts(&|o| o.central_film_m), Mark::LinePoints));
+            hmin.push(Series::new(name.clone(), pts(&|o| o.minimum_film_m), Mark::LinePoints));
+            let flagged: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|(_, mr)| mr.flag.is_some())
+                .filter_map(|(r, mr)| obs(mr).map(|o| (r.values[0], o.central_film_m * 1e9)))
+                .collect();
+            if !flagged.is_empty() {
+                hc.push(Series::new(
+                    format!("{name}: flagged (grid/domain)"),
+                    flagged,
+                    Mark::Points,
+                ));
+            }
+        }
+        let failed: Vec<&(&PointRecord, &ModelRecord)> =
+            rows.iter().filter(|(_, mr)| mr.observables.is_none()).collect();
+        if let Some((_, first)) = failed.first() {
+            fails.push((
+                format!(
+                    "{name} failed at {} point(s): {}",
+                    failed.len(),
+                    short(first.diagnosis.as_deref().unwrap_or(""))
+                ),
+                failed.iter().map(|(r, _)| r.values[0]).collect::<Vec<f64>>(),
+            ));
+        }
+        cost.push(Series::new(
+            name.clone(),
+            rows.iter().map(|(r, mr)| (r.values[0], mr.wall_time_s.max(1e-3))).collect(),
+            Mark::LinePoints,
+        ));
+    }
+    let formula = |k: usize| -> Vec<(f64, f64)> {
+        recs.iter()
+            .filter_map(|r| formulas_at(&plan.points[r.index]).map(|f| (r.values[0], f[k] * 1e9)))
+            .collect()
+    };
+    if plan.points.iter().any(|p| formulas_at(p).is_some()) {
+        hc.push(Series::new("Hamrock-Dowson", formula(0), Mark::Line));
+        hc.push(Series::new("NVM", formula(2), Mark::Line));
+        hmin.push(Series::new("Hamrock-Dowson", formula(1), Mark::Line));
+    }
+    // Failed points sit on the lower edge of the film charts, one row per model.
+    let floor = hc
+        .iter()
+        .chain(&hmin)
+        .flat_map(|s| s.points.iter().map(|p| p.1))
+        .filter(|v| *v > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let floor = if floor.is_finite() { floor / 1.3 } else { 1.0 };
+    for (k, (label, xs)) in fails.into_iter().enumerate() {
+        let y = floor / 1.25f64.powi(k as i32);
+        let s = Series::new(label, xs.iter().map(|&x| (x, y)).collect(), Mark::Points);
+        hc.push(s.clone());
+        hmin.push(s);
+    }
+    let log = a.is_log();
+    // Room above the data for the legend: the films rise to the right, so it goes on top.
+    let top = hc
+        .iter()
+        .chain(&hmin)
+        .flat_map(|s| s.points.iter().map(|p| p.1))
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, f64::max);
+    let panel = |title: &str, y: &str, series: Vec<Series>| {
+        let mut p = Panel::new(title, &x_label, y, series).legend(SeriesLabelPosition::UpperLeft);
+        p.log_x = log;
+        p.log_y = log;
+        if log && top > 0.0 {
+            p = p.y_range(floor / 2.0, top * 60.0);
+        }
+        p
+    };
+    put(files, ctx.dir, "sweep_films.png", &|f| {
+        plot::charts(
+            f,
+            &[
+                panel("Central film h_c", "h_c [nm]", hc.clone()),
+                panel("Minimum film h_min", "h_min [nm]", hmin.clone()),
+            ],
+            &note,
+        )
+    })?;
+    let idx = |m: Model| models.iter().position(|&x| x == m);
+    if let (Some(kl), Some(kr)) = (idx(Model::Layer), idx(Model::Reynolds)) {
+        let ratio: Vec<(f64, f64)> = recs
+            .iter()
+            .filter_map(|r| match (obs(&r.models[kl]), obs(&r.models[kr])) {
+                (Some(l), Some(re)) => Some((r.values[0], l.central_film_m / re.central_film_m)),
+                _ => None,
+            })
+            .collect();
+        let xs: Vec<f64> = recs.iter().map(|r| r.values[0]).collect();
+        let band = |v: f64| xs.iter().map(|&x| (x, v)).collect::<Vec<_>>();
+        let flux: Vec<(f64, f64)> = recs
+            .iter()
+            .filter_map(|r| {
+                r.models[kr].indicators.get("flux_ratio_contact_mean").map(|&v| (r.values[0], v))
+            })
+            .collect();
+        put(files, ctx.dir, "sweep_agreement.png", &|f| {
+            let mut a = Panel::new(
+                "Layer h_c / Reynolds h_c",
+                &x_label,
+                "ratio",
+                vec![
+                    Series::new("layer / Reynolds", ratio.clone(), Mark::LinePoints),
+                    Series::new("+10 %", band(1.1), Mark::Line),
+                    Series::new("-10 %", band(0.9), Mark::Line),
+                ],
+            );
+            a.log_x = log;
+            let mut b = Panel::new(
+                "Reynolds: pressure- / boundary-driven flux (contact mean)",
+                &x_label,
+                "mean |r| over p >= 0.01 p_h",
+                vec![Series::new("Reynolds", flux.clone(), Mark::LinePoints)],
+            );
+            b.log_x = log;
+            b.log_y = true;
+            plot::charts(f, &[a, b], &note)
+        })?;
+    }
+    put(files, ctx.dir, "sweep_cost.png", &|f| {
+        let mut p =
+            Panel::new("Wall time per point (one thread)", &x_label, "wall time [s]", cost.clone())
+                .legend(SeriesLabelPosition::UpperLeft);
+        p.log_x = log;
+        p.log_y = true;
+        plot::charts(f, &[p], &note)
+    })?;
+    Ok(())
+}
+
+/// Maps over the two parameters: layer/Reynolds film ratio beside the flux indicator, and each
+/// model's wall time.
+fn two_parameters(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
+    let (plan, recs, models, note) = (ctx.plan, ctx.recs, &ctx.models, &ctx.note);
+    let axes = &plan.sweep.parameters;
+    let (a0, a1) = (&axes[0], &axes[1]);
+    let (n0, n1) = (a0.values().len(), a1.values().len());
+    let ticks = |a: &ehl_scene::Axis| -> Vec<String> {
+        a.values().iter().map(|v| format!("{v}")).collect()
+    };
+    let at = |i0: usize, i1: usize| &recs[i0 * n1 + i1];
+    let idx = |m: Model| models.iter().position(|&x| x == m);
+    let mut panels = vec![];
+    if let (Some(kl), Some(kr)) = (idx(Model::Layer), idx(Model::Reynolds)) {
+        let mut ratio = vec![vec![None; n0]; n1];
+        let mut agree = vec![vec![false; n0]; n1];
+        for i0 in 0..n0 {
+            for i1 in 0..n1 {
+                let r = at(i0, i1);
+                if let (Some(l), Some(re)) = (obs(&r.models[kl]), obs(&r.models[kr])) {
+                    let q = l.central_film_m / re.central_film_m;
+                    ratio[i1][i0] = Some(q);
+                    agree[i1][i0] = (q - 1.0).abs() <= 0.1;
+                }
+            }
+        }
+        // The flow's verdict beside it: the Reynolds film's pressure-driven share of the
+        // flux in the contact (the layer model assumes none), with the same outline.
+        let mut flux = vec![vec![None; n0]; n1];
+        for i0 in 0..n0 {
+            for i1 in 0..n1 {
+                flux[i1][i0] =
+                    at(i0, i1).models[kr].indicators.get("flux_ratio_contact_mean").copied();
+            }
+        }
+        panels.push(CellPanel {
+            title: "Layer h_c / Reynolds h_c (outlined: within 10 %)".into(),
+            values: ratio,
+            outline: agree.clone(),
+            log_colour: false,
+            digits: 3,
+        });
+        panels.push(CellPanel {
+            title: "Reynolds: pressure- / boundary-driven flux, contact mean".into(),
+            values: flux,
+            outline: agree,
+            log_colour: true,
+            digits: 3,
+        });
+    }
+    let mut cost_panels = vec![];
+    for (k, &m) in models.iter().enumerate() {
+        let mut t = vec![vec![None; n0]; n1];
+        for i0 in 0..n0 {
+            for i1 in 0..n1 {
+                let mr = &at(i0, i1).models[k];
+                t[i1][i0] = mr.observables.is_some().then_some(mr.wall_time_s);
+            }
+        }
+        cost_panels.push(CellPanel {
+            title: format!("{} wall time [s] (blank: failed)", model_name(m)),
+            values: t,
+            outline: vec![vec![false; n0]; n1],
+            log_colour: true,
+            digits: 2,
+        });
+    }
+    let xl = format!("{} [{}]", a0.parameter.name(), a0.parameter.unit());
+    let yl = format!("{} [{}]", a1.parameter.name(), a1.parameter.unit());
+    if !panels.is_empty() {
+        put(files, ctx.dir, "sweep_film_ratio.png", &|f| {
+            plot::cell_maps(f, &panels, &ticks(a0), &ticks(a1), &xl, &yl, &note)
+        })?;
+    }
+    put(files, ctx.dir, "sweep_cost.png", &|f| {
+        plot::cell_maps(f, &cost_panels, &ticks(a0), &ticks(a1), &xl, &yl, &note)
+    })?;
+    Ok(())
 }
