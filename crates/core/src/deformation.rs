@@ -332,6 +332,33 @@ mod tests {
     }
 
     #[test]
+    fn self_influence_is_the_response_of_a_loaded_cell() {
+        // The FFT path's response at a cell under unit pressure there alone: the kernel's
+        // centre value, which the layer's local march and the preconditioner take from
+        // `self_influence` (mutants returning ±1 went unseen before).
+        let g = Grid::new(17, 13, (-1.0, 1.0), (-0.7, 0.8));
+        let op = Deformation::new(g);
+        let mut p = g.zeros();
+        p[[6, 8]] = 1.0;
+        let w = op.deform(&p);
+        let k00 = op.self_influence();
+        assert!((w[[6, 8]] / k00 - 1.0).abs() < 1e-12, "{} vs {k00}", w[[6, 8]]);
+        // Closed form for a square cell of side h at its centre, W = (2/π²) ∬ P / r:
+        // ∬ 1/r = 4 h ln(1 + √2), so K00 = (8/π²) h ln(1 + √2) = 0.08930 for h = 0.125 a.
+        let exact = 8.0 / (PI * PI) * 0.125 * (1.0 + 2f64.sqrt()).ln();
+        assert!((k00 / exact - 1.0).abs() < 1e-12, "{k00} vs {exact}");
+    }
+
+    #[test]
+    fn padding_takes_the_next_fast_length_of_twice_the_grid() {
+        // Linear (not circular) convolution needs 2 (n − 1) points; the next length of factors
+        // 2, 3, 5, 7 transforms fast: 2·33 = 66 = 2·3·11 → 70, 2·11 = 22 → 24.
+        let op = Deformation::new(Grid::new(34, 12, (-1.0, 1.0), (-0.3, 0.3)));
+        assert_eq!(op.padded_shape(), (24, 70));
+        assert_eq!(Deformation::new(Grid::square(33, 1.0)).padded_shape(), (64, 64));
+    }
+
+    #[test]
     fn symbol_is_positive() {
         let op = Deformation::new(Grid::square(65, 1.25));
         assert!(op.min_symbol() > 0.0, "min symbol {}", op.min_symbol());
