@@ -106,7 +106,8 @@ pub fn run(files: &[String], shard: Option<&str>, timeout_s: u64, out: &Path) ->
             cmd.args(["--file", f]);
         }
         if let Some(s) = shard {
-            cmd.args(["--shard", s]);
+            // Round-robin: a shard is an even sample of the file's mutants, not its first lines.
+            cmd.args(["--shard", s, "--sharding", "round-robin"]);
         }
         println!(
             "mutating {package}: {files:?}{}",
