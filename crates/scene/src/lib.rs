@@ -459,18 +459,23 @@ pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
     Scene::from_json(&text, &format!("file {name_or_path}"))
 }
 
+/// Deserialises scene-crate JSON (scenes, sweeps), a refusal naming the field's path.
+fn parse<T: serde::de::DeserializeOwned>(text: &str, origin: &str) -> Result<T, SceneError> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        SceneError::Parse {
+            origin: origin.into(),
+            path: if path == "." { "(top level)".into() } else { format!("field `{path}`") },
+            message: e.into_inner().to_string(),
+        }
+    })
+}
+
 impl Scene {
     /// Parses and checks; `origin` names the source in error messages.
     pub fn from_json(text: &str, origin: &str) -> Result<Scene, SceneError> {
-        let de = &mut serde_json::Deserializer::from_str(text);
-        let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
-            let path = e.path().to_string();
-            SceneError::Parse {
-                origin: origin.into(),
-                path: if path == "." { "(top level)".into() } else { format!("field `{path}`") },
-                message: e.into_inner().to_string(),
-            }
-        })?;
+        let scene: Scene = parse(text, origin)?;
         scene.validate(origin)?;
         Ok(scene)
     }

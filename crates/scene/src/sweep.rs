@@ -137,15 +137,7 @@ pub const MAX_POINTS: usize = 10_000;
 impl Sweep {
     /// Parses and checks; `origin` names the source in error messages.
     pub fn from_json(text: &str, origin: &str) -> Result<Sweep, SceneError> {
-        let de = &mut serde_json::Deserializer::from_str(text);
-        let sweep: Sweep = serde_path_to_error::deserialize(de).map_err(|e| {
-            let path = e.path().to_string();
-            SceneError::Parse {
-                origin: origin.into(),
-                path: if path == "." { "(top level)".into() } else { format!("field `{path}`") },
-                message: e.into_inner().to_string(),
-            }
-        })?;
+        let sweep: Sweep = crate::parse(text, origin)?;
         sweep.validate(origin)?;
         Ok(sweep)
     }
