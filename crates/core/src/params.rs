@@ -206,6 +206,19 @@ mod tests {
     }
 
     #[test]
+    fn si_conversions_scale_by_a_and_p_h() {
+        let s = HertzScales::new(&crate::SEED_CONTACT);
+        // a = 0.13466 mm and p_h = 0.52655 GPa for Table 1 (table1_derived_values_match_the_notes).
+        assert_eq!(s.x_si(2.0), 2.0 * s.a);
+        assert_eq!(s.p_si(0.5), 0.5 * s.p_h);
+        assert_eq!(s.h_si(3.0), 3.0 * s.delta);
+        for v in [0.3, -1.7] {
+            assert!((s.x_dimless(s.x_si(v)) - v).abs() < 1e-15);
+            assert!((s.p_dimless(s.p_si(v)) - v).abs() < 1e-15);
+        }
+    }
+
+    #[test]
     fn roelands_is_eta0_at_zero_pressure() {
         let (_, lub) = table1();
         assert!((lub.roelands(0.0) / lub.eta0 - 1.0).abs() < 1e-14);
