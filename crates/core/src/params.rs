@@ -215,7 +215,10 @@ mod tests {
         for v in [0.3, -1.7] {
             assert!((s.x_dimless(s.x_si(v)) - v).abs() < 1e-15);
             assert!((s.p_dimless(s.p_si(v)) - v).abs() < 1e-15);
+            assert!((s.h_dimless(s.h_si(v)) - v).abs() < 1e-15);
         }
+        // Travelling 2 a at 0.01 m/s takes 2 a / u = 26.9 ms.
+        assert!((s.t_si(2.0, 0.01) / (2.0 * s.a / 0.01) - 1.0).abs() < 1e-15);
     }
 
     #[test]
