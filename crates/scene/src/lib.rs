@@ -205,6 +205,19 @@ impl Check<'_> {
             Err(self.err(field, format!("{v}"), &format!("must be finite and > 0 ({unit})")))
         }
     }
+    /// A name used for folders: letters, digits, `-`, `_`.
+    fn name(&self, name: &str) -> Result<(), SceneError> {
+        if name.trim().is_empty()
+            || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+        {
+            return Err(self.err(
+                "name",
+                format!("{name:?}"),
+                "must be non-empty ASCII letters, digits, '-' or '_'",
+            ));
+        }
+        Ok(())
+    }
     fn nonneg(&self, field: &str, v: f64, unit: &str) -> Result<(), SceneError> {
         if v.is_finite() && v >= 0.0 {
             Ok(())
@@ -504,15 +517,7 @@ impl Scene {
     /// Range checks, each naming the field and what it allows.
     pub fn validate(&self, origin: &str) -> Result<(), SceneError> {
         let ck = Check { origin };
-        if self.name.trim().is_empty()
-            || !self.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
-        {
-            return Err(ck.err(
-                "name",
-                format!("{:?}", self.name),
-                "must be non-empty ASCII letters, digits, '-' or '_'",
-            ));
-        }
+        ck.name(&self.name)?;
         match (self.model, self.models.is_empty()) {
             (Some(_), false) => {
                 return Err(ck.err(

@@ -149,15 +149,7 @@ impl Sweep {
     /// Range checks of the sweep itself (the points' scenes are checked by [`Sweep::points`]).
     pub fn validate(&self, origin: &str) -> Result<(), SceneError> {
         let ck = Check { origin };
-        if self.name.trim().is_empty()
-            || !self.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
-        {
-            return Err(ck.err(
-                "name",
-                format!("{:?}", self.name),
-                "must be non-empty ASCII letters, digits, '-' or '_'",
-            ));
-        }
+        ck.name(&self.name)?;
         if !(1..=2).contains(&self.parameters.len()) {
             return Err(ck.err(
                 "parameters",
