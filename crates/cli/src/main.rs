@@ -186,6 +186,7 @@ fn sweep(args: SweepArgs) -> Result<()> {
         }
         (Some(SweepStep::Merge { dir }), _) => {
             let files = sweep::merge::merge(&dir)?;
+            print_table(&dir)?;
             println!("wrote {} files to {}", files.len(), dir.display());
         }
         (None, Some(name)) => {
@@ -195,12 +196,22 @@ fn sweep(args: SweepArgs) -> Result<()> {
             let (s, files) =
                 sweep::run_local(&sw, base.as_deref(), &dir, args.jobs.unwrap_or_else(cores))?;
             report(&dir, &s);
+            print_table(&dir)?;
             println!("wrote {} result files to {}", files.len(), dir.display());
         }
         (None, None) => {
             bail!("give a sweep (a built-in name or a file), or a step: plan, run, merge")
         }
     }
+    Ok(())
+}
+
+/// The merged sweep's terminal table.
+fn print_table(dir: &std::path::Path) -> Result<()> {
+    use ehl_workbench::sweep;
+    let plan = sweep::Plan::load(dir)?;
+    let recs = sweep::records(dir, &plan)?;
+    print!("{}", sweep::merge::table(&plan, &recs));
     Ok(())
 }
 

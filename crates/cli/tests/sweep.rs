@@ -55,6 +55,9 @@ fn killed_and_sharded_sweeps_give_the_uninterrupted_results_byte_for_byte() {
     let reference = tmp.path().join("reference");
     let out = ok(ehl().arg("sweep").arg(&sweep).arg("--out").arg(&reference).output().unwrap());
     assert!(out.contains("ran 8 points"), "{out}");
+    // The terminal table: a row per point, each model's h_c or `failed`.
+    assert!(out.contains("layer h_c [nm]") && out.contains("failed"), "{out}");
+    assert_eq!(out.lines().filter(|l| l.trim_start().starts_with(char::is_numeric)).count(), 8);
     let csv = std::fs::read_to_string(reference.join("results.csv")).unwrap();
     for f in ["results.json", "cost.csv", "plan.json", "sweep_films.png", "sweep_cost.png"] {
         assert!(reference.join(f).is_file(), "{f} missing");

@@ -156,6 +156,41 @@ pub fn results_json(plan: &Plan, recs: &[PointRecord]) -> Value {
     })
 }
 
+/// The terminal summary: per point its parameters and each model's `h_c` [nm] (`failed`, or
+/// `*` for a flagged point), then where the details are.
+pub fn table(plan: &Plan, recs: &[PointRecord]) -> String {
+    let models = plan.points.first().map(|p| p.scene.models()).unwrap_or_default();
+    let mut heads: Vec<String> =
+        plan.sweep.parameters.iter().map(|a| short_name(&a.parameter.name())).collect();
+    heads.extend(models.iter().map(|&m| format!("{} h_c [nm]", model_name(m))));
+    let widths: Vec<usize> = heads.iter().map(|h| h.len().max(12)).collect();
+    let mut t = String::from("  point");
+    for (h, w) in heads.iter().zip(&widths) {
+        t += &format!(" {h:>w$}");
+    }
+    t.push('\n');
+    for r in recs {
+        t += &format!("  {:>5}", r.index);
+        let mut cells: Vec<String> = r.values.iter().map(|v| format!("{v:.4e}")).collect();
+        cells.extend(r.models.iter().map(|m| match (&m.observables, &m.flag) {
+            (Some(o), None) => format!("{:.3}", o.central_film_m * 1e9),
+            (Some(o), Some(_)) => format!("{:.3}*", o.central_film_m * 1e9),
+            (None, _) => "failed".into(),
+        }));
+        for (c, w) in cells.iter().zip(&widths) {
+            t += &format!(" {c:>w$}");
+        }
+        t.push('\n');
+    }
+    t += "  (* flagged: the grid or domain check moved it beyond the limit; failures and flags in results.csv)\n";
+    t
+}
+
+/// The last part of a parameter's field name, for narrow columns.
+fn short_name(name: &str) -> String {
+    name.rsplit('.').next().unwrap_or(name).to_string()
+}
+
 /// Reads every point's record and writes the results and charts into `dir`.
 pub fn merge(dir: &Path) -> Result<Vec<PathBuf>> {
     let plan = Plan::load(dir)?;
