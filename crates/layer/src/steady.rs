@@ -398,7 +398,8 @@ struct Coefficients {
 impl Coefficients {
     fn of(m: &LayerModel, p: &Array2<f64>) -> Self {
         let pc = m.coefficient_pressure(p);
-        let ln_eta = pc.mapv(|v| m.eta(v).ln());
+        // Elementwise, so the parallel map gives the serial map's values exactly.
+        let ln_eta = Zip::from(&pc).par_map_collect(|&v| m.eta(v).ln());
         Self { pc, ln_eta }
     }
     #[inline]
