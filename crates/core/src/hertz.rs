@@ -23,6 +23,16 @@ pub fn gap(r: f64) -> f64 {
     (-1.0 + 0.5 * r * r + deflection(r)).max(0.0)
 }
 
+/// Where the gap outside the contact reaches `h` [a²/R]: the radius [a] (bisection on [1, 100]).
+pub fn separation_radius(h: f64) -> f64 {
+    let (mut lo, mut hi) = (1.0, 100.0);
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        if gap(mid) < h { lo = mid } else { hi = mid }
+    }
+    0.5 * (lo + hi)
+}
+
 /// The Hertz approach `H0 = −1` (the rigid-body term of the gap).
 pub const APPROACH: f64 = -1.0;
 
@@ -91,6 +101,12 @@ pub fn observed_order_of_three(q_coarse: f64, q_medium: f64, q_fine: f64, ratio:
 #[cfg(test)]
 mod comparison_tests {
     use super::*;
+
+    #[test]
+    fn separation_radius_inverts_the_hertz_gap() {
+        // Hertz separation at r = 1.25 by hand: 0.78125 − 1 + (0.4375 asin 0.8 + 0.75)/π = 0.149118.
+        assert!((separation_radius(0.149118) - 1.25).abs() < 1e-5);
+    }
     use crate::Grid;
 
     #[test]

@@ -25,6 +25,14 @@ pub fn hamrock_dowson_minimum(c: &Contact, lub: &Lubricant, u_mean: f64) -> f64 
     r * 3.63 * u.powf(0.68) * g.powf(0.49) * w.powf(-0.073) * (1.0 - (-0.68f64).exp())
 }
 
+/// Hamrock & Dowson's starvation boundary for a circular contact (Isothermal EHL of point
+/// contacts, Part IV: starvation results, J. Lubr. Technol. 99 (1977) 15–23): the inlet distance
+/// [a] beyond which the film is fully flooded, `m* = 1 + 3.06 [(R/b)² H]^0.58` with `H = h/R`;
+/// for `b = a`, `(R/a)² h/R` is the central film in Hertz units `h_hertz` [a²/R].
+pub fn starvation_boundary(h_hertz: f64) -> f64 {
+    1.0 + 3.06 * h_hertz.max(0.0).powf(0.58)
+}
+
 /// Nijenbanning, Venner & Moes (Wear 176 (1994) 217–229), central film in Moes' units
 /// `H = h_c / R · U^(−1/2)` (`U` with the sum velocity), circular contact (`D = 1`): a blend of
 /// the rigid/elastic, isoviscous/piezoviscous asymptotes.

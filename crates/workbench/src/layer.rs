@@ -49,6 +49,14 @@ impl ContactModel for Layer {
     fn run(&self, scene: &Scene) -> Result<Box<dyn Outcome>> {
         Ok(Box::new(run_layer(scene)?))
     }
+    /// Nothing happens before the layer touches the ball, where the Hertz separation equals the
+    /// supply thickness `l0`: the inlet goes where it is `2 l0`.
+    fn inlet_distance(&self, scene: &Scene) -> f64 {
+        scene.layer.map_or(0.0, |l| {
+            let s = ehl_core::HertzScales::new(&scene.conditions.contact());
+            ehl_core::hertz::separation_radius(2.0 * s.h_dimless(l.supply_thickness_m))
+        })
+    }
 }
 
 impl Outcome for LayerOutcome {

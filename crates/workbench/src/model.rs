@@ -18,6 +18,11 @@ pub trait ContactModel: Sync {
     /// Runs a one-model scene (validated) for this model; fails with a diagnosis (what, where,
     /// when) if the model diverges or does not converge.
     fn run(&self, scene: &Scene) -> Result<Box<dyn Outcome>>;
+    /// The inlet distance [a] upstream of the contact centre this model needs for the scene's
+    /// conditions (sweeps grow a point's domain to it); 0: the scene's own domain will do.
+    fn inlet_distance(&self, _scene: &Scene) -> f64 {
+        0.0
+    }
 }
 
 /// Any outcome as `Any`, so a caller that needs one model's own fields can downcast.

@@ -1,7 +1,8 @@
 //! The domain and grid each sweep point needs, from the point's own scales, and the two check
 //! runs that measure how much its answer still depends on them.
 //!
-//! **The rule.** The inlet must lie beyond the distance at which the film starts to starve.
+//! **The rule.** The inlet must lie beyond the distance at which the film starts to starve; each
+//! model states its own need (`ContactModel::inlet_distance`), the point takes the largest:
 //! - Reynolds: Hamrock & Dowson's starvation boundary for a circular contact (Isothermal EHL of
 //!   point contacts, Part IV: starvation results, J. Lubr. Technol. 99 (1977) 15–23) is
 //!   `m* = 1 + 3.06 [(R/b)² H]^0.58`, `H = h/R`; for `b = a`, `(R/a)² h/R` is the film in Hertz
@@ -26,43 +27,17 @@
 //! run: the domain's share). Their relative changes of `h_c`, `h_min` and `p_max` are
 //! reported, and a point is flagged when one exceeds the sweep's `flag_change_above`.
 
-use ehl_core::HertzScales;
-use ehl_scene::{Domain, GridSpec, Model, Scene};
+use ehl_scene::{Domain, GridSpec, Scene};
 
-/// Hamrock & Dowson's fully flooded inlet distance [a] for a central film `h_hertz` [a²/R].
-pub fn starvation_boundary(h_hertz: f64) -> f64 {
-    1.0 + 3.06 * h_hertz.max(0.0).powf(0.58)
-}
-
-/// Where the Hertz separation outside the contact reaches `h` [a²/R]: radius [a].
-pub fn separation_radius(h: f64) -> f64 {
-    let (mut lo, mut hi) = (1.0, 100.0);
-    for _ in 0..80 {
-        let mid = 0.5 * (lo + hi);
-        if ehl_core::hertz::gap(mid) < h { lo = mid } else { hi = mid }
-    }
-    0.5 * (lo + hi)
-}
-
-/// The inlet distance [a] the models of `scene` need (the rule above); 0 when none needs one.
+/// The inlet distance [a] the models of `scene` need: the largest any of them asks for
+/// ([`crate::model::ContactModel::inlet_distance`]); 0 when none does.
 pub fn inlet_needed(scene: &Scene) -> f64 {
-    let s = HertzScales::new(&scene.conditions.contact());
-    let mut x: f64 = 0.0;
-    if scene.runs(Model::Reynolds) {
-        if let Some(l) = &scene.lubricant {
-            let (c, u_sum) = scene.reynolds_conditions();
-            if u_sum > 0.0 {
-                let h = s.h_dimless(ehl_reynolds::formulas::nvm_central(&c, &l.lubricant(), u_sum));
-                x = x.max(1.0 + 2.0 * (starvation_boundary(h) - 1.0));
-            }
-        }
-    }
-    if scene.runs(Model::Layer) {
-        if let Some(l) = &scene.layer {
-            x = x.max(separation_radius(2.0 * s.h_dimless(l.supply_thickness_m)));
-        }
-    }
-    x
+    scene
+        .models()
+        .into_iter()
+        .filter_map(|m| crate::run::model(m).ok())
+        .map(|m| m.inlet_distance(scene))
+        .fold(0.0, f64::max)
 }
 
 /// Whether the Reynolds solver's shape rules apply (square cells, `nx = ny`).
@@ -167,12 +142,6 @@ mod tests {
         ] {
             assert_eq!(multigrid_count(n), m, "{n}");
         }
-    }
-
-    #[test]
-    fn separation_radius_inverts_the_hertz_gap() {
-        // Hertz separation at r = 1.25 by hand: 0.78125 − 1 + (0.4375 asin 0.8 + 0.75)/π = 0.149118.
-        assert!((separation_radius(0.149118) - 1.25).abs() < 1e-5);
     }
 
     #[test]
