@@ -13,6 +13,9 @@ use anyhow::Result;
 use ndarray::Array2;
 use std::path::{Path, PathBuf};
 
+/// The indicator's name in `Outcome::indicators` (and in sweep results).
+pub const FLUX_INDICATOR: &str = "flux_ratio_contact_mean";
+
 /// Where the flux ratio is averaged: the loaded zone, `p ≥` this [p_h] (the observables'
 /// contact-extent threshold).
 pub const LOADED: f64 = ehl_core::observe::EXTENT_THRESHOLD;

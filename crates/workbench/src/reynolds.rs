@@ -99,7 +99,7 @@ impl Outcome for ReynoldsOutcome {
     }
     fn indicators(&self) -> Vec<(String, f64)> {
         vec![
-            ("flux_ratio_contact_mean".into(), self.flux_ratio_contact_mean()),
+            (crate::flow::FLUX_INDICATOR.into(), self.flux_ratio_contact_mean()),
             ("cycles".into(), self.report.cycles as f64),
         ]
     }

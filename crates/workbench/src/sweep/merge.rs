@@ -5,6 +5,7 @@
 
 use super::{ModelRecord, Plan, PointRecord, records, write_atomic};
 use crate::compare::model_name;
+use crate::flow::FLUX_INDICATOR;
 use crate::plot::{self, CellPanel, Mark, Panel, Series};
 use anyhow::Result;
 use ehl_core::Observables;
@@ -252,6 +253,25 @@ fn put(
     Ok(())
 }
 
+/// The first two lubricated models (by the scene's order; a model is lubricated where any of
+/// its points says so), as record indices with their names: the pair a comparison's film ratio
+/// is taken between (`compare`'s difference map takes the same pair), the seed's layer and
+/// Reynolds.
+fn film_pair(models: &[Model], recs: &[PointRecord]) -> Option<((usize, String), (usize, String))> {
+    let wet: Vec<usize> =
+        (0..models.len()).filter(|&k| recs.iter().any(|r| r.models[k].lubricated)).collect();
+    match wet.as_slice() {
+        [a, b, ..] => Some(((*a, model_name(models[*a])), (*b, model_name(models[*b])))),
+        _ => None,
+    }
+}
+
+/// A model's name as a chart title starts it.
+fn title_case(name: &str) -> String {
+    let mut c = name.chars();
+    c.next().map(|f| f.to_uppercase().chain(c).collect()).unwrap_or_default()
+}
+
 fn charts(dir: &Path, plan: &Plan, recs: &[PointRecord]) -> Result<Vec<PathBuf>> {
     let ctx = Ctx {
         dir,
@@ -379,8 +399,7 @@ fn one_parameter(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
             &note,
         )
     })?;
-    let idx = |m: Model| models.iter().position(|&x| x == m);
-    if let (Some(kl), Some(kr)) = (idx(Model::Layer), idx(Model::Reynolds)) {
+    if let Some(((kl, name_l), (kr, name_r))) = film_pair(models, recs) {
         let ratio: Vec<(f64, f64)> = recs
             .iter()
             .filter_map(|r| match (obs(&r.models[kl]), obs(&r.models[kr])) {
@@ -392,27 +411,28 @@ fn one_parameter(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
         let band = |v: f64| xs.iter().map(|&x| (x, v)).collect::<Vec<_>>();
         let flux: Vec<(f64, f64)> = recs
             .iter()
-            .filter_map(|r| {
-                r.models[kr].indicators.get("flux_ratio_contact_mean").map(|&v| (r.values[0], v))
-            })
+            .filter_map(|r| r.models[kr].indicators.get(FLUX_INDICATOR).map(|&v| (r.values[0], v)))
             .collect();
         put(files, ctx.dir, "sweep_agreement.png", &|f| {
             let mut a = Panel::new(
-                "Layer h_c / Reynolds h_c",
+                &format!("{} h_c / {} h_c", title_case(&name_l), title_case(&name_r)),
                 &x_label,
                 "ratio",
                 vec![
-                    Series::new("layer / Reynolds", ratio.clone(), Mark::LinePoints),
+                    Series::new(format!("{name_l} / {name_r}"), ratio.clone(), Mark::LinePoints),
                     Series::new("+10 %", band(1.1), Mark::Line),
                     Series::new("-10 %", band(0.9), Mark::Line),
                 ],
             );
             a.log_x = log;
             let mut b = Panel::new(
-                "Reynolds: pressure- / boundary-driven flux (contact mean)",
+                &format!(
+                    "{}: pressure- / boundary-driven flux (contact mean)",
+                    title_case(&name_r)
+                ),
                 &x_label,
                 "mean |r| over p >= 0.01 p_h",
-                vec![Series::new("Reynolds", flux.clone(), Mark::LinePoints)],
+                vec![Series::new(name_r.clone(), flux.clone(), Mark::LinePoints)],
             );
             b.log_x = log;
             b.log_y = true;
@@ -441,9 +461,8 @@ fn two_parameters(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
         a.values().iter().map(|v| format!("{v}")).collect()
     };
     let at = |i0: usize, i1: usize| &recs[i0 * n1 + i1];
-    let idx = |m: Model| models.iter().position(|&x| x == m);
     let mut panels = vec![];
-    if let (Some(kl), Some(kr)) = (idx(Model::Layer), idx(Model::Reynolds)) {
+    if let Some(((kl, name_l), (kr, name_r))) = film_pair(models, recs) {
         let mut ratio = vec![vec![None; n0]; n1];
         let mut agree = vec![vec![false; n0]; n1];
         for i0 in 0..n0 {
@@ -461,19 +480,25 @@ fn two_parameters(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
         let mut flux = vec![vec![None; n0]; n1];
         for i0 in 0..n0 {
             for i1 in 0..n1 {
-                flux[i1][i0] =
-                    at(i0, i1).models[kr].indicators.get("flux_ratio_contact_mean").copied();
+                flux[i1][i0] = at(i0, i1).models[kr].indicators.get(FLUX_INDICATOR).copied();
             }
         }
         panels.push(CellPanel {
-            title: "Layer h_c / Reynolds h_c (outlined: within 10 %)".into(),
+            title: format!(
+                "{} h_c / {} h_c (outlined: within 10 %)",
+                title_case(&name_l),
+                title_case(&name_r)
+            ),
             values: ratio,
             outline: agree.clone(),
             log_colour: false,
             digits: 3,
         });
         panels.push(CellPanel {
-            title: "Reynolds: pressure- / boundary-driven flux, contact mean".into(),
+            title: format!(
+                "{}: pressure- / boundary-driven flux, contact mean",
+                title_case(&name_r)
+            ),
             values: flux,
             outline: agree,
             log_colour: true,

@@ -46,7 +46,8 @@ pub struct PlannedPoint {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ModelRecord {
     pub model: Model,
-    /// Whether a film separates the surfaces (false for the dry contact).
+    /// Whether a film separates the surfaces, as the outcome says (false for the dry contact,
+    /// and for a model that failed: there is no outcome to say).
     pub lubricated: bool,
     /// The standard observables (SI); `None` when the model failed.
     pub observables: Option<Observables>,
@@ -342,7 +343,7 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                 let (main, wall_time_s) = run_model(&one);
                 let mut rec = ModelRecord {
                     model: m,
-                    lubricated: m != Model::Dry,
+                    lubricated: main.as_ref().is_ok_and(|r| r.1),
                     observables: main.as_ref().ok().map(|r| r.0),
                     diagnosis: main.as_ref().err().cloned(),
                     indicators: main.as_ref().map(|r| r.2.clone()).unwrap_or_default(),
@@ -353,7 +354,6 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                     flag: None,
                 };
                 if let Ok((ob, lub, _)) = &main {
-                    rec.lubricated = *lub;
                     if sweep.checks {
                         let (gs, ds) = (adapt::grid_check(&one), adapt::domain_check(&one));
                         let (g, tg) = run_model(&gs);
