@@ -41,8 +41,7 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
         std::fs::remove_dir_all(&dir)?; // the map's cycles and times are measured afresh
     }
     plan.write(&dir)?;
-    let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
-    sweep::run(&dir, sweep::Shard::all(), cores)?;
+    sweep::run(&dir, sweep::Shard::all(), sweep::default_jobs())?;
     sweep::merge::merge(&dir)?;
     let mut rows = vec![];
     for rec in sweep::records(&dir, &plan)? {

@@ -45,8 +45,7 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
     }
     let plan = sweep::Plan::new(&sweep, None)?;
     plan.write(&dir)?;
-    let cores = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
-    sweep::run(&dir, sweep::Shard::all(), cores)?;
+    sweep::run(&dir, sweep::Shard::all(), sweep::default_jobs())?;
     sweep::merge::merge(&dir)?;
     let recs = sweep::records(&dir, &plan)?;
     let mut by_model: BTreeMap<String, Vec<Point>> = BTreeMap::new();

@@ -155,7 +155,6 @@ fn real_main() -> Result<()> {
 
 fn sweep(args: SweepArgs) -> Result<()> {
     use ehl_workbench::sweep::{self, Plan, Shard};
-    let cores = || std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
     let report = |dir: &std::path::Path, s: &sweep::RunSummary| {
         println!(
             "ran {} points in {:.1} s ({} already finished) in {}",
@@ -181,7 +180,11 @@ fn sweep(args: SweepArgs) -> Result<()> {
             );
         }
         (Some(SweepStep::Run { dir, shard, jobs }), _) => {
-            let s = sweep::run(&dir, shard.unwrap_or(Shard::all()), jobs.unwrap_or_else(cores))?;
+            let s = sweep::run(
+                &dir,
+                shard.unwrap_or(Shard::all()),
+                jobs.unwrap_or_else(sweep::default_jobs),
+            )?;
             report(&dir, &s);
         }
         (Some(SweepStep::Merge { dir }), _) => {
@@ -193,8 +196,12 @@ fn sweep(args: SweepArgs) -> Result<()> {
             let (sw, base) = ehl_scene::load_sweep(&name)?;
             let dir =
                 args.out.unwrap_or_else(|| PathBuf::from("out").join(format!("sweep-{}", sw.name)));
-            let (s, files) =
-                sweep::run_local(&sw, base.as_deref(), &dir, args.jobs.unwrap_or_else(cores))?;
+            let (s, files) = sweep::run_local(
+                &sw,
+                base.as_deref(),
+                &dir,
+                args.jobs.unwrap_or_else(sweep::default_jobs),
+            )?;
             report(&dir, &s);
             print_table(&dir)?;
             println!("wrote {} result files to {}", files.len(), dir.display());

@@ -192,6 +192,11 @@ impl Shard {
     }
 }
 
+/// Points run at once by default: one per core.
+pub fn default_jobs() -> usize {
+    std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
+}
+
 /// What a run did.
 pub struct RunSummary {
     pub ran: usize,
