@@ -2,7 +2,7 @@
 //! list or a linear/logarithmic range. Checked like scenes (field-named errors) before anything
 //! runs; every point's scene is built and validated up front.
 
-use crate::{Check, GridSpec, Model, Scene, SceneError};
+use crate::{Check, GridSpec, Scene, SceneError};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -414,11 +414,6 @@ impl Scene {
             }
         }
         Ok(s)
-    }
-
-    /// Whether this scene runs the model `m` (alone or in its comparison).
-    pub fn runs(&self, m: Model) -> bool {
-        self.models().contains(&m)
     }
 }
 
