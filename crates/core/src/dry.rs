@@ -118,6 +118,20 @@ impl DrySolver {
         w: &mut Array2<f64>,
         start: Start,
     ) -> Result<DryReport, NumericError> {
+        self.solve_to(problem, p, w, start, self.settings.tolerance)
+    }
+
+    /// [`DrySolver::solve`] to the stop residual `tolerance` [a²/R] instead of the settings':
+    /// for an outer iteration that needs its inner solves only as tight as its own error
+    /// (an inexact fixed point).
+    pub fn solve_to(
+        &self,
+        problem: &DryProblem,
+        p: &mut Array2<f64>,
+        w: &mut Array2<f64>,
+        start: Start,
+        tolerance: f64,
+    ) -> Result<DryReport, NumericError> {
         let grid = *self.grid();
         if problem.rigid_gap.dim() != grid.shape() || p.dim() != grid.shape() {
             return Err(NumericError::Invalid(format!(
@@ -155,7 +169,7 @@ impl DrySolver {
                     let mut wl = op.grid().zeros();
                     // Coarse grids only give a start: their discretisation error (~ΔX) is far
                     // above any tight tolerance, so solving them tightly is wasted work.
-                    let tol = s.tolerance.max(1e-5);
+                    let tol = tolerance.max(1e-5);
                     let out = pcg(
                         op,
                         gaps[lvl].view(),
@@ -180,7 +194,7 @@ impl DrySolver {
             problem.load,
             p,
             w,
-            s.tolerance,
+            tolerance,
             s.max_iterations,
             s.preconditioned,
         )?;

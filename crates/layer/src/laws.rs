@@ -70,6 +70,11 @@ impl Damper {
     pub fn eta(&self, p: f64) -> f64 {
         self.eta_zero * self.shape.eta(p)
     }
+    /// `ln(η / p_h)` [ln s] at pressure `p` [p_h].
+    #[inline]
+    pub fn ln_eta(&self, p: f64) -> f64 {
+        self.eta_zero.ln() + self.shape.ln_eta(p)
+    }
 }
 
 #[cfg(test)]

@@ -242,12 +242,25 @@ impl LayerModel {
         w: &mut Array2<f64>,
         start: Start,
     ) -> Result<DryReport, NumericError> {
+        self.contact_to(g0, compliance, p, w, start, self.solver.settings.tolerance)
+    }
+
+    /// [`LayerModel::contact`] to the stop residual `tolerance` [a²/R].
+    pub fn contact_to(
+        &self,
+        g0: &Array2<f64>,
+        compliance: Option<&Array2<f64>>,
+        p: &mut Array2<f64>,
+        w: &mut Array2<f64>,
+        start: Start,
+        tolerance: f64,
+    ) -> Result<DryReport, NumericError> {
         let prob = DryProblem {
             rigid_gap: g0.view(),
             compliance: compliance.map(|c| c.view()),
             load: self.load,
         };
-        self.solver.solve(&prob, p, w, start)
+        self.solver.solve_to(&prob, p, w, start, tolerance)
     }
 }
 
@@ -269,10 +282,19 @@ pub fn gaussian_smooth(f: &Array2<f64>, grid: &Grid, sigma_x: f64, sigma_y: f64)
     let rx = (wx.len() / 2) as isize;
     let mut tmp = Array2::zeros((ny, nx));
     Zip::from(tmp.rows_mut()).and(f.rows()).par_for_each(|mut o, f| {
+        let f = f.to_vec();
         for i in 0..nx as isize {
             let mut s = 0.0;
-            for (k, w) in (-rx..=rx).zip(&wx) {
-                s += w * f[(i + k).clamp(0, nx as isize - 1) as usize];
+            if i >= rx && i + rx < nx as isize {
+                // Inside: a plain window, no edge clamping (same terms, same order).
+                let win = &f[(i - rx) as usize..=(i + rx) as usize];
+                for (w, v) in wx.iter().zip(win) {
+                    s += w * v;
+                }
+            } else {
+                for (k, w) in (-rx..=rx).zip(&wx) {
+                    s += w * f[(i + k).clamp(0, nx as isize - 1) as usize];
+                }
             }
             o[i as usize] = s;
         }
@@ -305,7 +327,8 @@ impl LayerModel {
     /// gap `ball` and supply `supply`: the layer is extra gap `−l0 (1 − A)` and local compliance
     /// `l0 B`. Where `ε` would pass 1 the layer is gone: those points are fixed at `ε = 1` (no
     /// layer, no compliance) and the contact is re-solved, up to 8 passes. Both the implicit
-    /// time step and the direct steady solve reduce to this.
+    /// time step and the direct steady solve reduce to this. `tolerance`: the contact's stop
+    /// residual [a²/R] (`None`: the solver's settings).
     #[allow(clippy::too_many_arguments)]
     pub fn contact_with_affine_layer(
         &self,
@@ -316,7 +339,9 @@ impl LayerModel {
         p: &mut Array2<f64>,
         w: &mut Array2<f64>,
         start: Start,
+        tolerance: Option<f64>,
     ) -> Result<AffineLayerSolve, NumericError> {
+        let tolerance = tolerance.unwrap_or(self.solver.settings.tolerance);
         // Points already at ε ≥ 1 for any p ≥ 0 start dry.
         let mut dry = a.mapv(|v| v >= 1.0);
         let (mut solves, mut iterations, mut start) = (0, 0, start);
@@ -331,7 +356,7 @@ impl LayerModel {
                     }
                 },
             );
-            let r = self.contact(&g0, Some(&c), p, w, start)?;
+            let r = self.contact_to(&g0, Some(&c), p, w, start, tolerance)?;
             start = Start::Warm;
             solves += 1;
             iterations += r.iterations;

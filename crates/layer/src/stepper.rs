@@ -233,7 +233,16 @@ impl Stepper {
                 },
             );
             let r = m
-                .contact_with_affine_layer(&ball, &supply, &a, &b, &mut p, &mut w, Start::Warm)
+                .contact_with_affine_layer(
+                    &ball,
+                    &supply,
+                    &a,
+                    &b,
+                    &mut p,
+                    &mut w,
+                    Start::Warm,
+                    None,
+                )
                 .map_err(|e| LayerError::Contact { step, t: t1, source: e })?;
             solves += r.solves;
             iterations += r.iterations;
