@@ -97,3 +97,25 @@ fn hole_central_pressure_drop_matches_the_seed() {
     // smeared or lost, drops by 0 or by several points.
     assert!((drop - want).abs() < 1e-3, "drop {drop} against the seed's {want}");
 }
+
+#[test]
+fn seed_fit_laws_reproduce_the_recorded_fit() {
+    // The `seed-fit` law set (reference/seed-fit.json's `laws`, written by `cargo xtask
+    // identify`) run through a scene must give the steady-rolling h_c the fit recorded on its
+    // own grid: the same solve (direct steady, strain tolerance 1e-5, h_c converged to ~2e-5
+    // l0) on the same grid, so 1e-4 relative bounds run-to-run rounding and nothing else; a law
+    // set not wired through (κ or σ ignored) moves h_c by percents.
+    let r: Value = serde_json::from_str(include_str!("../../reference/seed-fit.json")).unwrap();
+    let n = r["grids"]["rolling"].as_u64().unwrap() as usize;
+    let want = r["targets"][0]["seed_fit_fit_grid"].as_f64().unwrap();
+    let o = layer("rolling-steady", n, |s| {
+        let l = s.layer.as_mut().unwrap();
+        l.laws = ehl_layer::LawSet::SeedFit;
+        l.damper_constant = None;
+    });
+    let hc = o.final_monitor.central_thickness / 25e-9;
+    assert!((hc / want - 1.0).abs() < 1e-4, "h_c/l0 = {hc}, recorded {want}");
+    let recon = layer("rolling-steady", n, |_| {});
+    let h0 = recon.final_monitor.central_thickness / 25e-9;
+    assert!((hc / h0 - 1.0).abs() > 0.01, "seed-fit {hc} against reconstruction {h0}");
+}

@@ -6,6 +6,7 @@
 mod bench;
 mod compare;
 mod convergence;
+mod identify;
 mod layer;
 mod mutants;
 mod reynolds;
@@ -62,6 +63,22 @@ enum Command {
         /// From this load parameter M on, the layer model's narrow domain.
         #[arg(long, default_value_t = 500.0)]
         narrow_from_m: f64,
+    },
+    /// Identify the seed's lost laws (damper prefactor, its pressure scale, the modulus law's
+    /// reference pressure) from its reported numbers; writes `reference/seed-fit.json` (what the
+    /// `seed-fit` law set uses) and the report and chart into `--out`.
+    Identify {
+        #[arg(long, default_value = "out/identify")]
+        out: PathBuf,
+        /// Grid of the steady solve and the rolling march, points per side.
+        #[arg(long, default_value_t = 65)]
+        points: usize,
+        /// Grid of the squeeze after a stop (its times need the loaded zone resolved).
+        #[arg(long, default_value_t = 129)]
+        squeeze_points: usize,
+        /// Grid the fit is checked on.
+        #[arg(long, default_value_t = 129)]
+        check_points: usize,
     },
     /// Time the deformation operator and the dry solver, 65² … 513².
     Bench {
@@ -124,6 +141,9 @@ fn main() -> Result<()> {
             }
         }
         Command::Bench { out, max_points } => bench::run(&out, max_points),
+        Command::Identify { out, points, squeeze_points, check_points } => {
+            identify::run(&out, points, squeeze_points, check_points)
+        }
         Command::SlurmCheck { keep } => slurm::check(keep),
         Command::Mutants { file, shard, timeout, out } => {
             mutants::run(&file, shard.as_deref(), timeout, &out)
@@ -164,6 +184,7 @@ fn figures(out: &std::path::Path) -> Result<()> {
     written.extend(compare::fig1(out)?);
     written.extend(convergence::dry(out, 513)?);
     written.push(layer::modulus_figure(out)?);
+    written.extend(identify::figures(out)?);
     println!("figures written to {}:", out.display());
     for f in written {
         println!("  {}", f.display());

@@ -43,6 +43,33 @@ impl ModulusLaw {
     }
 }
 
+/// Which law parameters a layer uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum LawSet {
+    /// The scene's own `damper_constant`, `damper_pressure_scale` and `reference_pressure_pa`
+    /// (defaults: model notes §2's reconstruction).
+    #[default]
+    Reconstruction,
+    /// The damper prefactor, its pressure scale and the modulus law's reference pressure
+    /// identified from the seed's reported numbers by `cargo xtask identify`
+    /// (`reference/seed-fit.json`, its `laws` entry).
+    SeedFit,
+}
+
+/// The `seed-fit` law parameters: read once from `reference/seed-fit.json` (compiled in), the
+/// file `cargo xtask identify` writes, so the code and the recorded fit cannot drift apart.
+pub fn seed_fit() -> crate::model::LawParameters {
+    static FIT: std::sync::OnceLock<crate::model::LawParameters> = std::sync::OnceLock::new();
+    *FIT.get_or_init(|| {
+        let v: serde_json::Value =
+            serde_json::from_str(include_str!("../../../reference/seed-fit.json"))
+                .expect("reference/seed-fit.json is valid JSON");
+        serde_json::from_value(v["laws"].clone())
+            .expect("reference/seed-fit.json has a `laws` entry of law parameters")
+    })
+}
+
 /// How Table 1's damper constant "5.5e5 Pa s" is read (model notes §2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]

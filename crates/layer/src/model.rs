@@ -5,7 +5,7 @@
 //! time in seconds (rolling and squeeze share a clock, and squeeze has no velocity scale).
 
 use crate::features::Feature;
-use crate::laws::{Damper, DamperReading, ModulusLaw};
+use crate::laws::{Damper, DamperReading, LawSet, ModulusLaw};
 use ehl_core::params::oedometric_modulus;
 use ehl_core::{
     Contact, DryProblem, DryReport, DrySettings, DrySolver, Grid, HertzScales, Lubricant,
@@ -24,8 +24,18 @@ pub struct LayerSpec {
     pub modulus_pa: f64,
     /// Layer Poisson ratio `ν` [-].
     pub poisson_ratio: f64,
-    /// Damper constant κ: dimensionless factor, or Pa s under the literal reading.
-    pub damper_constant: f64,
+    /// Damper constant κ: dimensionless factor, or Pa s under the literal reading. Required
+    /// with the `reconstruction` laws; the `seed-fit` laws fix it.
+    #[serde(default)]
+    pub damper_constant: Option<f64>,
+    /// Scale `σ` of the damper's pressure dependence: `η = κ η0 exp(σ (ln η0 + 9.67)(−1 + (1 +
+    /// p/p0)^z))`; 1 is Roelands' (the reconstruction), 0 a pressure-independent damper.
+    #[serde(default = "one")]
+    pub damper_pressure_scale: f64,
+    /// Which law set: the scene's own parameters (`reconstruction`), or the parameters
+    /// identified from the seed's reported numbers (`seed-fit`, `reference/seed-fit.json`).
+    #[serde(default)]
+    pub laws: LawSet,
     #[serde(default)]
     pub damper_reading: DamperReading,
     #[serde(default)]
@@ -48,12 +58,45 @@ pub const SEED_LAYER: LayerSpec = LayerSpec {
     supply_thickness_m: 25e-9,
     modulus_pa: 1e8,
     poisson_ratio: 0.3,
-    damper_constant: 5.5e5,
+    damper_constant: Some(5.5e5),
+    damper_pressure_scale: 1.0,
+    laws: LawSet::Reconstruction,
     damper_reading: DamperReading::Factor,
     modulus_law: ModulusLaw::Power,
     reference_pressure_pa: None,
     coefficient_smoothing_a: 0.0,
 };
+
+fn one() -> f64 {
+    1.0
+}
+
+/// The damper and modulus parameters a model uses, after its law set is applied.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LawParameters {
+    /// κ: the damper's prefactor over `η0` (factor reading).
+    pub damper_constant: f64,
+    /// σ: the scale of the damper's Roelands exponent.
+    pub damper_pressure_scale: f64,
+    /// `p_ref / p_h` of the modulus law (exponent `m = p_ref / Eo`).
+    pub reference_pressure_over_p_h: f64,
+}
+
+impl LayerSpec {
+    /// The law parameters this spec selects, with pressures in units of `p_h` [Pa]. `None` when
+    /// the `reconstruction` laws lack a damper constant (a scene's checks refuse that first).
+    pub fn law_parameters(&self, p_h: f64) -> Option<LawParameters> {
+        match self.laws {
+            LawSet::Reconstruction => Some(LawParameters {
+                damper_constant: self.damper_constant?,
+                damper_pressure_scale: self.damper_pressure_scale,
+                reference_pressure_over_p_h: self.reference_pressure_pa.unwrap_or(p_h) / p_h,
+            }),
+            LawSet::SeedFit => Some(crate::laws::seed_fit()),
+        }
+    }
+}
 
 /// Everything the layer model needs, in Hertz units, with the contact solver of its grid.
 pub struct LayerModel {
@@ -89,18 +132,24 @@ impl LayerModel {
         features: Vec<Feature>,
     ) -> Self {
         let scales = HertzScales::new(contact);
+        let laws = spec
+            .law_parameters(scales.p_h)
+            .expect("layer.damper_constant is required with the reconstruction laws");
         let eta_zero_pa_s = match spec.damper_reading {
-            DamperReading::Factor => spec.damper_constant * lub.eta0,
-            DamperReading::Literal => spec.damper_constant,
+            DamperReading::Factor => laws.damper_constant * lub.eta0,
+            DamperReading::Literal => laws.damper_constant,
         };
-        let damper = Damper {
-            eta_zero: eta_zero_pa_s / scales.p_h,
-            shape: ehl_core::laws::Viscosity::roelands(lub, scales.p_h),
+        let shape = match ehl_core::laws::Viscosity::roelands(lub, scales.p_h) {
+            ehl_core::laws::Viscosity::Roelands { s, z, p0 } => {
+                ehl_core::laws::Viscosity::Roelands { s: s * laws.damper_pressure_scale, z, p0 }
+            }
+            other => other,
         };
+        let damper = Damper { eta_zero: eta_zero_pa_s / scales.p_h, shape };
         Self {
             l0: spec.supply_thickness_m / scales.delta,
             eo: oedometric_modulus(spec.modulus_pa, spec.poisson_ratio) / scales.p_h,
-            p_ref: spec.reference_pressure_pa.unwrap_or(scales.p_h) / scales.p_h,
+            p_ref: laws.reference_pressure_over_p_h,
             law: spec.modulus_law,
             damper,
             spec: *spec,

@@ -151,7 +151,7 @@ fn literal_damper_reading_is_the_factor_reading_times_eta0() {
     let factor = make(LayerSpec { damper_reading: DamperReading::Factor, ..SEED_LAYER });
     let literal = make(LayerSpec {
         damper_reading: DamperReading::Literal,
-        damper_constant: SEED_LAYER.damper_constant * lub.eta0,
+        damper_constant: Some(SEED_LAYER.damper_constant.unwrap() * lub.eta0),
         ..SEED_LAYER
     });
     for p in [0.0, 0.3, 1.0, 1.5] {
@@ -185,4 +185,46 @@ fn milne_estimate_follows_the_local_error_of_bdf2() {
         (milne_estimate(1e-3, 1e-4), milne_estimate(1e-3, 5e-5), milne_estimate(1e-3, 2.5e-5));
     let (o1, o2) = ((a / b).log2(), (b / c).log2());
     assert!(o1 > 2.5 && o2 > 2.5 && o1 < 3.7 && o2 < 3.7, "orders {o1:.2}, {o2:.2}");
+}
+
+#[test]
+fn law_parameters_reach_the_laws() {
+    // σ scales Roelands' exponent: ln η(p) − ln η(0) is σ times Roelands', by hand
+    // s (−1 + (1 + p/p0)^z), s = ln η0 + 9.67; κ multiplies η. p_ref sets the modulus exponent
+    // m = p_ref/Eo: at p_ref = 2 p_h, E(p = 1, ε = 0.5) = Eo + (1 − Eo) 0.5^(2/Eo).
+    let contact = ehl_core::SEED_CONTACT;
+    let lub = ehl_core::SEED_LUBRICANT;
+    let p_h = ehl_core::HertzScales::new(&contact).p_h;
+    let make = |spec: LayerSpec| {
+        LayerModel::new(
+            &contact,
+            &lub,
+            &spec,
+            0.01,
+            Grid::square(9, 1.25),
+            DrySettings::default(),
+            vec![],
+        )
+    };
+    let base = make(SEED_LAYER);
+    let half = make(LayerSpec {
+        damper_pressure_scale: 0.5,
+        damper_constant: Some(1.1e6),
+        reference_pressure_pa: Some(2.0 * p_h),
+        ..SEED_LAYER
+    });
+    let s = lub.eta0.ln() + 9.67;
+    let roelands = s * (-1.0 + (1.0 + p_h / lub.p0_roelands).powf(lub.roelands_z()));
+    let rise = |m: &LayerModel| m.eta(1.0).ln() - m.eta(0.0).ln();
+    assert!((rise(&base) - roelands).abs() < 1e-9 * roelands, "{} {roelands}", rise(&base));
+    assert!((rise(&half) - 0.5 * roelands).abs() < 1e-9 * roelands, "{}", rise(&half));
+    assert!((half.eta(0.0) / base.eta(0.0) - 2.0).abs() < 1e-12);
+    let eo = base.eo;
+    let want = eo + (1.0 - eo) * 0.5f64.powf(2.0 / eo);
+    assert!((half.modulus(1.0, 0.5) - want).abs() < 1e-12, "{} {want}", half.modulus(1.0, 0.5));
+    // The seed-fit set reads reference/seed-fit.json's `laws`.
+    let fit = make(LayerSpec { laws: LawSet::SeedFit, damper_constant: None, ..SEED_LAYER });
+    let l = laws::seed_fit();
+    assert!((fit.eta(0.0) / base.eta(0.0) - l.damper_constant / 5.5e5).abs() < 1e-9);
+    assert!((rise(&fit) - l.damper_pressure_scale * roelands).abs() < 1e-9 * roelands);
 }

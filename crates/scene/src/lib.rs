@@ -610,9 +610,48 @@ impl Scene {
                     "must be in [0, 0.5) (the oedometric modulus diverges at 0.5)",
                 ));
             }
-            ck.positive("layer.damper_constant", l.damper_constant, "1, or Pa s when literal")?;
-            if let Some(p) = l.reference_pressure_pa {
-                ck.positive("layer.reference_pressure_pa", p, "Pa")?;
+            match l.laws {
+                ehl_layer::LawSet::Reconstruction => {
+                    let Some(k) = l.damper_constant else {
+                        return Err(ck.err(
+                            "layer.damper_constant",
+                            "(missing)".into(),
+                            "required with the reconstruction laws (a factor, or Pa s when literal)",
+                        ));
+                    };
+                    ck.positive("layer.damper_constant", k, "1, or Pa s when literal")?;
+                    if let Some(p) = l.reference_pressure_pa {
+                        ck.positive("layer.reference_pressure_pa", p, "Pa")?;
+                    }
+                    let s = l.damper_pressure_scale;
+                    if !(s.is_finite() && (0.0..=5.0).contains(&s)) {
+                        return Err(ck.err(
+                            "layer.damper_pressure_scale",
+                            format!("{s}"),
+                            "must be in [0, 5] (1: Roelands' pressure dependence, 0: none)",
+                        ));
+                    }
+                }
+                ehl_layer::LawSet::SeedFit => {
+                    // The fit fixes these: a scene stating them too would be silently overridden.
+                    let fixed = [
+                        ("layer.damper_constant", l.damper_constant.is_some()),
+                        ("layer.reference_pressure_pa", l.reference_pressure_pa.is_some()),
+                        ("layer.damper_pressure_scale", l.damper_pressure_scale != 1.0),
+                        (
+                            "layer.damper_reading",
+                            l.damper_reading != ehl_layer::DamperReading::Factor,
+                        ),
+                        ("layer.modulus_law", l.modulus_law != ehl_layer::ModulusLaw::Power),
+                    ];
+                    if let Some((field, _)) = fixed.iter().find(|(_, set)| *set) {
+                        return Err(ck.err(
+                            field,
+                            "(given)".into(),
+                            "the seed-fit laws fix it (reference/seed-fit.json): remove it, or use \"laws\": \"reconstruction\"",
+                        ));
+                    }
+                }
             }
             let sm = l.coefficient_smoothing_a;
             if !(sm.is_finite() && (0.0..=0.5).contains(&sm)) {
@@ -1063,6 +1102,33 @@ mod tests {
         // A march needs its start.
         let m = refused(&text("hole").replace("\"start\": \"steady-rolling\",", ""));
         assert!(m.contains("run.start") && m.contains("required"), "{m}");
+    }
+
+    #[test]
+    fn law_sets_and_their_conflicts() {
+        let text = |n: &str| BUILTINS.iter().find(|b| b.0 == n).unwrap().1.to_string();
+        let steady = text("rolling-steady");
+        // The reconstruction needs its damper constant; the seed-fit laws fix it and refuse it.
+        let m = refused(&steady.replace("\"damper_constant\": 550000.0,", ""));
+        assert!(m.contains("layer.damper_constant") && m.contains("required"), "{m}");
+        let fit = steady.replace("\"damper_constant\": 550000.0,", "\"laws\": \"seed-fit\",");
+        let s = Scene::from_json(&fit, "test").unwrap();
+        assert_eq!(s.layer.unwrap().laws, ehl_layer::LawSet::SeedFit);
+        let m = refused(&steady.replace(
+            "\"damper_constant\": 550000.0,",
+            "\"damper_constant\": 550000.0, \"laws\": \"seed-fit\",",
+        ));
+        assert!(m.contains("layer.damper_constant") && m.contains("seed-fit"), "{m}");
+        let m = refused(&fit.replace(
+            "\"laws\": \"seed-fit\",",
+            "\"laws\": \"seed-fit\", \"damper_pressure_scale\": 0.5,",
+        ));
+        assert!(m.contains("layer.damper_pressure_scale"), "{m}");
+        let m = refused(&steady.replace(
+            "\"damper_constant\": 550000.0,",
+            "\"damper_constant\": 550000.0, \"damper_pressure_scale\": 7.0,",
+        ));
+        assert!(m.contains("layer.damper_pressure_scale") && m.contains("[0, 5]"), "{m}");
     }
 
     #[test]

@@ -328,14 +328,15 @@ impl LayerOutcome {
         let spec = self.scene.layer.unwrap();
         let r = self.scene.run.as_ref().unwrap();
         format!(
-            "{}: F = {} N, u1 = {} m/s, l0 = {} nm, E law {:?}, damper {:?} (κ = {:e}){}, {:?} n_t = {}; grid {}x{}; a = {:.4} mm",
+            "{}: F = {} N, u1 = {} m/s, l0 = {} nm, E law {:?}, damper {:?} (κ = {:e}, {:?} laws){}, {:?} n_t = {}; grid {}x{}; a = {:.4} mm",
             self.scene.name,
             self.scene.conditions.load_n,
             self.scene.conditions.rolling_velocity_m_s.unwrap_or(0.0),
             spec.supply_thickness_m * 1e9,
             spec.modulus_law,
             spec.damper_reading,
-            spec.damper_constant,
+            spec.law_parameters(self.scales.p_h).map_or(f64::NAN, |l| l.damper_constant),
+            spec.laws,
             if spec.coefficient_smoothing_a > 0.0 {
                 format!(", smoothing {} a", spec.coefficient_smoothing_a)
             } else {
