@@ -487,6 +487,10 @@ pub fn run(out: &Path, n: usize, squeeze_n: usize, check_n: usize) -> Result<()>
     let check_base = evaluate(&recon, check_grids)?;
     let lat_fit = lateral(&th, 129)?;
     let lat_base = lateral(&recon, 129)?;
+    println!("Features (hole, shallow dent) with both law sets, 129²");
+    let (feat_base, feat_fit) = rayon::join(|| features(&recon), || features(&th));
+    let (feat_base, feat_fit) = (feat_base?, feat_fit?);
+    println!("  reconstruction: {feat_base}\n  seed-fit: {feat_fit}");
     let laws = json!({
         "damper_constant": th[0].exp(),
         "damper_pressure_scale": th[1],
@@ -520,6 +524,7 @@ pub fn run(out: &Path, n: usize, squeeze_n: usize, check_n: usize) -> Result<()>
         "targets": rows,
         "steady_squeeze": {"max_pressure_ph": check.squeeze_max_pressure_ph, "contact_diameter_2a": check.squeeze_contact_diameter_2a, "dry_diameter_2a": check.squeeze_dry_diameter_2a},
         "lateral": {"reconstruction": lat_base, "seed_fit": lat_fit},
+        "features_129": {"reconstruction": feat_base, "seed_fit": feat_fit, "seed": {"hole_central_pressure_drop": 0.023, "dent_is_bump": true}},
         "profile_sigma": profile.iter().map(|(s, c, e, l)| json!({"sigma": s, "chi2": c, "theta": e.theta, "values": e.values, "lateral": l})).collect::<Vec<_>>(),
         "fitted_to": ["rolling_central_thickness", "squeeze_peak_time"],
         "compromise_all_four": {
@@ -581,7 +586,8 @@ pub fn run(out: &Path, n: usize, squeeze_n: usize, check_n: usize) -> Result<()>
             [(i as f64 + 0.7, 100.0 * TARGETS[i].band), (i as f64 + 1.3, 100.0 * TARGETS[i].band)]
         })
         .collect();
-    let band_lo: Vec<(f64, f64)> = band_pts.iter().map(|&(x, y)| (x, -y)).collect();
+    let band_pts: Vec<(f64, f64)> =
+        band_pts.iter().cloned().chain(band_pts.iter().map(|&(x, y)| (x, -y))).collect();
     let shift = |pts: Vec<(f64, f64)>, dx: f64| {
         pts.into_iter().map(|(x, y)| (x + dx, y)).collect::<Vec<_>>()
     };
@@ -615,7 +621,6 @@ pub fn run(out: &Path, n: usize, squeeze_n: usize, check_n: usize) -> Result<()>
                     Series::new("reconstruction", shift(dev(&check_base), -0.1), Mark::Segments),
                     Series::new("seed-fit", shift(dev(&check), 0.1), Mark::Segments),
                     Series::new("acceptance band", band_pts, Mark::Segments),
-                    Series::new("", band_lo, Mark::Segments),
                 ],
             )
             .legend(SeriesLabelPosition::LowerRight),
@@ -639,7 +644,8 @@ pub fn run(out: &Path, n: usize, squeeze_n: usize, check_n: usize) -> Result<()>
                     Series::new("growing fraction of loaded zone", prof_ind, Mark::LinePoints),
                 ],
             )
-            .legend(SeriesLabelPosition::UpperLeft),
+            .legend(SeriesLabelPosition::UpperRight)
+            .log_y(),
         ],
         &format!(
             "cargo xtask identify: rolling on {n}², squeeze on {squeeze_n}², checked with rolling on {check_n}²; κ = {:.3e}, σ = {:.2}, p_ref/p_h = {:.2}; {} evaluations, {:.0} s",
@@ -652,6 +658,42 @@ pub fn run(out: &Path, n: usize, squeeze_n: usize, check_n: usize) -> Result<()>
     )?;
     println!("wrote {}", out.join("seed_fit.png").display());
     Ok(())
+}
+
+/// The features for the law parameters `th`, on 129², each stopped when centred: the hole's central pressure drop against steady rolling
+/// (seed: 2.3 %), and at the shallow dent's centre the change of layer thickness and pressure
+/// against steady rolling (seed: a low pressure rise, the layer thinner, so the dent becomes a
+/// bump).
+fn features(th: &Theta) -> Result<Value> {
+    let set = |s: &mut Scene| set_laws(s, th);
+    let centred = |name: &str| -> Result<LayerOutcome> {
+        let mut s = ehl_scene::builtin(name)?.with_points(129)?;
+        set(&mut s);
+        let a = ehl_core::HertzScales::new(&s.conditions.contact()).a;
+        let u1 = s.conditions.rolling_velocity_m_s.unwrap();
+        let r = s.run.as_mut().unwrap();
+        r.snapshots_s.clear();
+        r.snapshots_a.clear();
+        r.stop.until_features_passed = false;
+        r.stop.max_time_s = -r.features[0].x_start() * a / u1;
+        s.outputs.figures = false;
+        s.validate("identify features")?;
+        layer(&s)
+    };
+    let mut steady = ehl_scene::builtin("rolling-steady")?.with_points(129)?;
+    set(&mut steady);
+    let steady = layer(&steady)?;
+    let hole = centred("hole")?;
+    let dent = centred("dent-shallow")?;
+    let (j, i) = (64, 64);
+    let l_ratio = dent.l[[j, i]] / steady.l[[j, i]] - 1.0;
+    let p_rise = dent.final_state.p[[j, i]] - steady.final_state.p[[j, i]];
+    Ok(json!({
+        "hole_central_pressure_drop": 1.0 - hole.final_monitor.central_pressure / steady.final_monitor.central_pressure,
+        "dent_layer_change": l_ratio,
+        "dent_pressure_change_ph": p_rise,
+        "dent_is_bump": l_ratio < 0.0 && p_rise > 0.0,
+    }))
 }
 
 /// The seed's Figs. 5 and 9 (histories of steady-rolling formation and of the squeeze after a

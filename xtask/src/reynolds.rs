@@ -2,6 +2,7 @@
 //! published formulas (`reference/reynolds_cases.json`).
 
 use anyhow::Result;
+use ehl_reynolds::params::{DensityLaw, ViscosityLaw};
 use ehl_workbench::plot::{self, Mark, Panel, Series};
 use ehl_workbench::sweep;
 use plotters::prelude::SeriesLabelPosition;
@@ -11,8 +12,15 @@ use std::path::{Path, PathBuf};
 /// `cargo xtask stability reynolds`: converged or not, and cycles, over (M, L); at
 /// `M ≥ narrow_from_m` on the layer model's domain `[-1.25, 1.25]²`, where the film is so thin
 /// that the inlet zone is a few hundredths of `a` wide and the wide domain's cells cannot hold it.
-pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(out)?;
+/// The stability map's sweep (every case of `reference/reynolds_cases.json` on `n`²) with the
+/// scene's laws or `laws`, run and merged in `out/folder`; one row per case.
+fn map_sweep(
+    out: &Path,
+    folder: &str,
+    n: usize,
+    narrow_from_m: f64,
+    laws: Option<(ViscosityLaw, DensityLaw)>,
+) -> Result<Vec<Value>> {
     let cases: Value = serde_json::from_str(include_str!("../../reference/reynolds_cases.json"))?;
     let ms: Vec<f64> = cases["m"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
     let ls: Vec<f64> = cases["l"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
@@ -34,9 +42,14 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
         p.scene.domain = if p.values[1] >= narrow_from_m { narrow } else { wide };
         p.scene.grid = ehl_scene::GridSpec { nx: n, ny: n };
         p.scene.outputs.figures = false;
+        if let Some((v, d)) = laws {
+            let r = p.scene.reynolds.as_mut().expect("a Reynolds scene");
+            r.viscosity = v;
+            r.density = d;
+        }
         p.scene.validate("stability map point")?;
     }
-    let dir = out.join("reynolds-stability-sweep");
+    let dir = out.join(folder);
     if dir.exists() {
         std::fs::remove_dir_all(&dir)?; // the map's cycles and times are measured afresh
     }
@@ -79,6 +92,24 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
             "wall_time_s": mr.wall_time_s,
         }));
     }
+    Ok(rows)
+}
+
+pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(out)?;
+    let cases: Value = serde_json::from_str(include_str!("../../reference/reynolds_cases.json"))?;
+    let ls: Vec<f64> = cases["l"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    println!("Roelands viscosity, Dowson-Higginson density (the map):");
+    let rows = map_sweep(out, "reynolds-stability-sweep", n, narrow_from_m, None)?;
+    // Like for like: Hamrock-Dowson and NVM were fitted to Barus, incompressible solutions.
+    println!("Barus viscosity, incompressible (the formulas' own laws):");
+    let rows_barus = map_sweep(
+        out,
+        "reynolds-barus-sweep",
+        n,
+        narrow_from_m,
+        Some((ViscosityLaw::Barus, DensityLaw::Incompressible)),
+    )?;
     let pick = |ok: bool, cycles: (u64, u64)| -> Vec<(f64, f64)> {
         rows.iter()
             .filter(|r| r["converged"].as_bool() == Some(ok))
@@ -112,7 +143,7 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
             "converged: h_c settled to 1e-4/cycle, load to 1e-6; [-1.25, 1.25]^2 from M = {narrow_from_m}"
         ),
     )?;
-    let dev = |key: &str, l: f64| -> Vec<(f64, f64)> {
+    let dev = |rows: &[Value], key: &str, l: f64| -> Vec<(f64, f64)> {
         rows.iter()
             .filter(|r| r["converged"].as_bool() == Some(true) && r["l"].as_f64() == Some(l))
             .map(|r| {
@@ -125,31 +156,34 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
             .collect()
     };
     let chart = out.join("reynolds_formulas.png");
-    let mk = |key: &str, name: &str| {
-        Panel::new(
-            &format!("Central film against {name}"),
+    let mk = |rows: &[Value], key: &str, name: &str| {
+        let mut p = Panel::new(
+            name,
             "M",
             "deviation [%]",
             ls.iter()
-                .map(|&l| Series::new(format!("L = {l}"), dev(key, l), Mark::LinePoints))
+                .map(|&l| Series::new(format!("L = {l}"), dev(rows, key, l), Mark::LinePoints))
                 .collect(),
-        )
+        );
+        p.log_x = true;
+        p
     };
-    let mut p1 = mk("hamrock_dowson_m", "Hamrock-Dowson (1977)");
-    p1.log_x = true;
-    let mut p2 = mk("nvm_m", "Nijenbanning-Venner-Moes (1994)");
-    p2.log_x = true;
     plot::charts(
         &chart,
-        &[p1, p2],
+        &[
+            mk(&rows_barus, "hamrock_dowson_m", "Barus, incompressible vs Hamrock-Dowson (1977)"),
+            mk(&rows_barus, "nvm_m", "Barus, incompressible vs NVM (1994)"),
+            mk(&rows, "hamrock_dowson_m", "Roelands, D-H vs Hamrock-Dowson"),
+            mk(&rows, "nvm_m", "Roelands, D-H vs NVM"),
+        ],
         &format!(
-            "converged cases only, {n}^2 over [-4.5, 1.5] x [-3, 3] ([-1.25, 1.25]^2 from M = {narrow_from_m}); the formulas are fits good to several percent"
+            "central film, converged cases only, {n}^2 over [-4.5, 1.5] x [-3, 3] ([-1.25, 1.25]^2 from M = {narrow_from_m}); left: the laws the formulas were fitted to (like for like), right: the map's Roelands + Dowson-Higginson"
         ),
     )?;
     let json_path = out.join("reynolds_stability.json");
     std::fs::write(
         &json_path,
-        serde_json::to_string_pretty(&json!({"grid": n, "cases": rows}))? + "\n",
+        serde_json::to_string_pretty(&json!({"grid": n, "cases": rows, "barus_incompressible": rows_barus}))? + "\n",
     )?;
     Ok(vec![map, chart, json_path])
 }

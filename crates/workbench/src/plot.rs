@@ -79,6 +79,10 @@ impl Panel {
         self.log_y = true;
         self
     }
+    pub fn log_y(mut self) -> Self {
+        self.log_y = true;
+        self
+    }
     pub fn legend(mut self, at: SeriesLabelPosition) -> Self {
         self.legend = at;
         self
