@@ -183,7 +183,9 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
     let json_path = out.join("reynolds_stability.json");
     std::fs::write(
         &json_path,
-        serde_json::to_string_pretty(&json!({"grid": n, "cases": rows, "barus_incompressible": rows_barus}))? + "\n",
+        serde_json::to_string_pretty(
+            &json!({"grid": n, "cases": rows, "barus_incompressible": rows_barus}),
+        )? + "\n",
     )?;
     Ok(vec![map, chart, json_path])
 }
