@@ -24,6 +24,8 @@ fn median_time(reps: usize, mut f: impl FnMut()) -> f64 {
 struct Row {
     n: usize,
     threads: usize,
+    /// Building the solver: every level's influence kernel and its spectrum [s].
+    setup_s: f64,
     apply_ms: f64,
     apply_per_nlogn_ns: f64,
     flat_s: f64,
@@ -39,6 +41,9 @@ fn bench_grid(n: usize, threads: usize) -> Result<Row> {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
     pool.install(|| {
         let g = Grid::square(n, 1.25);
+        let setup_s = median_time(if n <= 257 { 7 } else { 3 }, || {
+            std::hint::black_box(DrySolver::new(g, DrySettings::default()));
+        });
         let solver = DrySolver::new(g, DrySettings::default());
         let nn = (n * n) as f64;
         let reps = if n <= 257 { 21 } else { 7 };
@@ -70,6 +75,7 @@ fn bench_grid(n: usize, threads: usize) -> Result<Row> {
         Ok(Row {
             n,
             threads,
+            setup_s,
             apply_ms: apply * 1e3,
             apply_per_nlogn_ns: apply / (nn * nn.log2()) * 1e9,
             flat_s: flat,
@@ -109,9 +115,10 @@ pub fn run(out: &Path, max: usize) -> Result<()> {
     std::fs::create_dir_all(out)?;
     println!("Contact core benchmark (median wall times; N = n^2 points; tolerance 1e-8)");
     println!(
-        "{:>5} {:>3} {:>10} {:>14} {:>10} {:>5} {:>10} {:>6} {:>11} {:>6}  nested start (n, its)",
+        "{:>5} {:>3} {:>9} {:>10} {:>14} {:>10} {:>5} {:>10} {:>6} {:>11} {:>6}  nested start (n, its)",
         "n",
         "thr",
+        "setup[s]",
         "apply[ms]",
         "apply/NlogN[ns]",
         "flat[s]",
@@ -126,9 +133,10 @@ pub fn run(out: &Path, max: usize) -> Result<()> {
         for n in crate::grid_sizes(max) {
             let r = bench_grid(n, threads)?;
             println!(
-                "{:>5} {:>3} {:>10.3} {:>14.3} {:>10.4} {:>5} {:>10.2} {:>6.1} {:>11.2} {:>6.1}  {:?}",
+                "{:>5} {:>3} {:>9.4} {:>10.3} {:>14.3} {:>10.4} {:>5} {:>10.2} {:>6.1} {:>11.2} {:>6.1}  {:?}",
                 r.n,
                 r.threads,
+                r.setup_s,
                 r.apply_ms,
                 r.apply_per_nlogn_ns,
                 r.flat_s,
@@ -149,7 +157,7 @@ pub fn run(out: &Path, max: usize) -> Result<()> {
         .iter()
         .map(|r| {
             serde_json::json!({
-                "n": r.n, "threads": r.threads, "apply_ms": r.apply_ms,
+                "n": r.n, "threads": r.threads, "setup_s": r.setup_s, "apply_ms": r.apply_ms,
                 "apply_per_nlogn_ns": r.apply_per_nlogn_ns, "flat_solve_s": r.flat_s,
                 "flat_iterations": r.flat_its, "nested_iterations": r.coarse_its,
                 "warm_solve_ms": r.warm_ms, "warm_iterations": r.warm_its,

