@@ -13,6 +13,7 @@
 //! `+δ` at the point and `−δ/4` at its four neighbours, so that the film change it causes is
 //! local. The wedge term's dependence on `P` enters through the (distributed) influence kernel.
 
+use crate::laws::{Density, Viscosity};
 use crate::params::ReynoldsParams;
 use ehl_core::deformation::influence_coefficient;
 use ehl_core::{Deformation, Grid};
@@ -63,6 +64,12 @@ pub struct Level {
     /// … and `history` the known part from earlier steps (finest grid only: on coarse grids a
     /// constant term cancels in the FAS equations, so they keep zeros).
     pub history: Array2<f64>,
+    /// The laws at each point's pressure as last evaluated: `[P, η̄ λ̄, ρ̄]`. The line
+    /// relaxation reads three rows per line and a sweep changes few pressures between reads,
+    /// so `η̄` (a `pow` and an `exp`) is evaluated again only where `P` changed (bitwise).
+    laws: Array2<[f64; 3]>,
+    /// The laws the cache holds values of (a level solved with other parameters starts afresh).
+    laws_for: Option<(f64, Viscosity, Density)>,
 }
 
 impl Level {
@@ -81,6 +88,8 @@ impl Level {
             shape: grid.paraboloid(),
             time_a0: 0.0,
             history: grid.zeros(),
+            laws: Array2::from_elem(grid.shape(), [f64::NAN; 3]),
+            laws_for: None,
             grid,
         }
     }
@@ -276,11 +285,31 @@ impl Level {
         self.update_film(h00);
     }
 
-    /// `ε̄` on lines `j−1, j, j+1` and `ρ̄` on line `j`, from the current pressure and film.
-    fn line_coefficients(&self, prm: &ReynoldsParams, j: usize) -> ([Vec<f64>; 3], Vec<f64>) {
+    /// `ε̄` on lines `j−1, j, j+1` and `ρ̄` on line `j`, from the current pressure and film
+    /// (the laws from the cache, re-evaluated where the pressure changed: the same values
+    /// [`Self::eps_rho`] gives, bit for bit).
+    fn line_coefficients(&mut self, prm: &ReynoldsParams, j: usize) -> ([Vec<f64>; 3], Vec<f64>) {
+        let key = Some((prm.lambda_bar, prm.viscosity, prm.density));
+        if self.laws_for != key {
+            self.laws.fill([f64::NAN; 3]);
+            self.laws_for = key;
+        }
+        for jj in j - 1..=j + 1 {
+            for i in 0..self.grid.nx {
+                let p = self.p[[jj, i]];
+                let c = &mut self.laws[[jj, i]];
+                if c[0].to_bits() != p.to_bits() {
+                    *c = [p, prm.viscosity.eta(p) * prm.lambda_bar, prm.density.rho(p)];
+                }
+            }
+        }
+        let (laws, film) = (&self.laws, &self.film);
         let row = |jj: usize| -> Vec<(f64, f64)> {
             (0..self.grid.nx)
-                .map(|i| Self::eps_rho(prm, self.p[[jj, i]], self.film[[jj, i]]))
+                .map(|i| {
+                    let [_, eta_lambda, rho] = laws[[jj, i]];
+                    (rho * film[[jj, i]].max(0.0).powi(3) / eta_lambda, rho)
+                })
                 .collect()
         };
         let centre = row(j);
@@ -399,6 +428,44 @@ fn solve_banded(band: &mut [[f64; 5]], mut r: Vec<f64>) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::params::{DensityLaw, ViscosityLaw};
+
+    #[test]
+    fn cached_laws_equal_fresh_ones_after_changes_and_under_new_laws() {
+        // The cache must give Self::eps_rho's values bit for bit: after pressures change, and
+        // when the same level is used with other laws (no stale η̄ from the first).
+        let c = ehl_core::SEED_CONTACT;
+        let lub = ehl_core::SEED_LUBRICANT;
+        let roelands = ReynoldsParams::from_si(
+            &c,
+            &lub,
+            0.02,
+            ViscosityLaw::Roelands,
+            DensityLaw::DowsonHigginson,
+        );
+        let barus = ReynoldsParams::from_si(
+            &c,
+            &lub,
+            0.02,
+            ViscosityLaw::Barus,
+            DensityLaw::Incompressible,
+        );
+        let mut l = Level::new(Grid::square(17, 1.5));
+        l.p = l.grid.field(ehl_core::hertz::pressure);
+        l.film = l.grid.field(|x, y| 0.3 + 0.1 * x * x + 0.05 * y);
+        let fresh = |l: &Level, prm: &ReynoldsParams, j: usize| -> (Vec<f64>, Vec<f64>) {
+            (0..17).map(|i| Level::eps_rho(prm, l.p[[j, i]], l.film[[j, i]])).unzip()
+        };
+        let (e, r) = l.line_coefficients(&roelands, 8);
+        assert_eq!((e[1].clone(), r), fresh(&l, &roelands, 8));
+        l.p[[8, 5]] *= 1.5;
+        l.p[[9, 6]] = 0.0;
+        let (e, r) = l.line_coefficients(&roelands, 8);
+        assert_eq!((e[1].clone(), r), fresh(&l, &roelands, 8));
+        assert_eq!(e[2], fresh(&l, &roelands, 9).0);
+        let (e, r) = l.line_coefficients(&barus, 8);
+        assert_eq!((e[1].clone(), r), fresh(&l, &barus, 8));
+    }
 
     #[test]
     fn banded_solver_matches_dense() {
