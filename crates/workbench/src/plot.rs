@@ -146,15 +146,18 @@ where
     macro_rules! body {
         ($chart:expr) => {{
             let mut chart = $chart;
-            chart
-                .configure_mesh()
-                .x_desc(panel.x_label.as_str())
+            let mut mesh = chart.configure_mesh();
+            mesh.x_desc(panel.x_label.as_str())
                 .y_desc(panel.y_label.as_str())
                 .label_style((FONT, 14))
                 .axis_desc_style((FONT, 16))
                 .x_label_formatter(&tick)
-                .y_label_formatter(&tick)
-                .draw()?;
+                .y_label_formatter(&tick);
+            if panel.log_x || panel.log_y {
+                // On log axes the minor lines crowd into a dense band per decade.
+                mesh.light_line_style(TRANSPARENT);
+            }
+            mesh.draw()?;
             for (k, s) in panel.series.iter().enumerate() {
                 let color = PALETTE[k % PALETTE.len()];
                 let pts: Vec<(f64, f64)> = s
