@@ -206,7 +206,12 @@ struct Solve {
 }
 
 fn solve_scene(name: &str, n: usize) -> Result<Solve> {
-    let scene = ehl_scene::builtin(name)?.with_points(n)?;
+    solve_scene_with(name, n, ehl_reynolds::StopRule::Strict)
+}
+
+fn solve_scene_with(name: &str, n: usize, stop: ehl_reynolds::StopRule) -> Result<Solve> {
+    let mut scene = ehl_scene::builtin(name)?.with_points(n)?;
+    scene.reynolds.as_mut().expect("a Reynolds scene").solver.stop = stop;
     let (prm, mut s) = ehl_workbench::reynolds::build_solver(&scene);
     let nm = prm.scales.delta * 1e9;
     let rep = s.solve(&mut |_| {})?;
@@ -284,6 +289,7 @@ pub fn convergence(out: &Path, max_points: usize) -> Result<Vec<PathBuf>> {
     let mut series_c = vec![];
     let mut series_m = vec![];
     let mut references = vec![];
+    let mut stop_rules = vec![];
     for pts in &all {
         let ok: Vec<&Solve> = pts.iter().filter(|p| p.converged).collect();
         if ok.len() < 2 {
@@ -329,6 +335,32 @@ pub fn convergence(out: &Path, max_points: usize) -> Result<Vec<PathBuf>> {
             grids(|p| p.minimum_nm, ref_m),
             Mark::LinePoints,
         ));
+        // The same grids under the discretisation-error stop rule.
+        let loose: Vec<Solve> = ok
+            .iter()
+            .map(|p| solve_scene_with(&p.scene, p.n, ehl_reynolds::StopRule::Discretisation))
+            .collect::<Result<_>>()?;
+        for (p, q) in ok.iter().zip(&loose) {
+            println!(
+                "  {name} {}^2: discretisation stop {} cycles {:.3} s (strict {} cycles {:.3} s), h_c {:.4} nm against {:.4}",
+                p.n, q.cycles, q.wall_s, p.cycles, p.wall_s, q.central_nm, p.central_nm
+            );
+        }
+        let pick_loose = |f: fn(&Solve) -> f64, r: f64| -> Vec<(f64, f64)> {
+            loose.iter().filter(|q| q.converged).map(|q| (q.wall_s, (f(q) - r).abs())).collect()
+        };
+        series_c.push(Series::new(
+            format!("{name}: grids, discretisation-error stop"),
+            pick_loose(|p| p.central_nm, ref_c),
+            Mark::LinePoints,
+        ));
+        series_m.push(Series::new(
+            format!("{name}: grids, discretisation-error stop"),
+            pick_loose(|p| p.minimum_nm, ref_m),
+            Mark::LinePoints,
+        ));
+        stop_rules.push(json!({"scene": ok[0].scene, "strict": ok.iter().map(|p| json!({"n": p.n, "cycles": p.cycles, "wall_s": p.wall_s, "central_nm": p.central_nm, "minimum_nm": p.minimum_nm})).collect::<Vec<_>>(),
+            "discretisation": loose.iter().map(|p| json!({"n": p.n, "converged": p.converged, "cycles": p.cycles, "wall_s": p.wall_s, "central_nm": p.central_nm, "minimum_nm": p.minimum_nm})).collect::<Vec<_>>()}));
         let below = ok[ok.len() - 2];
         let cyc = |k: usize, reference: f64| -> Vec<(f64, f64)> {
             below

@@ -57,6 +57,22 @@ pub struct ReynoldsSettings {
     /// Time discretisation of transient runs.
     pub time_scheme: TimeScheme,
     pub relax: RelaxSettings,
+    /// When a steady solve stops.
+    pub stop: StopRule,
+}
+
+/// When a steady solve stops.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum StopRule {
+    /// The central film settled to `film_tolerance` per cycle and the load to `load_tolerance`.
+    #[default]
+    Strict,
+    /// Algebraic error a tenth of the grid's discretisation error: the central film's change
+    /// per cycle (the algebraic error estimate) and its load error's share (relative) both
+    /// below a tenth of `|H_c − H_c,2h| / 3` (Richardson at order 2 against the film of the
+    /// full-multigrid start's grid below). Needs `fmg_cycles > 0`; stops no later than `Strict`.
+    Discretisation,
 }
 
 impl Default for ReynoldsSettings {
@@ -75,6 +91,7 @@ impl Default for ReynoldsSettings {
             fmg_cycles: 2,
             time_scheme: TimeScheme::Bdf1,
             relax: RelaxSettings::default(),
+            stop: StopRule::Strict,
         }
     }
 }
@@ -497,6 +514,8 @@ impl ReynoldsSolver {
                 f.update_film(h00);
             }
         }
+        // The central film of the grid below, where the full-multigrid start left it.
+        let coarse_hc = history.last().map(|c: &CycleLog| c.central_film);
         let mut prev_hc = f64::NAN;
         let mut stalled = false;
         for _ in 0..self.settings.max_cycles {
@@ -506,7 +525,15 @@ impl ReynoldsSolver {
             history.push(rec);
             let hc = rec.central_film;
             let settled = ((hc - prev_hc) / hc).abs() < self.settings.film_tolerance;
-            if settled && rec.load_error.abs() < self.settings.load_tolerance {
+            let strict = settled && rec.load_error.abs() < self.settings.load_tolerance;
+            let discretisation = match (self.settings.stop, coarse_hc) {
+                (StopRule::Discretisation, Some(h2)) => {
+                    let e_d = (hc - h2).abs() / 3.0;
+                    (hc - prev_hc).abs() < 0.1 * e_d && rec.load_error.abs() < 0.1 * e_d / hc
+                }
+                _ => false,
+            };
+            if strict || discretisation {
                 return Ok(ReynoldsReport {
                     converged: true,
                     diagnosis: None,

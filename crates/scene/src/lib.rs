@@ -746,6 +746,13 @@ impl Scene {
                 "max_cycles >= 1, gamma 1 (V) or 2 (W)",
             ));
         }
+        if s.stop == ehl_reynolds::StopRule::Discretisation && s.fmg_cycles == 0 {
+            return Err(ck.err(
+                "reynolds.solver.stop",
+                "\"discretisation\"".into(),
+                "needs the full-multigrid start (fmg_cycles >= 1): its grid below gives the discretisation error estimate",
+            ));
+        }
         if self.grid.nx != self.grid.ny
             || ((self.domain.x_a[1] - self.domain.x_a[0]) / (self.grid.nx - 1) as f64
                 - (self.domain.y_a[1] - self.domain.y_a[0]) / (self.grid.ny - 1) as f64)
@@ -1102,6 +1109,20 @@ mod tests {
         // A march needs its start.
         let m = refused(&text("hole").replace("\"start\": \"steady-rolling\",", ""));
         assert!(m.contains("run.start") && m.contains("required"), "{m}");
+    }
+
+    #[test]
+    fn discretisation_stop_needs_the_multigrid_start() {
+        let text = BUILTINS.iter().find(|b| b.0 == "reynolds-m20-l10").unwrap().1;
+        let with = |solver: &str| {
+            text.replace(
+                "\"viscosity\": \"roelands\",",
+                &format!("\"solver\": {solver}, \"viscosity\": \"roelands\","),
+            )
+        };
+        Scene::from_json(&with("{\"stop\": \"discretisation\"}"), "test").unwrap();
+        let m = refused(&with("{\"stop\": \"discretisation\", \"fmg_cycles\": 0}"));
+        assert!(m.contains("reynolds.solver.stop") && m.contains("fmg_cycles"), "{m}");
     }
 
     #[test]
