@@ -135,7 +135,13 @@ impl Level {
     #[inline]
     fn eps_rho(prm: &ReynoldsParams, p: f64, h: f64) -> (f64, f64) {
         let rho = prm.density.rho(p);
-        (rho * h.max(0.0).powi(3) / (prm.viscosity.eta(p) * prm.lambda_bar), rho)
+        (Self::eps_of(rho, h, prm.viscosity.eta(p) * prm.lambda_bar), rho)
+    }
+
+    /// `ε̄ = ρ̄ H³ / (η̄ λ̄)` with `H ≥ 0`, from `ρ̄` and the product `η̄ λ̄`.
+    #[inline]
+    fn eps_of(rho: f64, h: f64, eta_lambda: f64) -> f64 {
+        rho * h.max(0.0).powi(3) / eta_lambda
     }
 
     /// `ε̄` and `ρ̄` on the whole grid.
@@ -308,7 +314,7 @@ impl Level {
             (0..self.grid.nx)
                 .map(|i| {
                     let [_, eta_lambda, rho] = laws[[jj, i]];
-                    (rho * film[[jj, i]].max(0.0).powi(3) / eta_lambda, rho)
+                    (Self::eps_of(rho, film[[jj, i]], eta_lambda), rho)
                 })
                 .collect()
         };
