@@ -524,7 +524,7 @@ pub fn run(out: &Path, n: usize, squeeze_n: usize, check_n: usize) -> Result<()>
         "targets": rows,
         "steady_squeeze": {"max_pressure_ph": check.squeeze_max_pressure_ph, "contact_diameter_2a": check.squeeze_contact_diameter_2a, "dry_diameter_2a": check.squeeze_dry_diameter_2a},
         "lateral": {"reconstruction": lat_base, "seed_fit": lat_fit},
-        "features_129": {"reconstruction": feat_base, "seed_fit": feat_fit, "seed": {"hole_central_pressure_drop": 0.023, "dent_is_bump": true}},
+        "features_129": {"reconstruction": feat_base, "seed_fit": feat_fit, "seed": {"hole_central_pressure_drop": 0.023, "shallow_dent_bump": true}},
         "profile_sigma": profile.iter().map(|(s, c, e, l)| json!({"sigma": s, "chi2": c, "theta": e.theta, "values": e.values, "lateral": l})).collect::<Vec<_>>(),
         "fitted_to": ["rolling_central_thickness", "squeeze_peak_time"],
         "compromise_all_four": {
@@ -660,13 +660,14 @@ pub fn run(out: &Path, n: usize, squeeze_n: usize, check_n: usize) -> Result<()>
     Ok(())
 }
 
-/// The features for the law parameters `th`, on 129², each stopped when centred: the hole's central pressure drop against steady rolling
-/// (seed: 2.3 %), and at the shallow dent's centre the change of layer thickness and pressure
-/// against steady rolling (seed: a low pressure rise, the layer thinner, so the dent becomes a
-/// bump).
+/// The features for the law parameters `th`, on 129², each stopped when centred: the hole's
+/// central pressure drop against steady rolling (seed: 2.3 %), and the shallow dent (depth
+/// 1.25 `l0`) at the widths `DENT_WIDTHS`: the change of layer thickness and pressure at its
+/// centre against steady rolling. The seed's bump: a finite pressure inside the dent and the
+/// layer there thinner than around it, so the ball deforms less and the dent stands out.
 fn features(th: &Theta) -> Result<Value> {
     let set = |s: &mut Scene| set_laws(s, th);
-    let centred = |name: &str| -> Result<LayerOutcome> {
+    let centred = |name: &str, width: Option<f64>| -> Result<LayerOutcome> {
         let mut s = ehl_scene::builtin(name)?.with_points(129)?;
         set(&mut s);
         let a = ehl_core::HertzScales::new(&s.conditions.contact()).a;
@@ -674,6 +675,9 @@ fn features(th: &Theta) -> Result<Value> {
         let r = s.run.as_mut().unwrap();
         r.snapshots_s.clear();
         r.snapshots_a.clear();
+        if let (Some(w), ehl_layer::Feature::Dent(d)) = (width, &mut r.features[0]) {
+            d.width_a = w;
+        }
         r.stop.until_features_passed = false;
         r.stop.max_time_s = -r.features[0].x_start() * a / u1;
         s.outputs.figures = false;
@@ -683,18 +687,30 @@ fn features(th: &Theta) -> Result<Value> {
     let mut steady = ehl_scene::builtin("rolling-steady")?.with_points(129)?;
     set(&mut steady);
     let steady = layer(&steady)?;
-    let hole = centred("hole")?;
-    let dent = centred("dent-shallow")?;
+    let hole = centred("hole", None)?;
     let (j, i) = (64, 64);
-    let l_ratio = dent.l[[j, i]] / steady.l[[j, i]] - 1.0;
-    let p_rise = dent.final_state.p[[j, i]] - steady.final_state.p[[j, i]];
+    let mut dents = vec![];
+    for w in DENT_WIDTHS {
+        let dent = centred("dent-shallow", Some(w))?;
+        let l_ratio = dent.l[[j, i]] / steady.l[[j, i]] - 1.0;
+        let p_in = dent.final_state.p[[j, i]];
+        dents.push(json!({
+            "width_a": w,
+            "layer_change": l_ratio,
+            "pressure_ph": p_in,
+            "pressure_change_ph": p_in - steady.final_state.p[[j, i]],
+            "bump": l_ratio < 0.0 && p_in > 0.0,
+        }));
+    }
     Ok(json!({
         "hole_central_pressure_drop": 1.0 - hole.final_monitor.central_pressure / steady.final_monitor.central_pressure,
-        "dent_layer_change": l_ratio,
-        "dent_pressure_change_ph": p_rise,
-        "dent_is_bump": l_ratio < 0.0 && p_rise > 0.0,
+        "shallow_dent": dents,
     }))
 }
+
+/// Widths `W` [a] of the shallow dent tried (`10^(−10 r²/W²)`: the reconstruction's 0.1 and
+/// wider; only the product of the exponent's constant and `1/W²` matters).
+const DENT_WIDTHS: [f64; 3] = [0.1, 0.2, 0.4];
 
 /// The seed's Figs. 5 and 9 (histories of steady-rolling formation and of the squeeze after a
 /// stop) with both law sets side by side, on 129² (the squeeze's times are grid-converged there
