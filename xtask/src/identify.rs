@@ -84,13 +84,19 @@ fn set_laws(s: &mut Scene, th: &Theta) {
     l.reference_pressure_pa = Some(th[2].exp() * p_h);
 }
 
+/// Built-in layer scene `name` on `n`² with the law parameters `th`, ready for a study.
 fn scene(name: &str, n: usize, th: &Theta) -> Result<Scene> {
+    scene_with(name, n, |s| set_laws(s, th))
+}
+
+/// Built-in layer scene `name` on `n`², without snapshots or figures, changed by `edit`, checked.
+fn scene_with(name: &str, n: usize, edit: impl FnOnce(&mut Scene)) -> Result<Scene> {
     let mut s = ehl_scene::builtin(name)?.with_points(n)?;
-    set_laws(&mut s, th);
     let r = s.run.as_mut().expect("a layer scene");
     r.snapshots_s.clear();
     r.snapshots_a.clear();
     s.outputs.figures = false;
+    edit(&mut s);
     s.validate("identify")?;
     Ok(s)
 }
@@ -666,27 +672,20 @@ pub fn run(out: &Path, n: usize, squeeze_n: usize, check_n: usize) -> Result<()>
 /// centre against steady rolling. The seed's bump: a finite pressure inside the dent and the
 /// layer there thinner than around it, so the ball deforms less and the dent stands out.
 fn features(th: &Theta) -> Result<Value> {
-    let set = |s: &mut Scene| set_laws(s, th);
     let centred = |name: &str, width: Option<f64>| -> Result<LayerOutcome> {
-        let mut s = ehl_scene::builtin(name)?.with_points(129)?;
-        set(&mut s);
-        let a = ehl_core::HertzScales::new(&s.conditions.contact()).a;
-        let u1 = s.conditions.rolling_velocity_m_s.unwrap();
-        let r = s.run.as_mut().unwrap();
-        r.snapshots_s.clear();
-        r.snapshots_a.clear();
-        if let (Some(w), ehl_layer::Feature::Dent(d)) = (width, &mut r.features[0]) {
-            d.width_a = w;
-        }
-        r.stop.until_features_passed = false;
-        r.stop.max_time_s = -r.features[0].x_start() * a / u1;
-        s.outputs.figures = false;
-        s.validate("identify features")?;
-        layer(&s)
+        layer(&scene_with(name, 129, |s| {
+            set_laws(s, th);
+            let a = ehl_core::HertzScales::new(&s.conditions.contact()).a;
+            let u1 = s.conditions.rolling_velocity_m_s.unwrap();
+            let r = s.run.as_mut().unwrap();
+            if let (Some(w), ehl_layer::Feature::Dent(d)) = (width, &mut r.features[0]) {
+                d.width_a = w;
+            }
+            r.stop.until_features_passed = false;
+            r.stop.max_time_s = -r.features[0].x_start() * a / u1;
+        })?)
     };
-    let mut steady = ehl_scene::builtin("rolling-steady")?.with_points(129)?;
-    set(&mut steady);
-    let steady = layer(&steady)?;
+    let steady = layer(&scene("rolling-steady", 129, th)?)?;
     let hole = centred("hole", None)?;
     let (j, i) = (64, 64);
     let mut dents = vec![];
@@ -717,20 +716,16 @@ const DENT_WIDTHS: [f64; 3] = [0.1, 0.2, 0.4];
 /// to 0.4 %), with the seed's reported times marked.
 pub fn figures(out: &Path) -> Result<Vec<std::path::PathBuf>> {
     let run = |name: &str, fit: bool| -> Result<LayerOutcome> {
-        let mut s = ehl_scene::builtin(name)?.with_points(129)?;
-        if fit {
-            let l = s.layer.as_mut().unwrap();
-            l.laws = LawSet::SeedFit;
-            l.damper_constant = None;
-        }
-        let r = s.run.as_mut().unwrap();
-        r.snapshots_s.clear();
-        r.snapshots_a.clear();
-        r.stop.max_time_s =
-            r.stop.max_time_s.max(if name == "squeeze-after-stop" { 60.0 } else { 0.5 });
-        s.outputs.figures = false;
-        s.validate("figures")?;
-        layer(&s)
+        layer(&scene_with(name, 129, |s| {
+            if fit {
+                let l = s.layer.as_mut().unwrap();
+                l.laws = LawSet::SeedFit;
+                l.damper_constant = None;
+            }
+            let r = s.run.as_mut().unwrap();
+            r.stop.max_time_s =
+                r.stop.max_time_s.max(if name == "squeeze-after-stop" { 60.0 } else { 0.5 });
+        })?)
     };
     let mut written = vec![];
     for (name, fig, seed_marks, x_label) in [

@@ -12,6 +12,15 @@ use std::path::{Path, PathBuf};
 /// `cargo xtask stability reynolds`: converged or not, and cycles, over (M, L); at
 /// `M ≥ narrow_from_m` on the layer model's domain `[-1.25, 1.25]²`, where the film is so thin
 /// that the inlet zone is a few hundredths of `a` wide and the wide domain's cells cannot hold it.
+/// Moes' `M` and `L` of `reference/reynolds_cases.json`.
+fn cases() -> Result<(Vec<f64>, Vec<f64>)> {
+    let cases: Value = serde_json::from_str(include_str!("../../reference/reynolds_cases.json"))?;
+    let list = |k: &str| -> Vec<f64> {
+        cases[k].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect()
+    };
+    Ok((list("m"), list("l")))
+}
+
 /// The stability map's sweep (every case of `reference/reynolds_cases.json` on `n`²) with the
 /// scene's laws or `laws`, run and merged in `out/folder`; one row per case.
 fn map_sweep(
@@ -21,9 +30,7 @@ fn map_sweep(
     narrow_from_m: f64,
     laws: Option<(ViscosityLaw, DensityLaw)>,
 ) -> Result<Vec<Value>> {
-    let cases: Value = serde_json::from_str(include_str!("../../reference/reynolds_cases.json"))?;
-    let ms: Vec<f64> = cases["m"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
-    let ls: Vec<f64> = cases["l"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let (ms, ls) = cases()?;
     // The map is a sweep of `reynolds-m20-l10` (R, E', η0, α of the classic case) over Moes' L
     // (slowest) and M, each point on its fixed domain (no adaptation, no checks: the map shows
     // where the solver itself fails), run in parallel, one thread per point.
@@ -97,8 +104,7 @@ fn map_sweep(
 
 pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(out)?;
-    let cases: Value = serde_json::from_str(include_str!("../../reference/reynolds_cases.json"))?;
-    let ls: Vec<f64> = cases["l"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let (_, ls) = cases()?;
     println!("Roelands viscosity, Dowson-Higginson density (the map):");
     let rows = map_sweep(out, "reynolds-stability-sweep", n, narrow_from_m, None)?;
     // Like for like: Hamrock-Dowson and NVM were fitted to Barus, incompressible solutions.
