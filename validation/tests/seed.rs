@@ -43,7 +43,7 @@ fn steady_rolling_central_thickness_matches_the_seed() {
     let o = layer("rolling-from-uniform", 129, |s| {
         s.run.as_mut().unwrap().time.steps_per_cell = 5.0;
     });
-    assert!(o.record.as_ref().unwrap().steady);
+    assert!(o.record.as_ref().unwrap().finished);
     let hc = o.final_monitor.central_thickness / 25e-9;
     let want = seed("rolling_central_thickness");
     assert!((hc / want - 1.0).abs() < 0.06, "h_c/l0 = {hc} against the seed's {want}");
@@ -67,7 +67,7 @@ fn squeeze_after_stop_ends_in_the_direct_steady_squeeze() {
     // eps = min(p/Eo, 1) is: the steady squeeze is independent of the damper and of history.
     let dynamic = layer("squeeze-after-stop", 33, |_| {});
     let direct = layer("squeeze-steady", 33, |_| {});
-    assert!(dynamic.record.as_ref().unwrap().steady);
+    assert!(dynamic.record.as_ref().unwrap().finished);
     let (a, b) = (&dynamic.final_monitor, &direct.final_monitor);
     // The run stops when nothing changes by 1e-3 (per p_h) over 0.5 s; the remaining relaxation
     // is below that, so 2e-3 p_h bounds the difference of maximum pressures.
@@ -83,11 +83,9 @@ fn hole_central_pressure_drop_matches_the_seed() {
     // The hole (radius 0.2 a) centred at x = 0 at t = 1.45 a / u1; its drop of the central
     // pressure against the steady rolling state it passes through (the run's start).
     let o = layer("hole", 129, |s| {
-        let a = ehl_core::HertzScales::new(&s.conditions.contact()).a;
-        let u1 = s.conditions.rolling_velocity_m_s.unwrap();
         let r = s.run.as_mut().unwrap();
         r.stop.until_features_passed = false;
-        r.stop.max_time_s = -r.features[0].x_start() * a / u1;
+        r.stop.until_feature_at_a = Some(0.0);
     });
     let steady = layer("rolling-steady", 129, |_| {});
     let drop = 1.0 - o.final_monitor.central_pressure / steady.final_monitor.central_pressure;

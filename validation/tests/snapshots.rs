@@ -158,16 +158,13 @@ fn reynolds_pressure_spike_on_257() {
     insta::assert_snapshot!("reynolds-m20-l10_spike_257", reynolds_text(o, 4));
 }
 
-/// A layer scene stopped when its feature is centred at `x = 0` (a travel of `−x_start` at `u1`).
+/// A layer scene stopped when its feature is centred at `x = 0` (the last step lands there).
 fn feature_centred(name: &str, points: usize, steps_per_cell: f64) -> String {
     let mut scene = quiet(name, points);
-    let a = ehl_core::HertzScales::new(&scene.conditions.contact()).a;
-    let u1 = scene.conditions.rolling_velocity_m_s.unwrap();
     let r = scene.run.as_mut().unwrap();
-    let x_travel = -r.features[0].x_start();
     r.time.steps_per_cell = steps_per_cell;
     r.stop.until_features_passed = false;
-    r.stop.max_time_s = x_travel * a / u1;
+    r.stop.until_feature_at_a = Some(0.0);
     let o = run(scene).downcast::<LayerOutcome>().unwrap();
     layer_text(&o, Some((-0.3, 0.3)))
 }
@@ -195,7 +192,7 @@ fn squeeze_after_stop_at_its_pressure_peak() {
     // Its end state is the steady squeeze's (tested in seed.rs); the snapshot is the transient:
     // t = 0.09 s, the pressure peak (README's seed table), 33².
     let mut scene = quiet("squeeze-after-stop", 33);
-    scene.run.as_mut().unwrap().stop.max_time_s = 0.09;
+    scene.run.as_mut().unwrap().stop.max_time_s = Some(0.09);
     let o = run(scene).downcast::<LayerOutcome>().unwrap();
     insta::assert_snapshot!("squeeze-after-stop_peak", layer_text(&o, None));
 }

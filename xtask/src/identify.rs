@@ -169,7 +169,7 @@ fn evaluate(th: &Theta, g: Grids) -> Result<Eval> {
     let mut rolling = scene("rolling-from-squeezed", g.rolling, th)?;
     rolling.run.as_mut().unwrap().time.steps_per_cell = 5.0;
     let mut squeeze = scene("squeeze-after-stop", g.squeeze, th)?;
-    squeeze.run.as_mut().unwrap().stop.max_time_s = 60.0;
+    squeeze.run.as_mut().unwrap().stop.max_time_s = Some(60.0);
     // The squeeze starts from steady rolling: 1e-4 of strain is far below what seconds of
     // squeeze remember of it, and tighter stalls at the loaded zone's side edge for low σ.
     squeeze.run.as_mut().unwrap().steady.strain_tolerance = 1e-4;
@@ -180,7 +180,7 @@ fn evaluate(th: &Theta, g: Grids) -> Result<Eval> {
     let u1 = rolling.conditions.rolling_velocity_m_s.unwrap();
     let ro_rec = ro.record.as_ref().context("rolling: no record")?;
     let sq_rec = sq.record.as_ref().context("squeeze: no record")?;
-    if !ro_rec.steady || !sq_rec.steady {
+    if !ro_rec.finished || !sq_rec.finished {
         bail!("a march stopped before steady (κ = {:.3e}, σ = {:.2})", th[0].exp(), th[1]);
     }
     // Steady: every monitor within 1 % (of l0, p_h) of its final value from then on.
@@ -188,7 +188,7 @@ fn evaluate(th: &Theta, g: Grids) -> Result<Eval> {
     let hmin = |m: &Monitor| m.minimum_thickness / l0;
     let pmax = |m: &Monitor| m.max_pressure / p_h;
     let appr = |m: &Monitor| m.approach / l0;
-    let t_roll = settle_time(&ro_rec.series, &[&hc, &hmin, &pmax], 0.01) * u1 / a;
+    let t_roll = settle_time(&ro_rec.rows, &[&hc, &hmin, &pmax], 0.01) * u1 / a;
     // The squeeze: the seed calls it steady when pressure and layer stop changing, and notes the
     // contact diameter growing until then; the diameters are counted in cells, so their band is
     // at least one cell.
@@ -196,11 +196,11 @@ fn evaluate(th: &Theta, g: Grids) -> Result<Eval> {
     let dband = (0.01 * 2.0 * a).max(cell) / (0.01 * 2.0 * a);
     let dc = |m: &Monitor| m.contact_diameter / (2.0 * a) / dband;
     let dd = |m: &Monitor| m.dry_diameter / (2.0 * a) / dband;
-    let t_sq = settle_time(&sq_rec.series, &[&pmax, &appr, &dc, &dd], 0.01);
+    let t_sq = settle_time(&sq_rec.rows, &[&pmax, &appr, &dc, &dd], 0.01);
     let f = &sq.final_monitor;
     Ok(Eval {
         theta: *th,
-        values: [hc_steady, t_roll, peak_time(&sq_rec.series), t_sq],
+        values: [hc_steady, t_roll, peak_time(&sq_rec.rows), t_sq],
         steady_tolerance,
         squeeze_max_pressure_ph: f.max_pressure / p_h,
         squeeze_contact_diameter_2a: f.contact_diameter / (2.0 * a),
@@ -675,14 +675,12 @@ fn features(th: &Theta) -> Result<Value> {
     let centred = |name: &str, width: Option<f64>| -> Result<LayerOutcome> {
         layer(&scene_with(name, 129, |s| {
             set_laws(s, th);
-            let a = ehl_core::HertzScales::new(&s.conditions.contact()).a;
-            let u1 = s.conditions.rolling_velocity_m_s.unwrap();
             let r = s.run.as_mut().unwrap();
             if let (Some(w), ehl_layer::Feature::Dent(d)) = (width, &mut r.features[0]) {
                 d.width_a = w;
             }
             r.stop.until_features_passed = false;
-            r.stop.max_time_s = -r.features[0].x_start() * a / u1;
+            r.stop.until_feature_at_a = Some(0.0);
         })?)
     };
     let steady = layer(&scene("rolling-steady", 129, th)?)?;
@@ -723,8 +721,8 @@ pub fn figures(out: &Path) -> Result<Vec<std::path::PathBuf>> {
                 l.damper_constant = None;
             }
             let r = s.run.as_mut().unwrap();
-            r.stop.max_time_s =
-                r.stop.max_time_s.max(if name == "squeeze-after-stop" { 60.0 } else { 0.5 });
+            let floor = if name == "squeeze-after-stop" { 60.0 } else { 0.5 };
+            r.stop.max_time_s = r.stop.max_time_s.map(|t| t.max(floor));
         })?)
     };
     let mut written = vec![];
@@ -742,7 +740,7 @@ pub fn figures(out: &Path) -> Result<Vec<std::path::PathBuf>> {
         let mut films = vec![];
         let mut pressures = vec![];
         for (label, o) in [("reconstruction", &recon), ("seed-fit", &fit)] {
-            let series = &o.record.as_ref().context("a march")?.series;
+            let series = &o.record.as_ref().context("a march")?.rows;
             films.push(Series::new(
                 format!("h_c, {label}"),
                 series.iter().map(|m| (m.t, m.central_thickness * 1e9)).collect(),

@@ -3,8 +3,9 @@
 //! per-step bench.
 
 use anyhow::Result;
-use ehl_layer::{LayerModel, ModulusLaw, Scheme, Stepper, TimeSettings, squeeze_steady};
+use ehl_layer::{LayerModel, ModulusLaw, Scheme, Stepper, squeeze_steady};
 use ehl_scene::Scene;
+use ehl_scene::TimeSettings;
 use ehl_workbench::layer::LayerOutcome;
 use ehl_workbench::plot::{self, Mark, Panel, Series};
 use ehl_workbench::{Outcome, run_scene};
@@ -75,7 +76,7 @@ fn measure_scene(scene: &Scene) -> Result<Point> {
         wiggle_ph: f.lateral_wiggle / o.scales.p_h,
         steps: rec.steps,
         wall_s: rec.wall_time_s,
-        steady: rec.steady,
+        steady: rec.finished,
     };
     println!(
         "  {:>4} {:>9} n_t={:>5} dt={:.3e}s  h_c={:8.4} nm  h_min={:7.4} nm  p_max={:.4} p_h  wiggle={:.3} p_h  {:>6} steps {:7.1} s{}",

@@ -14,6 +14,6 @@ pub mod transport;
 pub use features::{Dent, Feature, Hole};
 pub use laws::{DamperReading, LawSet, ModulusLaw};
 pub use model::{LawParameters, LayerModel, LayerSpec, LayerState, Monitor, SEED_LAYER};
-pub use run::{Record, Snapshot, StopSettings, TimeSettings, run, squeeze_steady, uniform_state};
+pub use run::{Snapshot, SqueezeReport, squeeze_steady, uniform_state};
 pub use steady::{SteadyReport, SteadySettings, rolling_steady, strain_residual};
 pub use stepper::{LayerError, Scheme, Stepper, stability_estimate};

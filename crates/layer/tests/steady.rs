@@ -12,15 +12,22 @@ fn model(n: usize, smoothing: f64) -> LayerModel {
     LayerModel::new(&c, &l, &spec, 0.01, Grid::square(n, 1.25), settings, vec![])
 }
 
-/// The implicit march at one step per cell (whole-cell shifts, BDF2) to a tight steady state.
+/// The implicit march at one step per cell (whole-cell shifts, BDF2), past two flushes of the
+/// domain, until the strain changes by less than 1e-7 per step: the floor the contact
+/// tolerance leaves is 1–4e-8 (measured on 33²), so the test needs no driver.
 fn marched(m: &LayerModel) -> LayerState {
     let mut s = uniform_state(m).unwrap();
     let mut st = Stepper::new(Scheme::Implicit, 0);
-    let time = TimeSettings { steps_per_cell: 1.0, ..TimeSettings::default() };
-    let stop = StopSettings { steady_tolerance: 1e-9, max_time_s: 1.0, ..StopSettings::default() };
-    let rec = run(m, &mut s, &mut st, &time, &stop, &[], &mut |_| {}).unwrap();
-    assert!(rec.steady, "{}", rec.stop_reason);
-    s
+    let dt = m.grid.dx() * m.scales.a / m.u1;
+    for k in 0..5000 {
+        let before = s.eps.clone();
+        st.step(m, &mut s, dt).unwrap();
+        let change = (&s.eps - &before).iter().fold(0.0f64, |x, v| x.max(v.abs()));
+        if k > 2 * m.grid.nx && change < 1e-7 {
+            return s;
+        }
+    }
+    panic!("the march did not settle in 5000 steps");
 }
 
 #[test]
@@ -29,8 +36,8 @@ fn marched_steady_state_is_the_fixed_point_of_the_steady_solve() {
         let m = model(33, smoothing);
         let s = marched(&m);
         // With one sub-step the steady equations are the march's at n_t = 1 term for term: the
-        // marched state must satisfy them to what its own stop rule leaves (1e-9 of l0 per
-        // window in the films) and the contact tolerance (1e-10 a²/R of gap, 1e-8 of l0).
+        // marched state must satisfy them to what its own stop rule leaves (1e-7 of strain per
+        // step) and the contact tolerance (1e-10 a²/R of gap, 1e-8 of l0).
         let r1 = strain_residual(&m, &s, 1);
         assert!(r1 < 1e-6, "smoothing {smoothing}: residual {r1:e}");
         // Measured 2.4e-8 and 3.3e-9. A wrong scheme does not: four sub-steps are another

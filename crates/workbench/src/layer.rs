@@ -1,13 +1,13 @@
 //! Layer-model scenes: the run (start state, motion, stop rule) and what it writes.
 
+use crate::drive::{self, Plan, Step, Transient};
 use crate::model::{Centreline, ContactModel, Outcome, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use anyhow::{Context, Result};
 use ehl_core::{Grid, HertzScales, hertz};
-use ehl_layer::run::SqueezeReport;
 use ehl_layer::{
-    LayerModel, LayerState, Monitor, Record, SteadyReport, Stepper, rolling_steady, run,
-    squeeze_steady, stability_estimate, uniform_state,
+    LayerModel, LayerState, Monitor, Scheme, Snapshot, SqueezeReport, SteadyReport, Stepper,
+    rolling_steady, squeeze_steady, stability_estimate, uniform_state,
 };
 use ehl_scene::{Method, Motion, Scene, StartState};
 use ndarray::Array2;
@@ -28,7 +28,7 @@ pub struct LayerOutcome {
     pub l: Array2<f64>,
     pub gap: Array2<f64>,
     /// The scene's own motion (absent for `motion: none`).
-    pub record: Option<Record>,
+    pub record: Option<LayerRecord>,
     /// The direct steady-rolling solve (method `steady`, or a `steady-rolling` start).
     pub steady: Option<SteadyReport>,
     pub squeeze: Option<SqueezeReport>,
@@ -37,6 +37,54 @@ pub struct LayerOutcome {
     pub stability_estimate_s: f64,
     pub setup_time_s: f64,
     pub total_time_s: f64,
+}
+
+/// A layer march: a monitor per step, strain, pressure and thickness at the snapshots.
+pub type LayerRecord = drive::Record<Monitor, Snapshot>;
+
+/// The layer model as the driver marches it.
+struct LayerMarch<'a> {
+    m: &'a LayerModel,
+    state: LayerState,
+    stepper: Stepper,
+}
+
+impl Transient for LayerMarch<'_> {
+    type Row = Monitor;
+    type Snapshot = Snapshot;
+    type Saved = (LayerState, Stepper);
+    fn time(&self) -> f64 {
+        self.state.t
+    }
+    fn step(&mut self, dt: f64, estimate_error: bool) -> Result<Step> {
+        self.stepper.estimate_error = estimate_error;
+        let i = self.stepper.step(self.m, &mut self.state, dt)?;
+        Ok(Step { solves: i.solves, iterations: i.iterations, error_estimate: i.error_estimate })
+    }
+    fn row(&self, step: &Step) -> Monitor {
+        Monitor::of(self.m, &self.state, step.iterations)
+    }
+    /// Central and minimum layer thickness per `l0`, maximum pressure per `p_h`, contact
+    /// diameter per `2a`.
+    fn monitors(&self, r: &Monitor) -> Vec<f64> {
+        let (sc, l0) = (&self.m.scales, self.m.spec.supply_thickness_m);
+        vec![
+            r.central_thickness / l0,
+            r.minimum_thickness / l0,
+            r.max_pressure / sc.p_h,
+            r.contact_diameter / (2.0 * sc.a),
+        ]
+    }
+    fn snapshot(&self) -> Snapshot {
+        Snapshot::of(self.m, &self.state)
+    }
+    fn save(&self) -> Option<Self::Saved> {
+        Some((self.state.clone(), self.stepper.clone()))
+    }
+    fn restore(&mut self, (state, stepper): Self::Saved) {
+        self.state = state;
+        self.stepper = stepper;
+    }
 }
 
 /// The registered layer model.
@@ -148,11 +196,22 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
                 stepper.reset();
             }
             let label = format!("{:?}", motion).to_lowercase();
-            let times = r.snapshot_times(m.scales.a, m.u1);
-            let rec = run(&m, &mut state, &mut stepper, &r.time, &r.stop, &times, &mut |t| {
+            // Error control from a step the layer resolves at the inlet, η(0)/Eo / 100; BDF2's
+            // error estimate is third order, Heun's second.
+            let order = if stepper.scheme == Scheme::Implicit { 3.0 } else { 2.0 };
+            let controlled = Some((m.eta(0.0) / m.eo * 1e-2, order));
+            let plan = Plan::from_run(r, &grid, m.scales.a, m.u1, controlled)
+                .with_context(|| fail("run"))?;
+            let mut march = LayerMarch { m: &m, state, stepper };
+            let mut rec = drive::drive(&mut march, &plan, &mut |t| {
                 spin.set_message(format!("{label}: t = {t:.4} s"))
             })
             .with_context(|| fail(&format!("{label} run")))?;
+            state = march.state;
+            // The final state closes the snapshot series.
+            if rec.snapshots.last().is_none_or(|s| s.0 < state.t) {
+                rec.snapshots.push((state.t, Snapshot::of(&m, &state)));
+            }
             Some(rec)
         }
     };
@@ -200,7 +259,7 @@ impl LayerOutcome {
             run_json["simulated_time"] = q(self.final_state.t, "s");
             run_json["wall_time"] = q(rec.wall_time_s, "s");
             run_json["wall_time_per_step"] = q(rec.wall_time_s / n, "s");
-            run_json["steady"] = json!(rec.steady);
+            run_json["finished"] = json!(rec.finished);
             run_json["stop_reason"] = json!(rec.stop_reason);
         }
         json!({
@@ -290,8 +349,8 @@ impl LayerOutcome {
             ("gap_m".to_string(), self.gap.mapv(|v| s.h_si(v))),
         ];
         if let Some(rec) = &self.record {
-            for (k, snap) in rec.snapshots.iter().enumerate() {
-                let tag = format!("snapshot{k:02}_t{:.5}s", snap.t);
+            for (k, (t, snap)) in rec.snapshots.iter().enumerate() {
+                let tag = format!("snapshot{k:02}_t{t:.5}s");
                 v.push((format!("{tag}_pressure_pa"), snap.p.mapv(|v| s.p_si(v))));
                 v.push((format!("{tag}_layer_thickness_m"), snap.l.mapv(|v| s.h_si(v))));
             }
@@ -305,7 +364,7 @@ impl LayerOutcome {
         let mut s = String::from(
             "t_s,central_thickness_m,minimum_thickness_m,max_pressure_pa,central_pressure_pa,contact_diameter_m,dry_diameter_m,approach_m,lateral_wiggle_pa,iterations\n",
         );
-        for m in &rec.series {
+        for m in &rec.rows {
             s += &format!(
                 "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}\n",
                 m.t,
@@ -412,7 +471,7 @@ impl LayerOutcome {
         out.push(f);
         if let Some(rec) = &self.record {
             let ser = |k: fn(&Monitor) -> f64, scale: f64| -> Vec<(f64, f64)> {
-                rec.series.iter().map(|m| (m.t, k(m) * scale)).collect()
+                rec.rows.iter().map(|m| (m.t, k(m) * scale)).collect()
             };
             let f = dir.join(format!("{prefix}history.png"));
             plot::history_chart(
@@ -434,19 +493,16 @@ impl LayerOutcome {
             if !rec.snapshots.is_empty() {
                 // Centrelines at every snapshot time.
                 let f = dir.join(format!("{prefix}snapshots_centreline.png"));
-                let series_of =
-                    |sel: fn(&ehl_layer::Snapshot) -> &Array2<f64>, scale: f64| -> Vec<Series> {
-                        rec.snapshots
-                            .iter()
-                            .map(|sn| {
-                                Series::new(
-                                    format!("t = {:.4} s", sn.t),
-                                    line(sel(sn), scale),
-                                    Mark::Line,
-                                )
-                            })
-                            .collect()
-                    };
+                let series_of = |sel: fn(&ehl_layer::Snapshot) -> &Array2<f64>,
+                                 scale: f64|
+                 -> Vec<Series> {
+                    rec.snapshots
+                        .iter()
+                        .map(|(t, sn)| {
+                            Series::new(format!("t = {t:.4} s"), line(sel(sn), scale), Mark::Line)
+                        })
+                        .collect()
+                };
                 plot::charts(
                     &f,
                     &[
@@ -467,9 +523,9 @@ impl LayerOutcome {
                     &self.note(),
                 )?;
                 out.push(f);
-                for (k, sn) in rec.snapshots.iter().enumerate() {
+                for (k, (t, sn)) in rec.snapshots.iter().enumerate() {
                     let f = dir.join(format!("{prefix}snapshot{k:02}_maps.png"));
-                    self.maps(&f, &sn.l, &sn.p, &format!("at t = {:.4} s", sn.t))?;
+                    self.maps(&f, &sn.l, &sn.p, &format!("at t = {t:.4} s"))?;
                     out.push(f);
                 }
             }
@@ -513,7 +569,7 @@ fn layer_report(o: &LayerOutcome) -> String {
             r.iterations as f64 / r.steps.max(1) as f64,
             r.stop_reason
         );
-        if !r.steady {
+        if !r.finished {
             let _ = writeln!(out, "  warning: the run did not reach its stop condition");
         }
     }

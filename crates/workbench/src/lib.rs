@@ -5,6 +5,7 @@
 //! [`compare`] puts several models' outcomes side by side.
 
 pub mod compare;
+pub mod drive;
 pub mod dry;
 pub mod flow;
 pub mod layer;

@@ -1,5 +1,6 @@
 //! Reynolds-model scenes: the steady EHL solve and what it writes.
 
+use crate::drive::{self, Step, Transient};
 use crate::model::{Centreline, ContactModel, Outcome, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use anyhow::{Context, Result, bail};
@@ -51,6 +52,9 @@ pub struct TransientRecord {
     pub dt_s: f64,
     pub dt_a: f64,
     pub wall_time_s: f64,
+    /// Ended by its rule, not the time limit; and why it stopped.
+    pub finished: bool,
+    pub stop_reason: String,
 }
 
 /// The dimensionless parameters and a solver (hierarchy built, Hertz start) for a Reynolds
@@ -142,17 +146,19 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     let grid = scene.grid();
     let t0 = Instant::now();
     let (prm, mut solver) = build_solver(scene);
-    let transient = scene.reynolds.as_ref().and_then(|r| r.transient.clone());
-    // The dent in units of a²/R at centre `xc` [a].
-    let dent = |xc: f64| {
-        let d = transient.as_ref().map(|t| t.dent).expect("transient scene");
-        let depth = d.depth_m / prm.scales.delta;
-        move |x: f64, y: f64| {
-            depth * ehl_core::grid::dent_profile((x - xc).powi(2) + (y - d.y_a).powi(2), d.width_a)
-        }
-    };
-    if let Some(t) = &transient {
-        solver.set_extra_gap(dent(t.dent.x_start_a));
+    let run = scene.run.as_ref().filter(|r| r.method() == ehl_scene::Method::March);
+    let dents: Vec<ehl_layer::Dent> = run.map_or(vec![], |r| {
+        r.features
+            .iter()
+            .filter_map(|f| match f {
+                ehl_layer::Feature::Dent(d) => Some(*d),
+                ehl_layer::Feature::Hole(_) => None,
+            })
+            .collect()
+    });
+    // The march starts from the steady solution with the dents at their start.
+    if !dents.is_empty() {
+        set_dents(&mut solver, &dents, 0.0);
     }
     let setup_time_s = t0.elapsed().as_secs_f64();
     let spin = crate::progress::spinner("reynolds");
@@ -173,8 +179,8 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     }
     let formulas =
         (hamrock_dowson_central(&contact, &lub, 0.5 * u_sum), nvm_central(&contact, &lub, u_sum));
-    let transient = match &transient {
-        Some(t) => Some(run_transient(scene, t, &prm, &mut solver, dent)?),
+    let transient = match run {
+        Some(r) => Some(run_transient(scene, r, &prm, &mut solver, dents)?),
         None => None,
     };
     let f = &solver.levels[0];
@@ -192,78 +198,132 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     })
 }
 
-/// Steps the dent from its start to `x_end_a`, each step solved to the scene's tolerances from
-/// the last; a step that does not converge ends the run with its diagnosis, step and time.
-fn run_transient<F: Fn(f64, f64) -> f64 + Copy>(
-    scene: &Scene,
-    t: &ehl_scene::ReynoldsTransient,
-    prm: &ReynoldsParams,
-    solver: &mut ReynoldsSolver,
-    dent: impl Fn(f64) -> F,
-) -> Result<TransientRecord> {
-    let t0 = Instant::now();
-    let s = prm.scales;
-    let (_, u_sum) = scene.reynolds_conditions();
-    let u_m = 0.5 * u_sum;
-    let g = solver.levels[0].grid;
-    let (x0, x1) = (t.dent.x_start_a, t.x_end_a);
-    let steps = ((x1 - x0) / g.dx() * t.steps_per_cell).ceil() as usize;
-    // Time in units of a/u_m; under pure rolling the dent on the ball moves at u_m.
-    let dt = (x1 - x0) / steps as f64;
-    let (jc, ic) = (g.row_nearest(0.0), g.col_nearest(0.0));
-    let record = |solver: &ReynoldsSolver, k: usize, cycles: usize| {
-        let f = &solver.levels[0];
+/// Puts the dents (depths in m) into the solver's rigid film with their centres moved by
+/// `travel` [a] from their start.
+fn set_dents(solver: &mut ReynoldsSolver, dents: &[ehl_layer::Dent], travel: f64) {
+    let delta = solver.prm.scales.delta;
+    let d: Vec<(f64, f64, f64, f64)> = dents
+        .iter()
+        .map(|d| (d.depth_m.expect("validated") / delta, d.width_a, d.x_start_a + travel, d.y_a))
+        .collect();
+    let d = &d;
+    solver.set_extra_gap(move |x: f64, y: f64| {
+        d.iter()
+            .map(|&(depth, w, xc, yc)| {
+                depth * ehl_core::grid::dent_profile((x - xc).powi(2) + (y - yc).powi(2), w)
+            })
+            .sum()
+    });
+}
+
+/// The Reynolds solver as the driver marches it: each step moves the dents by the mean
+/// velocity and solves to the scene's tolerances from the last state.
+struct ReynoldsMarch<'a> {
+    solver: &'a mut ReynoldsSolver,
+    dents: Vec<ehl_layer::Dent>,
+    steps: usize,
+    /// The step [s] and the time unit `a/u_m` [s].
+    dt_s: f64,
+    time_unit: f64,
+    /// Where the first dent starts [a] (0 without dents: the travel).
+    x0: f64,
+    centre: (usize, usize),
+    /// The steady start's central film [m]: the films' scale for the steady rule.
+    h_ref: f64,
+}
+
+impl Transient for ReynoldsMarch<'_> {
+    type Row = TransientRow;
+    type Snapshot = (Array2<f64>, Array2<f64>);
+    type Saved = ();
+    fn time(&self) -> f64 {
+        self.steps as f64 * self.dt_s
+    }
+    fn step(&mut self, dt: f64, _estimate_error: bool) -> Result<Step> {
+        // The backward differences assume equal steps: the plan's fixed step is the only one.
+        debug_assert!((dt - self.dt_s).abs() <= 1e-12 * dt);
+        let travel = (self.steps + 1) as f64 * self.dt_s / self.time_unit;
+        if !self.dents.is_empty() {
+            set_dents(self.solver, &self.dents, travel);
+        }
+        let where_ = || format!("dent at x = {:.3} a", self.x0 + travel);
+        let rep = self.solver.step(dt / self.time_unit, &mut |_| {}).with_context(where_)?;
+        if !rep.converged {
+            bail!(
+                "{} did not converge: {}",
+                where_(),
+                rep.diagnosis.map(|d| d.text).unwrap_or_default()
+            );
+        }
+        self.steps += 1;
+        Ok(Step { solves: 1, iterations: rep.cycles, error_estimate: None })
+    }
+    fn row(&self, step: &Step) -> TransientRow {
+        let (f, s) = (&self.solver.levels[0], self.solver.prm.scales);
+        let (jc, ic) = self.centre;
+        let t_s = self.time();
         TransientRow {
-            t_s: k as f64 * dt * s.a / u_m,
-            dent_x_a: x0 + k as f64 * dt,
+            t_s,
+            dent_x_a: self.x0 + t_s / self.time_unit,
             central_film_m: s.h_si(f.film[[jc, ic]]),
             minimum_film_m: s.h_si(f.film.iter().cloned().fold(f64::INFINITY, f64::min)),
             max_pressure_pa: s.p_si(f.p.iter().cloned().fold(0.0, f64::max)),
             central_pressure_pa: s.p_si(f.p[[jc, ic]]),
-            h00_m: s.h_si(solver.h00),
-            cycles,
+            h00_m: s.h_si(self.solver.h00),
+            cycles: step.iterations,
         }
-    };
-    let mut rows = vec![record(solver, 0, 0)];
-    // Each snapshot at the step whose dent position is nearest.
-    let snap_x = t.snapshot_positions(s.a, u_m);
-    let snap_steps: Vec<usize> = snap_x.iter().map(|&x| ((x - x0) / dt).round() as usize).collect();
-    let mut snapshots = vec![];
-    let spin = crate::progress::bar(steps as u64, "dent passing");
-    for k in 1..=steps {
-        solver.set_extra_gap(dent(x0 + k as f64 * dt));
-        let rep = solver.step(dt, &mut |_| {}).with_context(|| {
-            format!(
-                "scene `{}`: time step {k} of {steps} (dent at x = {:.3} a)",
-                scene.name,
-                x0 + k as f64 * dt
-            )
-        })?;
-        if !rep.converged {
-            bail!(
-                "scene `{}`: time step {k} of {steps} (t = {:.4e} s, dent at x = {:.3} a) did not converge: {}",
-                scene.name,
-                k as f64 * dt * s.a / u_m,
-                x0 + k as f64 * dt,
-                rep.diagnosis.map(|d| d.text).unwrap_or_default()
-            );
-        }
-        rows.push(record(solver, k, rep.cycles));
-        for (i, &ks) in snap_steps.iter().enumerate() {
-            if ks == k {
-                let f = &solver.levels[0];
-                snapshots.push((snap_x[i], f.p.clone(), f.film.clone()));
-            }
-        }
-        spin.inc(1);
     }
+    /// Central and minimum film per the steady start's central film, maximum pressure per `p_h`.
+    fn monitors(&self, r: &TransientRow) -> Vec<f64> {
+        let (h, p_h) = (self.h_ref, self.solver.prm.scales.p_h);
+        vec![r.central_film_m / h, r.minimum_film_m / h, r.max_pressure_pa / p_h]
+    }
+    fn snapshot(&self) -> Self::Snapshot {
+        let f = &self.solver.levels[0];
+        (f.p.clone(), f.film.clone())
+    }
+}
+
+/// Marches the scene's run from the steady solution (the driver's plan: steps per cell, the
+/// stop rule, snapshots); a step that does not converge ends the run with its diagnosis, step
+/// and time.
+fn run_transient(
+    scene: &Scene,
+    run: &ehl_scene::RunSpec,
+    prm: &ReynoldsParams,
+    solver: &mut ReynoldsSolver,
+    dents: Vec<ehl_layer::Dent>,
+) -> Result<TransientRecord> {
+    let s = prm.scales;
+    let (_, u_sum) = scene.reynolds_conditions();
+    // Under pure rolling a dent on the ball moves at the mean velocity.
+    let u_m = 0.5 * u_sum;
+    let g = solver.levels[0].grid;
+    let plan = drive::Plan::from_run(run, &g, s.a, u_m, None)
+        .with_context(|| format!("scene `{}`: run", scene.name))?;
+    let drive::Steps::Fixed { dt_s } = plan.steps else { unreachable!("rolling: fixed steps") };
+    let x0 = dents.first().map_or(0.0, |d| d.x_start_a);
+    let centre = (g.row_nearest(0.0), g.col_nearest(0.0));
+    let time_unit = s.a / u_m;
+    let h_ref = s.h_si(solver.films().0);
+    let mut march = ReynoldsMarch { solver, dents, steps: 0, dt_s, time_unit, x0, centre, h_ref };
+    let expected = plan.end.as_ref().map_or(0, |e| (e.0 / dt_s).round() as u64);
+    let spin = crate::progress::bar(expected, "dent passing");
+    let rec = drive::drive(&mut march, &plan, &mut |_| spin.inc(1))
+        .with_context(|| format!("scene `{}`: Reynolds march", scene.name))?;
     spin.finish_and_clear();
     Ok(TransientRecord {
-        rows,
-        snapshots,
-        dt_s: dt * s.a / u_m,
-        dt_a: dt,
-        wall_time_s: t0.elapsed().as_secs_f64(),
+        snapshots: rec
+            .snapshots
+            .into_iter()
+            .map(|(t, (p, h))| (x0 + t / time_unit, p, h))
+            .collect(),
+        rows: rec.rows,
+        dt_s,
+        dt_a: dt_s / time_unit,
+        wall_time_s: rec.wall_time_s,
+        finished: rec.finished,
+        stop_reason: rec.stop_reason,
     })
 }
 
@@ -333,6 +393,7 @@ impl ReynoldsOutcome {
                     "wall_time": q(t.wall_time_s, "s"),
                     "wall_time_per_step": q(t.wall_time_s / steps as f64, "s"),
                     "snapshots_at_dent_x_a": t.snapshots.iter().map(|s| s.0).collect::<Vec<_>>(),
+                    "finished": t.finished, "stop_reason": t.stop_reason,
                 })
             }),
         })

@@ -1,0 +1,297 @@
+//! The one time-stepping driver. Every model's march (the layer's rolling, stop and feature
+//! passages; the Reynolds dent passage) runs through [`drive`], which owns the step size, the
+//! stop rules and the snapshots: a model only says how to take one step ([`Transient`]), and
+//! the scene's `run` block becomes a [`Plan`] the same way for every model.
+
+use anyhow::{Context, Result, bail};
+use ehl_core::Grid;
+use ehl_scene::{Motion, RunSpec};
+use std::time::Instant;
+
+/// A model that can march in time.
+pub trait Transient {
+    /// What is recorded after every step (SI).
+    type Row;
+    /// The fields kept at a snapshot.
+    type Snapshot;
+    /// A copy to return to when an error-controlled step is rejected.
+    type Saved;
+    /// Time since the motion started [s].
+    fn time(&self) -> f64;
+    /// Advances by `dt` [s]; with `estimate_error`, the step's local error estimate too.
+    fn step(&mut self, dt: f64, estimate_error: bool) -> Result<Step>;
+    /// The record after a step (`step` is what it cost; the start is recorded with the default).
+    fn row(&self, step: &Step) -> Self::Row;
+    /// The quantities of `row` the steady rule watches, each divided by its scale.
+    fn monitors(&self, row: &Self::Row) -> Vec<f64>;
+    fn snapshot(&self) -> Self::Snapshot;
+    /// For error control: `None` when the model has none (the plan then refuses it).
+    fn save(&self) -> Option<Self::Saved> {
+        None
+    }
+    fn restore(&mut self, _saved: Self::Saved) {}
+}
+
+/// What one step cost, and its error estimate where asked and available (a multistep scheme
+/// has none for its first steps).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Step {
+    pub solves: usize,
+    pub iterations: usize,
+    pub error_estimate: Option<f64>,
+}
+
+/// How the step size is chosen.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Steps {
+    /// Equal steps [s].
+    Fixed { dt_s: f64 },
+    /// Error control: the local error estimate kept below `tolerance`, a method of `order`
+    /// (the error scales as `dt^order`), starting from `dt0_s`.
+    Controlled { dt0_s: f64, tolerance: f64, order: f64 },
+}
+
+/// Steady when every monitor changes less than `tolerance` over `window_s`, once `min_time_s`
+/// has passed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SteadyRule {
+    pub tolerance: f64,
+    pub window_s: f64,
+    pub min_time_s: f64,
+    /// The window as the scene states it, for the stop reason.
+    pub window_text: String,
+}
+
+/// A march: steps, end, limits, snapshots. Times in s from the start of the motion.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    pub steps: Steps,
+    /// Where a feature ends the run, and why; with fixed steps the last step lands on it.
+    pub end: Option<(f64, String)>,
+    pub steady: Option<SteadyRule>,
+    /// A run not finished by then stops and says so.
+    pub max_time_s: Option<f64>,
+    /// Fixed steps: the nearest step to each; controlled steps land on each.
+    pub snapshot_times_s: Vec<f64>,
+}
+
+impl Plan {
+    /// The scene's run for a model whose features move at `u` [m/s] on the Hertz radius `a` [m]
+    /// over `grid` [a]. Rolling steps `n_t` per cell; a squeeze takes `run.time.dt_s` or, absent,
+    /// error control from `controlled` (the model's first step [s] and order), refused when the
+    /// model has none.
+    pub fn from_run(
+        run: &RunSpec,
+        grid: &Grid,
+        a: f64,
+        u: f64,
+        controlled: Option<(f64, f64)>,
+    ) -> Result<Plan> {
+        let rolling = run.motion == Motion::Rolling && u > 0.0;
+        let st = &run.stop;
+        // Where a feature ends the run: the first of the two rules.
+        let mut end: Option<(f64, String)> = None;
+        let mut first = |t: f64, why: String| {
+            if end.as_ref().is_none_or(|e| t < e.0) {
+                end = Some((t, why));
+            }
+        };
+        if rolling && st.until_features_passed {
+            let t = run
+                .features
+                .iter()
+                .map(|f| (grid.x_max + f.reach() - f.x_start()) * a / u)
+                .fold(0.0, f64::max);
+            first(t, "every feature has left the domain".into());
+        }
+        if let (true, Some(x), Some(f)) = (rolling, st.until_feature_at_a, run.features.first()) {
+            first((x - f.x_start()) * a / u, format!("the first feature is at x = {x} a"));
+        }
+        let steps = match (rolling, run.time.dt_s, controlled) {
+            (true, _, _) => {
+                let dt = grid.dx() * a / (run.time.steps_per_cell * u);
+                // The last step lands on the end: equal steps a little shorter.
+                let dt = match &end {
+                    Some((t, _)) => t / (t / dt - 1e-9).ceil().max(1.0),
+                    None => dt,
+                };
+                Steps::Fixed { dt_s: dt }
+            }
+            (false, Some(dt), _) => Steps::Fixed { dt_s: dt },
+            (false, None, Some((dt0, order))) => {
+                Steps::Controlled { dt0_s: dt0, tolerance: run.time.error_tolerance, order }
+            }
+            (false, None, None) => {
+                bail!(
+                    "run.time.dt_s: required (s): this model has no error control to choose the step"
+                )
+            }
+        };
+        let steady = end.is_none().then(|| {
+            let (window_s, window_text) = if rolling {
+                (st.window_travel_a * a / u, format!("{} a of travel", st.window_travel_a))
+            } else {
+                (st.window_time_s, format!("{} s", st.window_time_s))
+            };
+            // Rolling from any start: the domain's material must have been replaced once.
+            let min_time_s = if rolling { (grid.x_max - grid.x_min) * a / u } else { window_s };
+            SteadyRule { tolerance: st.steady_tolerance, window_s, min_time_s, window_text }
+        });
+        let snapshot_times_s = if rolling {
+            run.snapshot_times(a, u)
+        } else {
+            let mut t = run.snapshots_s.clone();
+            t.sort_by(f64::total_cmp);
+            t
+        };
+        Ok(Plan { steps, end, steady, max_time_s: st.max_time_s, snapshot_times_s })
+    }
+}
+
+/// What a march did.
+#[derive(Clone, Debug)]
+pub struct Record<R, S> {
+    /// The start, then one row per step.
+    pub rows: Vec<R>,
+    /// At the snapshot times: the time it was taken [s] and the fields.
+    pub snapshots: Vec<(f64, S)>,
+    pub steps: usize,
+    pub rejected_steps: usize,
+    pub solves: usize,
+    pub iterations: usize,
+    pub wall_time_s: f64,
+    /// Ended by its rule (steady, or a feature's end), not by the time limit.
+    pub finished: bool,
+    pub stop_reason: String,
+    /// Step sizes used [s]: (smallest, largest).
+    pub dt_range: (f64, f64),
+}
+
+/// Marches `model` by `plan`, calling `progress(t)` after every step.
+pub fn drive<T: Transient>(
+    model: &mut T,
+    plan: &Plan,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Record<T::Row, T::Snapshot>> {
+    let clock = Instant::now();
+    let t_begin = model.time();
+    let elapsed = |m: &T| m.time() - t_begin;
+    let mut rows = vec![model.row(&Step::default())];
+    let mut history: Vec<(f64, Vec<f64>)> = vec![(0.0, model.monitors(&rows[0]))];
+    let mut snapshots = vec![];
+    let mut pending: Vec<f64> = plan.snapshot_times_s.clone();
+    let (mut steps, mut rejected, mut solves, mut iterations) = (0, 0, 0, 0);
+    let mut dt_range = (f64::INFINITY, 0.0f64);
+    // Fixed steps: the snapshot at the nearest step, known in advance.
+    let nearest = |t: f64, dt: f64| (t / dt).round() as usize;
+    while pending.first().is_some_and(|&t| match plan.steps {
+        Steps::Fixed { dt_s } => nearest(t, dt_s) == 0,
+        Steps::Controlled { .. } => t <= 0.0,
+    }) {
+        snapshots.push((0.0, model.snapshot()));
+        pending.remove(0);
+    }
+    let mut dt_next = match plan.steps {
+        Steps::Fixed { dt_s } => dt_s,
+        Steps::Controlled { dt0_s, .. } => dt0_s,
+    };
+    let (finished, stop_reason) = loop {
+        let t = elapsed(model);
+        if let Some(limit) = plan.max_time_s {
+            if t >= limit {
+                break (false, format!("not finished by the time limit {limit} s"));
+            }
+        }
+        let when = |k: usize, t: f64| format!("time step {k} (t = {t:.6e} s)");
+        let step = match plan.steps {
+            Steps::Fixed { dt_s } => {
+                dt_range = (dt_range.0.min(dt_s), dt_range.1.max(dt_s));
+                model.step(dt_s, false).with_context(|| when(steps + 1, t))?
+            }
+            Steps::Controlled { tolerance, order, .. } => loop {
+                // Land on the next snapshot time rather than pass it.
+                let dt = match pending.first() {
+                    Some(&ts) if t + dt_next > ts && ts > t => ts - t,
+                    _ => dt_next,
+                };
+                let saved = model.save().context(
+                    "error-controlled steps need a model that can return to its last state",
+                )?;
+                let s = model.step(dt, true).with_context(|| when(steps + 1, t))?;
+                // No estimate (a multistep scheme's first steps): accepted, growth capped below.
+                let err = s.error_estimate.unwrap_or(0.0);
+                let factor =
+                    if err > 0.0 { 0.9 * (tolerance / err).powf(1.0 / order) } else { 2.0 };
+                if err <= tolerance {
+                    dt_range = (dt_range.0.min(dt), dt_range.1.max(dt));
+                    // BDF2 stays zero-stable for step ratios below 1 + √2: grow by 2 at most.
+                    dt_next = dt * factor.clamp(0.5, 2.0);
+                    break s;
+                }
+                rejected += 1;
+                model.restore(saved);
+                dt_next = dt * factor.clamp(0.1, 0.9);
+                if dt_next < 1e-12 {
+                    bail!(
+                        "error control: the step size fell below 1e-12 s at t = {t:.6e} s (step {}, estimate {err:.3e} against {tolerance:.1e})",
+                        steps + 1
+                    );
+                }
+            },
+        };
+        steps += 1;
+        solves += step.solves;
+        iterations += step.iterations;
+        let row = model.row(&step);
+        let t = elapsed(model);
+        history.push((t, model.monitors(&row)));
+        rows.push(row);
+        while pending.first().is_some_and(|&ts| match plan.steps {
+            Steps::Fixed { dt_s } => nearest(ts, dt_s) <= steps,
+            Steps::Controlled { .. } => ts <= t + 1e-12 * t.max(1e-300),
+        }) {
+            snapshots.push((t, model.snapshot()));
+            pending.remove(0);
+        }
+        progress(t);
+        if let Some((t_end, why)) = &plan.end {
+            if t >= t_end * (1.0 - 1e-12) {
+                break (true, why.clone());
+            }
+            continue;
+        }
+        if let Some(rule) = &plan.steady {
+            if t < rule.min_time_s {
+                continue;
+            }
+            // Against the last record at least one window back.
+            let now = &history.last().unwrap().1;
+            if let Some((_, old)) =
+                history.iter().rev().find(|(to, _)| *to <= t - rule.window_s + 1e-15)
+            {
+                let worst = now.iter().zip(old).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                if worst < rule.tolerance {
+                    break (
+                        true,
+                        format!(
+                            "steady: largest change {worst:.2e} < {} over the last {}",
+                            rule.tolerance, rule.window_text
+                        ),
+                    );
+                }
+            }
+        }
+    };
+    Ok(Record {
+        rows,
+        snapshots,
+        steps,
+        rejected_steps: rejected,
+        solves,
+        iterations,
+        wall_time_s: clock.elapsed().as_secs_f64(),
+        finished,
+        stop_reason,
+        dt_range,
+    })
+}
