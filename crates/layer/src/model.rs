@@ -113,6 +113,7 @@ pub struct LayerModel {
     pub spec: LayerSpec,
     /// Rolling velocity `u1` [m/s] (0 in squeeze).
     pub u1: f64,
+    /// Features passing (dents resolved to `A`: set them with [`LayerModel::set_features`]).
     pub features: Vec<Feature>,
     pub solver: DrySolver,
     /// `(X² + Y²)/2`.
@@ -154,19 +155,18 @@ impl LayerModel {
             damper,
             spec: *spec,
             u1,
-            features: features
-                .into_iter()
-                .map(|f| match f {
-                    Feature::Dent(d) => Feature::Dent(d.resolved(spec.supply_thickness_m)),
-                    other => other,
-                })
-                .collect(),
+            features: resolve(features, spec.supply_thickness_m),
             solver: DrySolver::new(grid, settings),
             shape: grid.paraboloid(),
             load: scales.load_dimensionless(),
             scales,
             grid,
         }
+    }
+
+    /// Features to pass from now on (a dent's depth in metres resolved to `l0`'s units).
+    pub fn set_features(&mut self, features: Vec<Feature>) {
+        self.features = resolve(features, self.spec.supply_thickness_m);
     }
 
     /// The same model on another grid (same laws, velocity, features and solver settings).
@@ -315,6 +315,17 @@ impl LayerModel {
 
 /// `f` smoothed by a separable Gaussian of standard deviations `sigma_x`, `sigma_y` [a]
 /// (0: not along that axis), truncated at 3σ, edge values held.
+/// Every dent's depth as the factor `A` for a supply thickness `l0_m` [m]: what the model holds.
+fn resolve(features: Vec<Feature>, l0_m: f64) -> Vec<Feature> {
+    features
+        .into_iter()
+        .map(|f| match f {
+            Feature::Dent(d) => Feature::Dent(d.resolved(l0_m)),
+            other => other,
+        })
+        .collect()
+}
+
 pub fn gaussian_smooth(f: &Array2<f64>, grid: &Grid, sigma_x: f64, sigma_y: f64) -> Array2<f64> {
     let weights = |sigma: f64, h: f64| -> Vec<f64> {
         if sigma <= 0.0 {

@@ -57,6 +57,9 @@ fn main() {
     if let Some(v) = env("FMG") {
         settings.fmg_cycles = v;
     }
+    if let Ok(v) = std::env::var("H00GAIN") {
+        settings.h00_gain = v.parse().unwrap();
+    }
     if let Some(v) = env("COARSEST") {
         settings.coarsest_points = v;
     }
@@ -96,6 +99,38 @@ fn main() {
     if std::env::args().nth(2).as_deref() == Some("steps") {
         let _ = s.solve(&mut |_| {});
         println!("steady {:?}", s.films());
+        if std::env::var("PROFILE").is_ok() {
+            let l = &s.levels[0];
+            let g = l.grid;
+            let r = l.residual(&s.prm);
+            let mut v: Vec<((usize, usize), f64)> =
+                r.indexed_iter().map(|(ix, v)| (ix, v.abs())).collect();
+            v.sort_by(|a, b| b.1.partial_cmp(&a.1).unwrap());
+            for ((j, i), m) in v.iter().take(5) {
+                println!(
+                    "  steady res {:.2e} at x={:.3} y={:.3} P={:.3e} H={:.3e} h00 {:.6e}",
+                    m,
+                    g.x(*i),
+                    g.y(*j),
+                    l.p[[*j, *i]],
+                    l.film[[*j, *i]],
+                    s.h00
+                );
+            }
+            for xq in [0.0, 0.3, 0.6, 0.9] {
+                let i = g.col_nearest(xq);
+                for j in (g.ny - 12)..g.ny {
+                    println!(
+                        "x {:.3} y {:.4} P {:.3e} H {:.4e} res {:.2e}",
+                        g.x(i),
+                        g.y(j),
+                        l.p[[j, i]],
+                        l.film[[j, i]],
+                        r[[j, i]]
+                    );
+                }
+            }
+        }
         let dt = s.levels[0].h
             * std::env::var("COURANT").ok().and_then(|v| v.parse().ok()).unwrap_or(1.0);
         for k in 1..=6 {
@@ -106,6 +141,24 @@ fn main() {
                 )
             });
             println!("step {k}: {:?} films {:?}", r.map(|r| (r.converged, r.cycles)), s.films());
+            if std::env::var("PROFILE").is_ok() {
+                let l = &s.levels[0];
+                let g = l.grid;
+                let res = l.residual(&s.prm);
+                let mut v: Vec<((usize, usize), f64)> =
+                    res.indexed_iter().map(|(ix, v)| (ix, v.abs())).collect();
+                v.sort_by(|a, b| b.1.partial_cmp(&a.1).unwrap());
+                for ((j, i), m) in v.iter().take(5) {
+                    println!(
+                        "   res {:.2e} at x={:.3} y={:.3} P={:.3e} H={:.3e}",
+                        m,
+                        g.x(*i),
+                        g.y(*j),
+                        l.p[[*j, *i]],
+                        l.film[[*j, *i]]
+                    );
+                }
+            }
         }
         return;
     }

@@ -211,6 +211,11 @@ impl Comparison {
         let f = dir.join("comparison.csv");
         std::fs::write(&f, self.to_csv())?;
         files.push(f);
+        if let Some(csv) = self.history_csv() {
+            let f = dir.join("comparison_history.csv");
+            std::fs::write(&f, csv)?;
+            files.push(f);
+        }
         if self.scene.outputs.figures {
             files.extend(self.figures(dir)?);
         }
@@ -222,6 +227,71 @@ impl Comparison {
             }
         }
         Ok(files)
+    }
+
+    /// The models' histories (runs in time) in one table, SI: every step's standard observables.
+    pub fn history_csv(&self) -> Option<String> {
+        let mut s = String::from("model,t_s,central_film_m,minimum_film_m,max_pressure_pa\n");
+        let mut any = false;
+        for e in &self.entries {
+            let Some(h) = e.outcome.as_ref().ok().and_then(|o| o.history()) else { continue };
+            any = true;
+            for (t, ob) in h {
+                s += &format!(
+                    "{},{t:e},{:e},{:e},{:e}\n",
+                    e.name(),
+                    ob.central_film_m,
+                    ob.minimum_film_m,
+                    ob.max_pressure_pa
+                );
+            }
+        }
+        any.then_some(s)
+    }
+
+    /// Central and minimum film and maximum pressure against time, every model that ran in time.
+    fn history_figure(&self, dir: &Path, note: &str) -> Result<Option<PathBuf>> {
+        let p_h = self.scales().p_h;
+        let runs: Vec<(String, &[(f64, ehl_core::Observables)])> = self
+            .entries
+            .iter()
+            .filter_map(|e| Some((e.name(), e.outcome.as_ref().ok()?.history()?)))
+            .collect();
+        if runs.is_empty() {
+            return Ok(None);
+        }
+        let series = |f: fn(&ehl_core::Observables) -> f64, k: f64| -> Vec<Series> {
+            runs.iter()
+                .map(|(name, h)| {
+                    Series::new(
+                        name.clone(),
+                        h.iter().map(|(t, o)| (t * 1e3, f(o) * k)).collect(),
+                        Mark::Line,
+                    )
+                })
+                .collect()
+        };
+        let f = dir.join("comparison_history.png");
+        plot::charts(
+            &f,
+            &[
+                Panel::new("Central film", "t [ms]", "h_c [nm]", series(|o| o.central_film_m, 1e9)),
+                Panel::new(
+                    "Minimum film",
+                    "t [ms]",
+                    "h_min [nm]",
+                    series(|o| o.minimum_film_m, 1e9),
+                ),
+                Panel::new(
+                    "Maximum pressure",
+                    "t [ms]",
+                    "p_max / p_h",
+                    series(|o| o.max_pressure_pa, 1.0 / p_h),
+                ),
+            ],
+            note,
+        )?;
+        Ok(Some(f))
     }
 
     fn figures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
@@ -288,6 +358,7 @@ impl Comparison {
             &note,
         )?;
         let mut files = vec![centre];
+        files.extend(self.history_figure(dir, &note)?);
         // The first two lubricated models in the scene's order (the seed's: layer − Reynolds).
         let wet: Vec<&(String, &dyn Outcome)> = ok.iter().filter(|(_, o)| o.lubricated()).collect();
         if let [(name_a, a), (name_b, b), ..] = wet.as_slice() {

@@ -5,6 +5,7 @@
 
 use anyhow::{Context, Result, bail};
 use ehl_core::Grid;
+use ehl_core::observe::Observables;
 use ehl_scene::{Motion, RunSpec};
 use std::time::Instant;
 
@@ -25,6 +26,9 @@ pub trait Transient {
     /// The quantities of `row` the steady rule watches, each divided by its scale.
     fn monitors(&self, row: &Self::Row) -> Vec<f64>;
     fn snapshot(&self) -> Self::Snapshot;
+    /// The standard observables of the current state (one definition for every model: what a
+    /// comparison of histories overlays).
+    fn observables(&self) -> Observables;
     /// For error control: `None` when the model has none (the plan then refuses it).
     fn save(&self) -> Option<Self::Saved> {
         None
@@ -151,8 +155,10 @@ impl Plan {
 /// What a march did.
 #[derive(Clone, Debug)]
 pub struct Record<R, S> {
-    /// The start, then one row per step.
+    /// The start, then one row per step …
     pub rows: Vec<R>,
+    /// … and the standard observables at the same times [s].
+    pub observed: Vec<(f64, Observables)>,
     /// At the snapshot times: the time it was taken [s] and the fields.
     pub snapshots: Vec<(f64, S)>,
     pub steps: usize,
@@ -177,6 +183,7 @@ pub fn drive<T: Transient>(
     let t_begin = model.time();
     let elapsed = |m: &T| m.time() - t_begin;
     let mut rows = vec![model.row(&Step::default())];
+    let mut observed = vec![(0.0, model.observables())];
     let mut history: Vec<(f64, Vec<f64>)> = vec![(0.0, model.monitors(&rows[0]))];
     let mut snapshots = vec![];
     let mut pending: Vec<f64> = plan.snapshot_times_s.clone();
@@ -198,7 +205,8 @@ pub fn drive<T: Transient>(
     let (finished, stop_reason) = loop {
         let t = elapsed(model);
         if let Some(limit) = plan.max_time_s {
-            if t >= limit {
+            // Reached to rounding: ten steps of 0.05 s sum to 0.49999999999999994 s.
+            if t >= limit * (1.0 - 1e-12) {
                 break (false, format!("not finished by the time limit {limit} s"));
             }
         }
@@ -246,6 +254,7 @@ pub fn drive<T: Transient>(
         let t = elapsed(model);
         history.push((t, model.monitors(&row)));
         rows.push(row);
+        observed.push((t, model.observables()));
         while pending.first().is_some_and(|&ts| match plan.steps {
             Steps::Fixed { dt_s } => nearest(ts, dt_s) <= steps,
             Steps::Controlled { .. } => ts <= t + 1e-12 * t.max(1e-300),
@@ -284,6 +293,7 @@ pub fn drive<T: Transient>(
     };
     Ok(Record {
         rows,
+        observed,
         snapshots,
         steps,
         rejected_steps: rejected,
@@ -294,4 +304,177 @@ pub fn drive<T: Transient>(
         stop_reason,
         dt_range,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `y' = k (1 − y)`, `y(0) = 0`: exactly `1 − e^(−k t)`. Implicit Euler steps; the error
+    /// estimate is half the gap to explicit Euler (both first order: local error `O(dt²)`).
+    #[derive(Clone)]
+    struct Relax {
+        k: f64,
+        t: f64,
+        y: f64,
+        steps_seen: Vec<f64>,
+        can_save: bool,
+    }
+
+    impl Relax {
+        fn new(k: f64) -> Self {
+            Relax { k, t: 0.0, y: 0.0, steps_seen: vec![], can_save: true }
+        }
+    }
+
+    impl Transient for Relax {
+        type Row = (f64, f64);
+        type Snapshot = f64;
+        type Saved = (f64, f64, usize);
+        fn time(&self) -> f64 {
+            self.t
+        }
+        fn step(&mut self, dt: f64, estimate_error: bool) -> Result<Step> {
+            let implicit = (self.y + dt * self.k) / (1.0 + dt * self.k);
+            let explicit = self.y + dt * self.k * (1.0 - self.y);
+            self.y = implicit;
+            self.t += dt;
+            self.steps_seen.push(dt);
+            let err = estimate_error.then(|| 0.5 * (implicit - explicit).abs());
+            Ok(Step { solves: 1, iterations: 1, error_estimate: err })
+        }
+        fn row(&self, _: &Step) -> (f64, f64) {
+            (self.t, self.y)
+        }
+        fn monitors(&self, r: &(f64, f64)) -> Vec<f64> {
+            vec![r.1]
+        }
+        fn snapshot(&self) -> f64 {
+            self.y
+        }
+        fn observables(&self) -> Observables {
+            Observables {
+                central_film_m: self.y,
+                minimum_film_m: self.y,
+                minimum_film_at_m: (0.0, 0.0),
+                max_pressure_pa: 0.0,
+                max_pressure_at_m: (0.0, 0.0),
+                contact_extent_x_m: 0.0,
+                contact_extent_y_m: 0.0,
+                load_error: 0.0,
+            }
+        }
+        fn save(&self) -> Option<Self::Saved> {
+            self.can_save.then_some((self.t, self.y, self.steps_seen.len()))
+        }
+        fn restore(&mut self, (t, y, _): Self::Saved) {
+            self.t = t;
+            self.y = y;
+        }
+    }
+
+    fn plan(steps: Steps) -> Plan {
+        Plan { steps, end: None, steady: None, max_time_s: None, snapshot_times_s: vec![] }
+    }
+
+    #[test]
+    fn fixed_steps_end_on_the_feature_and_snapshot_the_nearest_step() {
+        // The end at 1.0 with steps of 0.1 (as from_run makes them: T / ceil(T / dt)).
+        let p = Plan {
+            end: Some((1.0, "the end".into())),
+            snapshot_times_s: vec![0.0, 0.34, 0.36],
+            ..plan(Steps::Fixed { dt_s: 0.1 })
+        };
+        let mut m = Relax::new(1.0);
+        let r = drive(&mut m, &p, &mut |_| {}).unwrap();
+        assert_eq!((r.steps, r.finished, r.stop_reason.as_str()), (10, true, "the end"));
+        assert!((m.t - 1.0).abs() < 1e-12);
+        // 0.34 → step 3 (t = 0.3), 0.36 → step 4 (t = 0.4): the nearest, not the next.
+        let at: Vec<f64> = r.snapshots.iter().map(|s| s.0).collect();
+        assert_eq!(at.len(), 3);
+        assert!(at[0] == 0.0 && (at[1] - 0.3).abs() < 1e-12 && (at[2] - 0.4).abs() < 1e-12);
+        // Snapshot values are the state at that step: implicit Euler, (1 + dt)^−n from 1.
+        assert!((r.snapshots[1].1 - (1.0 - 1.1f64.powi(-3))).abs() < 1e-12);
+        assert_eq!((r.rows.len(), r.observed.len()), (11, 11));
+    }
+
+    #[test]
+    fn steady_rule_waits_for_its_window_and_the_time_limit_stops_the_rest() {
+        let rule = SteadyRule {
+            tolerance: 1e-3,
+            window_s: 0.5,
+            min_time_s: 1.0,
+            window_text: "0.5 s".into(),
+        };
+        let p = Plan { steady: Some(rule), ..plan(Steps::Fixed { dt_s: 0.05 }) };
+        let mut m = Relax::new(2.0);
+        let r = drive(&mut m, &p, &mut |_| {}).unwrap();
+        assert!(r.finished && r.stop_reason.starts_with("steady"), "{}", r.stop_reason);
+        // Stopped the first time y moved less than 1e-3 over 0.5 s: y' = 2 (1 − y), so
+        // 1 − y < 1e-3 / (1 − e^(−1)) then, and not one window earlier.
+        let gap = 1.0 - m.y;
+        assert!(gap < 1e-3 / (1.0 - (-1.0f64).exp()) * 1.2, "gap {gap}");
+        assert!(gap > 1e-3 / (1.0 - (-1.0f64).exp()) * 0.2, "stopped late: gap {gap}");
+        // A limit before that: not finished, and it says so.
+        let p = Plan { max_time_s: Some(0.5), ..p };
+        let r = drive(&mut Relax::new(2.0), &p, &mut |_| {}).unwrap();
+        assert!(!r.finished && r.stop_reason.contains("time limit"), "{}", r.stop_reason);
+        assert_eq!(r.steps, 10);
+    }
+
+    #[test]
+    fn controlled_steps_hold_the_tolerance_reject_and_land_on_snapshots() {
+        let tol = 1e-5;
+        let p = Plan {
+            max_time_s: Some(3.0),
+            snapshot_times_s: vec![0.25, 1.0],
+            ..plan(Steps::Controlled { dt0_s: 0.5, tolerance: tol, order: 2.0 })
+        };
+        let mut m = Relax::new(3.0);
+        let r = drive(&mut m, &p, &mut |_| {}).unwrap();
+        // The first step of 0.5 has an error estimate ~0.5·(k dt)² ≈ 1: rejected first.
+        assert!(r.rejected_steps >= 1, "{r:?}", r = (r.rejected_steps, r.steps));
+        // Snapshots exactly at their times, with the state there.
+        for ((t, y), want) in r.snapshots.iter().zip([0.25, 1.0]) {
+            assert!((t - want).abs() < 1e-12, "snapshot at {t}");
+            // Global error of first-order steps held at 1e-5 locally: a few 1e-4 at most.
+            assert!((y - (1.0 - (-3.0 * want).exp())).abs() < 1e-3, "{y} at {t}");
+        }
+        // Steps grew (at most doubling) as the solution flattened.
+        assert!(r.dt_range.1 > 10.0 * r.dt_range.0, "{:?}", r.dt_range);
+        for w in m.steps_seen.windows(2) {
+            assert!(w[1] <= 2.0 * w[0] * (1.0 + 1e-12) || w[1] < w[0], "{w:?}");
+        }
+        // A model that cannot return to its last state gets no error control.
+        let mut stuck = Relax { can_save: false, ..Relax::new(3.0) };
+        let e = drive(&mut stuck, &p, &mut |_| {}).unwrap_err();
+        assert!(format!("{e:#}").contains("return to its last state"), "{e:#}");
+    }
+
+    #[test]
+    fn a_rolling_run_becomes_equal_steps_ending_where_the_feature_stops() {
+        let scene = ehl_scene::builtin("reynolds-m20-l10-dent").unwrap();
+        let run = scene.run.as_ref().unwrap();
+        let g = scene.grid();
+        let (a, u) = (1e-4, 0.5);
+        let p = Plan::from_run(run, &g, a, u, None).unwrap();
+        // From x = −2 a to 1 a at u: 3 a / u; one step per cell of 6/128 a: 64 steps exactly.
+        let (t_end, why) = p.end.clone().unwrap();
+        assert!((t_end - 3.0 * a / u).abs() < 1e-15, "{t_end}");
+        assert!(why.contains("x = 1"), "{why}");
+        let Steps::Fixed { dt_s } = p.steps else { panic!("{:?}", p.steps) };
+        assert!((t_end / dt_s - 64.0).abs() < 1e-9, "{}", t_end / dt_s);
+        // A feature ends it: no steady rule; snapshots at the dent positions' times.
+        assert!(p.steady.is_none());
+        assert!((p.snapshot_times_s[0] - 1.0 * a / u).abs() < 1e-15);
+        // A squeeze needs a step or error control.
+        let mut sq = run.clone();
+        sq.motion = ehl_scene::Motion::Squeeze;
+        sq.stop.until_feature_at_a = None;
+        let e = Plan::from_run(&sq, &g, a, u, None).unwrap_err();
+        assert!(e.to_string().contains("run.time.dt_s"), "{e}");
+        let p = Plan::from_run(&sq, &g, a, u, Some((1e-3, 3.0))).unwrap();
+        assert!(matches!(p.steps, Steps::Controlled { dt0_s: 1e-3, order: 3.0, .. }));
+        assert!(p.steady.as_ref().is_some_and(|s| s.min_time_s == s.window_s));
+    }
 }

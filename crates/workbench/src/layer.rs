@@ -4,6 +4,7 @@ use crate::drive::{self, Plan, Step, Transient};
 use crate::model::{Centreline, ContactModel, Outcome, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use anyhow::{Context, Result};
+use ehl_core::observe::Observables;
 use ehl_core::{Grid, HertzScales, hertz};
 use ehl_layer::{
     LayerModel, LayerState, Monitor, Scheme, Snapshot, SqueezeReport, SteadyReport, Stepper,
@@ -78,6 +79,11 @@ impl Transient for LayerMarch<'_> {
     fn snapshot(&self) -> Snapshot {
         Snapshot::of(self.m, &self.state)
     }
+    fn observables(&self) -> Observables {
+        let (m, s) = (self.m, &self.state);
+        let film = s.thickness(m) + s.gap(m);
+        Observables::from_fields(&m.grid, &m.scales, &s.p, &film)
+    }
     fn save(&self) -> Option<Self::Saved> {
         Some((self.state.clone(), self.stepper.clone()))
     }
@@ -138,6 +144,9 @@ impl Outcome for LayerOutcome {
     fn time_series_csv(&self) -> Option<String> {
         LayerOutcome::time_series_csv(self)
     }
+    fn history(&self) -> Option<&[(f64, Observables)]> {
+        self.record.as_ref().map(|r| r.observed.as_slice())
+    }
     fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
         LayerOutcome::figures(self, dir, prefix)
     }
@@ -184,7 +193,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     };
     // The scene's own motion starts at t = 0.
     state.t = 0.0;
-    m.features = r.features.clone();
+    m.set_features(r.features.clone());
     m.u1 = match r.motion {
         Motion::Rolling => u_roll,
         Motion::Squeeze | Motion::None => 0.0,

@@ -77,6 +77,11 @@ pub trait Outcome: AsAny + Send + 'static {
     fn time_series_csv(&self) -> Option<String> {
         None
     }
+    /// The standard observables after every step of a run in time (time [s] from the start of
+    /// the motion), as the driver recorded them: what a comparison overlays.
+    fn history(&self) -> Option<&[(f64, Observables)]> {
+        None
+    }
     fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>;
     /// The terminal report.
     fn report(&self) -> String;

@@ -4,6 +4,7 @@ use crate::drive::{self, Step, Transient};
 use crate::model::{Centreline, ContactModel, Outcome, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use anyhow::{Context, Result, bail};
+use ehl_core::observe::Observables;
 use ehl_core::{Grid, HertzScales, hertz};
 use ehl_reynolds::formulas::{hamrock_dowson_central, nvm_central};
 use ehl_reynolds::{ReynoldsParams, ReynoldsReport, ReynoldsSolver};
@@ -49,6 +50,8 @@ pub struct TransientRecord {
     /// Dent position [a], pressure [p_h], film [a²/R].
     pub snapshots: Vec<(f64, Array2<f64>, Array2<f64>)>,
     /// Time step [s] and in units of `a/u_m`.
+    /// The standard observables after every step (time [s]).
+    pub observed: Vec<(f64, Observables)>,
     pub dt_s: f64,
     pub dt_a: f64,
     pub wall_time_s: f64,
@@ -123,6 +126,9 @@ impl Outcome for ReynoldsOutcome {
     }
     fn time_series_csv(&self) -> Option<String> {
         ReynoldsOutcome::time_series_csv(self)
+    }
+    fn history(&self) -> Option<&[(f64, Observables)]> {
+        self.transient.as_ref().map(|t| t.observed.as_slice())
     }
     fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
         ReynoldsOutcome::figures(self, dir, prefix)
@@ -282,6 +288,10 @@ impl Transient for ReynoldsMarch<'_> {
         let f = &self.solver.levels[0];
         (f.p.clone(), f.film.clone())
     }
+    fn observables(&self) -> Observables {
+        let f = &self.solver.levels[0];
+        Observables::from_fields(&f.grid, &self.solver.prm.scales, &f.p, &f.film)
+    }
 }
 
 /// Marches the scene's run from the steady solution (the driver's plan: steps per cell, the
@@ -319,6 +329,7 @@ fn run_transient(
             .map(|(t, (p, h))| (x0 + t / time_unit, p, h))
             .collect(),
         rows: rec.rows,
+        observed: rec.observed,
         dt_s,
         dt_a: dt_s / time_unit,
         wall_time_s: rec.wall_time_s,
