@@ -4,12 +4,32 @@
 //! cycles, `m20 N steps` takes time steps from the steady state (a fixed point, or a drift?).
 //! Extra arguments: omega_jd, threshold, omega_gs. Environment: GAMMA, PRE, POST, COARSEST, FMG,
 //! MAXC, FTOL (film and load tolerance) override the settings; M, L the case; SEED=1 the seed's
-//! Table 1 conditions; NARROW=1 the domain [-HALF, HALF]² (HALF = 1.25); COURANT the step.
+//! Table 1 conditions; NARROW=1 the domain [-HALF, HALF]² (HALF = 1.25); COURANT the step;
+//! H00GAIN the `H00` update's gain; PROFILE=1 (with `steps`) where the residuals are largest.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
 use ehl_core::Grid;
 use ehl_reynolds::*;
+/// The `n` points where `|f|` is largest on the finest grid: value, place, `P` and `H` there.
+fn largest(s: &ReynoldsSolver, f: &ndarray::Array2<f64>, n: usize) -> Vec<String> {
+    let (l, g) = (&s.levels[0], s.levels[0].grid);
+    let mut v: Vec<((usize, usize), f64)> = f.indexed_iter().map(|(ix, v)| (ix, *v)).collect();
+    v.sort_by(|a, b| b.1.abs().partial_cmp(&a.1.abs()).unwrap());
+    v.iter()
+        .take(n)
+        .map(|((j, i), m)| {
+            format!(
+                "{m:+.2e} at x={:.3} y={:.3} P={:.3e} H={:.4e}",
+                g.x(*i),
+                g.y(*j),
+                l.p[[*j, *i]],
+                l.film[[*j, *i]]
+            )
+        })
+        .collect()
+}
+
 fn main() {
     let n: usize = std::env::args().nth(1).map(|s| s.parse().unwrap()).unwrap_or(65);
     let envf = |k: &str, d: f64| std::env::var(k).ok().and_then(|v| v.parse().ok()).unwrap_or(d);
@@ -79,18 +99,8 @@ fn main() {
                 )
             });
             let r = s.levels[0].residual(&s.prm);
-            let g = s.levels[0].grid;
-            let mut v: Vec<((usize, usize), f64)> =
-                r.indexed_iter().map(|(ix, v)| (ix, v.abs())).collect();
-            v.sort_by(|a, b| b.1.partial_cmp(&a.1).unwrap());
-            for ((j, i), m) in v.iter().take(3) {
-                print!(
-                    " | {:.2e} at x={:.3} y={:.3} P={:.2e}",
-                    m,
-                    g.x(*i),
-                    g.y(*j),
-                    s.levels[0].p[[*j, *i]]
-                );
+            for line in largest(&s, &r, 3) {
+                print!(" | {line}");
             }
             println!();
         }
@@ -103,19 +113,8 @@ fn main() {
             let l = &s.levels[0];
             let g = l.grid;
             let r = l.residual(&s.prm);
-            let mut v: Vec<((usize, usize), f64)> =
-                r.indexed_iter().map(|(ix, v)| (ix, v.abs())).collect();
-            v.sort_by(|a, b| b.1.partial_cmp(&a.1).unwrap());
-            for ((j, i), m) in v.iter().take(5) {
-                println!(
-                    "  steady res {:.2e} at x={:.3} y={:.3} P={:.3e} H={:.3e} h00 {:.6e}",
-                    m,
-                    g.x(*i),
-                    g.y(*j),
-                    l.p[[*j, *i]],
-                    l.film[[*j, *i]],
-                    s.h00
-                );
+            for line in largest(&s, &r, 5) {
+                println!("  steady res {line} (H00 {:.6e})", s.h00);
             }
             for xq in [0.0, 0.3, 0.6, 0.9] {
                 let i = g.col_nearest(xq);
@@ -143,20 +142,8 @@ fn main() {
             println!("step {k}: {:?} films {:?}", r.map(|r| (r.converged, r.cycles)), s.films());
             if std::env::var("PROFILE").is_ok() {
                 let l = &s.levels[0];
-                let g = l.grid;
-                let res = l.residual(&s.prm);
-                let mut v: Vec<((usize, usize), f64)> =
-                    res.indexed_iter().map(|(ix, v)| (ix, v.abs())).collect();
-                v.sort_by(|a, b| b.1.partial_cmp(&a.1).unwrap());
-                for ((j, i), m) in v.iter().take(5) {
-                    println!(
-                        "   res {:.2e} at x={:.3} y={:.3} P={:.3e} H={:.3e}",
-                        m,
-                        g.x(*i),
-                        g.y(*j),
-                        l.p[[*j, *i]],
-                        l.film[[*j, *i]]
-                    );
+                for line in largest(&s, &l.residual(&s.prm), 5) {
+                    println!("   res {line}");
                 }
             }
         }
@@ -172,19 +159,8 @@ fn main() {
             let _ = s.solve(&mut |c| print!("load {:+.4e}", c.load_error));
             let d = &s.levels[0].p - &before;
             println!(" sum dP h^2 {:.3e}", d.sum() * s.levels[0].h * s.levels[0].h);
-            let g = s.levels[0].grid;
-            let mut v: Vec<((usize, usize), f64)> =
-                d.indexed_iter().map(|(ix, v)| (ix, *v)).collect();
-            v.sort_by(|a, b| b.1.abs().partial_cmp(&a.1.abs()).unwrap());
-            for ((j, i), m) in v.iter().take(6) {
-                println!(
-                    "   dP {:+.2e} at x={:.3} y={:.3} P={:.3e} H={:.4}",
-                    m,
-                    g.x(*i),
-                    g.y(*j),
-                    s.levels[0].p[[*j, *i]],
-                    s.levels[0].film[[*j, *i]]
-                );
+            for line in largest(&s, &d, 6) {
+                println!("   dP {line}");
             }
         }
         return;

@@ -180,6 +180,18 @@ impl Check<'_> {
         }
         Ok(())
     }
+    /// The first of `(refused, field, value, allowed)` that is refused, its `allowed` worded by
+    /// `say`.
+    fn first_refusal(
+        &self,
+        checks: &[(bool, &str, String, &str)],
+        say: impl Fn(&str) -> String,
+    ) -> Result<(), SceneError> {
+        match checks.iter().find(|c| c.0) {
+            Some((_, field, value, allowed)) => Err(self.err(field, value.clone(), &say(allowed))),
+            None => Ok(()),
+        }
+    }
     fn nonneg(&self, field: &str, v: f64, unit: &str) -> Result<(), SceneError> {
         if v.is_finite() && v >= 0.0 {
             Ok(())
@@ -791,26 +803,14 @@ impl Scene {
     /// steps from it while dents in the ball pass at the mean velocity.
     fn validate_reynolds_run(&self, ck: &Check, r: &RunSpec) -> Result<(), SceneError> {
         if r.method() == Method::March {
-            let why = if r.start != Some(StartState::SteadyRolling) {
-                Some(("run.start", format!("{:?}", r.start), "steady-rolling"))
-            } else if r.motion != Motion::Rolling {
-                Some(("run.motion", format!("{:?}", r.motion), "rolling"))
-            } else if r.time.dt_s.is_some() {
-                Some((
-                    "run.time.dt_s",
-                    format!("{:?}", r.time.dt_s),
-                    "absent (steps_per_cell sets the step)",
-                ))
-            } else {
-                None
-            };
-            if let Some((field, value, allowed)) = why {
-                return Err(ck.err(
-                    field,
-                    value,
-                    &format!("must be {allowed} for the Reynolds model (its march starts from its steady solve and rolls)"),
-                ));
-            }
+            ck.first_refusal(
+                &[
+                    (r.start != Some(StartState::SteadyRolling), "run.start", format!("{:?}", r.start), "steady-rolling"),
+                    (r.motion != Motion::Rolling, "run.motion", format!("{:?}", r.motion), "rolling"),
+                    (r.time.dt_s.is_some(), "run.time.dt_s", format!("{:?}", r.time.dt_s), "absent (steps_per_cell sets the step)"),
+                ],
+                |allowed| format!("must be {allowed} for the Reynolds model (its march starts from its steady solve and rolls)"),
+            )?;
         }
         for (k, f) in r.features.iter().enumerate() {
             match f {
@@ -869,30 +869,29 @@ impl Scene {
             _ => {}
         }
         if r.method() == Method::Steady {
-            let why = if r.motion != Motion::Rolling {
-                Some(("run.motion", format!("{:?}", r.motion), "must be rolling"))
-            } else if !r.features.is_empty() {
-                Some((
-                    "run.features",
-                    format!("{} feature(s)", r.features.len()),
-                    "a feature passing is not steady: none allowed",
-                ))
-            } else if !r.snapshots_s.is_empty() {
-                Some((
-                    "run.snapshots_s",
-                    format!("{:?}", r.snapshots_s),
-                    "snapshots in time need a history: none allowed",
-                ))
-            } else {
-                None
-            };
-            if let Some((field, value, allowed)) = why {
-                return Err(ck.err(
-                    field,
-                    value,
-                    &format!("{allowed} with run.method \"steady\" (use \"march\")"),
-                ));
-            }
+            ck.first_refusal(
+                &[
+                    (
+                        r.motion != Motion::Rolling,
+                        "run.motion",
+                        format!("{:?}", r.motion),
+                        "must be rolling",
+                    ),
+                    (
+                        !r.features.is_empty(),
+                        "run.features",
+                        format!("{} feature(s)", r.features.len()),
+                        "a feature passing is not steady: none allowed",
+                    ),
+                    (
+                        !r.snapshots_s.is_empty(),
+                        "run.snapshots_s",
+                        format!("{:?}", r.snapshots_s),
+                        "snapshots in time need a history: none allowed",
+                    ),
+                ],
+                |allowed| format!("{allowed} with run.method \"steady\" (use \"march\")"),
+            )?;
         }
         let sd = &r.steady;
         if !(sd.strain_tolerance.is_finite()
