@@ -851,6 +851,15 @@ impl Scene {
     /// The scenario every marching model reads (method, start, motion, features, steps, stop
     /// rule, snapshots), with features moving at the rolling velocity `u` [m/s].
     fn validate_run(&self, ck: &Check, r: &RunSpec, u: f64) -> Result<(), SceneError> {
+        Self::validate_method(ck, r, u)?;
+        Self::validate_steps(ck, r)?;
+        Self::validate_stop(ck, r, u)?;
+        Self::validate_features(ck, r)?;
+        Self::validate_snapshots(ck, r, u)
+    }
+
+    /// Method and start, the direct steady solve's settings, and the velocity rolling needs.
+    fn validate_method(ck: &Check, r: &RunSpec, u: f64) -> Result<(), SceneError> {
         match (r.method(), r.start) {
             (Method::March, None) => {
                 return Err(ck.err(
@@ -923,6 +932,11 @@ impl Scene {
                 "must be > 0 (m/s) for rolling motion or a steady-rolling start",
             ));
         }
+        Ok(())
+    }
+
+    /// Steps: per cell (rolling), a fixed step or error control (squeeze).
+    fn validate_steps(ck: &Check, r: &RunSpec) -> Result<(), SceneError> {
         let t = &r.time;
         if !(t.steps_per_cell.is_finite() && t.steps_per_cell >= 0.5 && t.steps_per_cell <= 1000.0)
         {
@@ -945,6 +959,11 @@ impl Scene {
         if t.picard > 10 {
             return Err(ck.err("run.time.picard", t.picard.to_string(), "must be 0 ..= 10"));
         }
+        Ok(())
+    }
+
+    /// Stop rules: steady tolerance and windows, a feature's end, the time limit.
+    fn validate_stop(ck: &Check, r: &RunSpec, u: f64) -> Result<(), SceneError> {
         let st = &r.stop;
         if !(st.steady_tolerance.is_finite()
             && st.steady_tolerance > 0.0
@@ -1005,6 +1024,11 @@ impl Scene {
                 ));
             }
         }
+        Ok(())
+    }
+
+    /// Features: a dent (depth in one unit) or a hole, each with a finite place.
+    fn validate_features(ck: &Check, r: &RunSpec) -> Result<(), SceneError> {
         for (k, f) in r.features.iter().enumerate() {
             match f {
                 Feature::Dent(d) => {
@@ -1058,6 +1082,11 @@ impl Scene {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// Snapshots by time, or by the first feature's position while it rolls.
+    fn validate_snapshots(ck: &Check, r: &RunSpec, u: f64) -> Result<(), SceneError> {
         for (k, &ts) in r.snapshots_s.iter().enumerate() {
             ck.nonneg(&format!("run.snapshots_s[{k}]"), ts, "s")?;
         }
