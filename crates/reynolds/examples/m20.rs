@@ -5,7 +5,7 @@
 //! Extra arguments: omega_jd, threshold, omega_gs. Environment: GAMMA, PRE, POST, COARSEST, FMG,
 //! MAXC, FTOL (film and load tolerance) override the settings; M, L the case; SEED=1 the seed's
 //! Table 1 conditions; NARROW=1 the domain [-HALF, HALF]² (HALF = 1.25); COURANT the step;
-//! H00GAIN the `H00` update's gain; PROFILE=1 (with `steps`) where the residuals are largest.
+//! STEPS how many (6); H00GAIN the `H00` update's gain; PROFILE=1 (with `steps`) where the residuals are largest.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -132,7 +132,7 @@ fn main() {
         }
         let dt = s.levels[0].h
             * std::env::var("COURANT").ok().and_then(|v| v.parse().ok()).unwrap_or(1.0);
-        for k in 1..=6 {
+        for k in 1..=std::env::var("STEPS").ok().and_then(|v| v.parse().ok()).unwrap_or(6) {
             let r = s.step(dt, &mut |c| {
                 println!(
                     "     {:>3} res {:.3e} load {:+.3e} Hc {:.6} Hmin {:.6}",

@@ -189,9 +189,15 @@ impl Level {
         let (ny, nx) = self.p.dim();
         let h = self.h;
         let m = nx - 2; // unknowns per line
-        // Wedge coefficients of a point's own change on its own equation: compare with the
-        // Poiseuille diagonal to choose the relaxation.
-        let wedge_diag = (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs() / h;
+        // Wedge coefficients of a point's own change on its own equation, and in a time step the
+        // transient term's (`a0 ρ̄ K(0, 0)`, the same elastic self-influence): compare with the
+        // Poiseuille diagonal to choose the relaxation. Without the transient term, points in
+        // the outlet constriction whose elastic coupling a time step doubles stayed Gauss–Seidel
+        // and the smoother amplified an error there from step to step (seed conditions, 257²,
+        // one step a cell: the residual grew 1.37× a step and diverged after ~50 steps; more
+        // sweeps diverged sooner).
+        let wedge_diag = (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs() / h
+            + self.time_a0 * self.k(0, 0);
         for j in 1..ny - 1 {
             let (eps_rows, rho) = self.line_coefficients(prm, j);
             let eps = eps_rows.each_ref().map(|r| r.as_slice());

@@ -614,7 +614,7 @@ impl ReynoldsOutcome {
                     t.snapshots
                         .iter()
                         .map(|(xd, p, _)| {
-                            Series::new(format!("dent at {xd} a"), line(p, 1.0), Mark::Line)
+                            Series::new(format!("dent at {xd:.3} a"), line(p, 1.0), Mark::Line)
                         })
                         .collect(),
                 ),
@@ -626,7 +626,7 @@ impl ReynoldsOutcome {
                         .iter()
                         .map(|(xd, _, h)| {
                             let pts = line(h, nm).into_iter().filter(|v| v.1 <= cap).collect();
-                            Series::new(format!("dent at {xd} a"), pts, Mark::Line)
+                            Series::new(format!("dent at {xd:.3} a"), pts, Mark::Line)
                         })
                         .collect(),
                 ),
