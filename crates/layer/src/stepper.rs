@@ -327,3 +327,19 @@ fn rms_active(a: &Array2<f64>, b: &Array2<f64>, p: &Array2<f64>) -> f64 {
     });
     if n == 0 { 0.0 } else { (s / n as f64).sqrt() }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn error_rms_counts_only_where_the_layer_is_active() {
+        // Loaded, or strained: the first two points; the third is neither and does not dilute.
+        let a = ndarray::arr2(&[[0.5, 0.2, 0.0]]);
+        let b = ndarray::arr2(&[[0.0, 0.0, 0.0]]);
+        let p = ndarray::arr2(&[[1.0, 0.0, 0.0]]);
+        let want = ((0.25 + 0.04) / 2.0f64).sqrt();
+        assert!((rms_active(&a, &b, &p) - want).abs() < 1e-15);
+        assert_eq!(rms_active(&b, &b, &b), 0.0);
+    }
+}

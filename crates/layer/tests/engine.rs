@@ -55,15 +55,21 @@ fn explicit_instability_is_diagnosed_with_place_and_step() {
     // Ten times the estimated limit.
     let dt = 10.0 * stability_estimate(&m);
     let mut err = None;
-    for _ in 0..200 {
+    let mut taken = 0;
+    for k in 1..=200 {
         if let Err(e) = st.step(&m, &mut s, dt) {
             err = Some(e);
+            taken = k;
             break;
         }
     }
     let e = err.expect("a step ten times the stability limit must fail");
     let msg = e.to_string();
-    assert!(matches!(e, LayerError::Unstable { .. }), "{msg}");
+    // The diagnosis names the step that failed, counted from the run's first.
+    assert!(
+        matches!(e, LayerError::Unstable { step, .. } if step == taken),
+        "{msg} (step {taken})"
+    );
     assert!(
         msg.contains("x =") && msg.contains("step") && msg.contains("stability limit"),
         "{msg}"
@@ -227,4 +233,23 @@ fn law_parameters_reach_the_laws() {
     let l = laws::seed_fit();
     assert!((fit.eta(0.0) / base.eta(0.0) - l.damper_constant / 5.5e5).abs() < 1e-9);
     assert!((rise(&fit) - l.damper_pressure_scale * roelands).abs() < 1e-9 * roelands);
+}
+
+#[test]
+fn a_step_reports_its_contact_solves() {
+    // Implicit: one contact solve a pass, plus one wherever the layer runs out; Picard passes
+    // add one each. Explicit (Heun): two. The counts feed the bench's cost per step.
+    let m = model(17, 0.01);
+    for (scheme, picard, least, most) in
+        [(Scheme::Implicit, 0, 1, 3), (Scheme::Implicit, 2, 3, 8), (Scheme::Explicit, 0, 2, 2)]
+    {
+        let mut s = uniform_state(&m).unwrap();
+        let mut st = Stepper::new(scheme, picard);
+        let dt = 0.5 * m.grid.dx() * m.scales.a / m.u1;
+        let info = st.step(&m, &mut s, dt).unwrap();
+        assert!(
+            (least..=most).contains(&info.solves) && info.iterations >= info.solves,
+            "{scheme:?} picard {picard}: {info:?}"
+        );
+    }
 }

@@ -497,6 +497,7 @@ const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "squeeze-after-stop",
     "dent-deep",
     "dent-shallow",
+    "dent-shallow-compare",
     "hole",
     "reynolds-m20-l10",
     "reynolds-m20-l10-dent",
