@@ -164,7 +164,7 @@ fn figures(out: &std::path::Path) -> Result<()> {
     let mut written = vec![];
     for scene in ehl_scene::builtins() {
         if scene.model.is_none() {
-            continue; // comparison scenes: Fig. 7 below
+            continue; // comparison scenes: Figs. 7 and 12 below
         }
         let outcome = ehl_workbench::run_scene(&scene)?;
         written.extend(outcome.figures(out, &format!("{}_", scene.name))?);
@@ -181,6 +181,7 @@ fn figures(out: &std::path::Path) -> Result<()> {
     }
     // Fig. 7: the seed comparison (layer, Reynolds, dry on one grid).
     written.extend(compare::fig7(out)?);
+    written.extend(compare::fig12(out)?);
     written.extend(compare::fig1(out)?);
     written.extend(convergence::dry(out, 513)?);
     written.push(layer::modulus_figure(out)?);

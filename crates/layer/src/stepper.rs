@@ -334,11 +334,12 @@ mod tests {
 
     #[test]
     fn error_rms_counts_only_where_the_layer_is_active() {
-        // Loaded, or strained: the first two points; the third is neither and does not dilute.
-        let a = ndarray::arr2(&[[0.5, 0.2, 0.0]]);
-        let b = ndarray::arr2(&[[0.0, 0.0, 0.0]]);
+        // Loaded (the first, unstrained at the new state), or strained (the second): those two;
+        // the third is neither and does not dilute.
+        let a = ndarray::arr2(&[[0.0, 0.2, 0.0]]);
+        let b = ndarray::arr2(&[[0.3, 0.0, 0.0]]);
         let p = ndarray::arr2(&[[1.0, 0.0, 0.0]]);
-        let want = ((0.25 + 0.04) / 2.0f64).sqrt();
+        let want = ((0.09 + 0.04) / 2.0f64).sqrt();
         assert!((rms_active(&a, &b, &p) - want).abs() < 1e-15);
         assert_eq!(rms_active(&b, &b, &b), 0.0);
     }
