@@ -238,7 +238,9 @@ fn law_parameters_reach_the_laws() {
 #[test]
 fn a_step_reports_its_contact_solves() {
     // Implicit: one contact solve a pass, plus one wherever the layer runs out; Picard passes
-    // add one each. Explicit (Heun): two. The counts feed the bench's cost per step.
+    // add one each. Explicit (Heun): two. The counts feed the bench's cost per step. Measured
+    // on 17² from a uniform layer: 1, 3 and 2 solves (7, 20, 16 iterations); the ranges allow
+    // the layer running out at up to two more passes, never a count gone wrong.
     let m = model(17, 0.01);
     for (scheme, picard, least, most) in
         [(Scheme::Implicit, 0, 1, 3), (Scheme::Implicit, 2, 3, 8), (Scheme::Explicit, 0, 2, 2)]

@@ -21,8 +21,9 @@ pub trait Transient {
     fn time(&self) -> f64;
     /// Advances by `dt` [s]; with `estimate_error`, the step's local error estimate too.
     fn step(&mut self, dt: f64, estimate_error: bool) -> Result<Step>;
-    /// The record after a step (`step` is what it cost; the start is recorded with the default).
-    fn row(&self, step: &Step) -> Self::Row;
+    /// The record after a step (`step` is what it cost, the start recorded with the default;
+    /// `observed` the current state's standard observables, computed once for both).
+    fn row(&self, step: &Step, observed: &Observables) -> Self::Row;
     /// The quantities of `row` the steady rule watches, each divided by its scale.
     fn monitors(&self, row: &Self::Row) -> Vec<f64>;
     fn snapshot(&self) -> Self::Snapshot;
@@ -141,13 +142,8 @@ impl Plan {
             let min_time_s = if rolling { (grid.x_max - grid.x_min) * a / u } else { window_s };
             SteadyRule { tolerance: st.steady_tolerance, window_s, min_time_s, window_text }
         });
-        let snapshot_times_s = if rolling {
-            run.snapshot_times(a, u)
-        } else {
-            let mut t = run.snapshots_s.clone();
-            t.sort_by(f64::total_cmp);
-            t
-        };
+        // Positions (`snapshots_a`) need rolling, which the scene checks make sure of.
+        let snapshot_times_s = run.snapshot_times(a, u);
         Ok(Plan { steps, end, steady, max_time_s: st.max_time_s, snapshot_times_s })
     }
 }
@@ -182,8 +178,9 @@ pub fn drive<T: Transient>(
     let clock = Instant::now();
     let t_begin = model.time();
     let elapsed = |m: &T| m.time() - t_begin;
-    let mut rows = vec![model.row(&Step::default())];
-    let mut observed = vec![(0.0, model.observables())];
+    let start = model.observables();
+    let mut rows = vec![model.row(&Step::default(), &start)];
+    let mut observed = vec![(0.0, start)];
     let mut history: Vec<(f64, Vec<f64>)> = vec![(0.0, model.monitors(&rows[0]))];
     let mut snapshots = vec![];
     let mut pending: Vec<f64> = plan.snapshot_times_s.clone();
@@ -250,11 +247,12 @@ pub fn drive<T: Transient>(
         steps += 1;
         solves += step.solves;
         iterations += step.iterations;
-        let row = model.row(&step);
+        let ob = model.observables();
+        let row = model.row(&step, &ob);
         let t = elapsed(model);
         history.push((t, model.monitors(&row)));
         rows.push(row);
-        observed.push((t, model.observables()));
+        observed.push((t, ob));
         while pending.first().is_some_and(|&ts| match plan.steps {
             Steps::Fixed { dt_s } => nearest(ts, dt_s) <= steps,
             Steps::Controlled { .. } => ts <= t + 1e-12 * t.max(1e-300),
@@ -343,7 +341,7 @@ mod tests {
             let err = estimate_error.then(|| 0.5 * (implicit - explicit).abs());
             Ok(Step { solves: 1, iterations: 1, error_estimate: err })
         }
-        fn row(&self, _: &Step) -> (f64, f64) {
+        fn row(&self, _: &Step, _: &Observables) -> (f64, f64) {
             (self.t, self.y)
         }
         fn monitors(&self, r: &(f64, f64)) -> Vec<f64> {

@@ -62,7 +62,7 @@ impl Transient for LayerMarch<'_> {
         let i = self.stepper.step(self.m, &mut self.state, dt)?;
         Ok(Step { solves: i.solves, iterations: i.iterations, error_estimate: i.error_estimate })
     }
-    fn row(&self, step: &Step) -> Monitor {
+    fn row(&self, step: &Step, _: &Observables) -> Monitor {
         Monitor::of(self.m, &self.state, step.iterations)
     }
     /// Central and minimum layer thickness per `l0`, maximum pressure per `p_h`, contact

@@ -205,20 +205,13 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
 }
 
 /// Puts the dents (depths in m) into the solver's rigid film with their centres moved by
-/// `travel` [a] from their start.
+/// `travel` [a] from their start: the layer model's dent, its depth in units of `a²/R`.
 fn set_dents(solver: &mut ReynoldsSolver, dents: &[ehl_layer::Dent], travel: f64) {
-    let delta = solver.prm.scales.delta;
-    let d: Vec<(f64, f64, f64, f64)> = dents
-        .iter()
-        .map(|d| (d.depth_m.expect("validated") / delta, d.width_a, d.x_start_a + travel, d.y_a))
-        .collect();
+    let d: Vec<ehl_layer::Dent> =
+        dents.iter().map(|d| d.resolved(solver.prm.scales.delta)).collect();
     let d = &d;
     solver.set_extra_gap(move |x: f64, y: f64| {
-        d.iter()
-            .map(|&(depth, w, xc, yc)| {
-                depth * ehl_core::grid::dent_profile((x - xc).powi(2) + (y - yc).powi(2), w)
-            })
-            .sum()
+        d.iter().map(|d| d.depth(x, y, d.x_start_a + travel)).sum()
     });
 }
 
@@ -264,16 +257,16 @@ impl Transient for ReynoldsMarch<'_> {
         self.steps += 1;
         Ok(Step { solves: 1, iterations: rep.cycles, error_estimate: None })
     }
-    fn row(&self, step: &Step) -> TransientRow {
+    fn row(&self, step: &Step, ob: &Observables) -> TransientRow {
         let (f, s) = (&self.solver.levels[0], self.solver.prm.scales);
         let (jc, ic) = self.centre;
         let t_s = self.time();
         TransientRow {
             t_s,
             dent_x_a: self.x0 + t_s / self.time_unit,
-            central_film_m: s.h_si(f.film[[jc, ic]]),
-            minimum_film_m: s.h_si(f.film.iter().cloned().fold(f64::INFINITY, f64::min)),
-            max_pressure_pa: s.p_si(f.p.iter().cloned().fold(0.0, f64::max)),
+            central_film_m: ob.central_film_m,
+            minimum_film_m: ob.minimum_film_m,
+            max_pressure_pa: ob.max_pressure_pa,
             central_pressure_pa: s.p_si(f.p[[jc, ic]]),
             h00_m: s.h_si(self.solver.h00),
             cycles: step.iterations,
