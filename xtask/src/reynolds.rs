@@ -331,16 +331,16 @@ pub fn convergence(out: &Path, max_points: usize) -> Result<Vec<PathBuf>> {
         let grids = |pick: fn(&Solve) -> f64, r: f64| -> Vec<(f64, f64)> {
             ok.iter().map(|p| (p.wall_s, (pick(p) - r).abs())).collect()
         };
-        series_c.push(Series::new(
-            format!("{name}: grids (discretisation)"),
-            grids(|p| p.central_nm, ref_c),
-            Mark::LinePoints,
-        ));
-        series_m.push(Series::new(
-            format!("{name}: grids (discretisation)"),
-            grids(|p| p.minimum_nm, ref_m),
-            Mark::LinePoints,
-        ));
+        // A curve on both charts: central film against its reference, minimum against its own.
+        let mut both = |label: String, pts: &dyn Fn(fn(&Solve) -> f64, f64) -> Vec<(f64, f64)>| {
+            series_c.push(Series::new(
+                label.clone(),
+                pts(|p| p.central_nm, ref_c),
+                Mark::LinePoints,
+            ));
+            series_m.push(Series::new(label, pts(|p| p.minimum_nm, ref_m), Mark::LinePoints));
+        };
+        both(format!("{name}: grids (discretisation)"), &grids);
         // The same grids under the discretisation-error stop rule.
         let loose: Vec<Solve> = ok
             .iter()
@@ -355,16 +355,7 @@ pub fn convergence(out: &Path, max_points: usize) -> Result<Vec<PathBuf>> {
         let pick_loose = |f: fn(&Solve) -> f64, r: f64| -> Vec<(f64, f64)> {
             loose.iter().filter(|q| q.converged).map(|q| (q.wall_s, (f(q) - r).abs())).collect()
         };
-        series_c.push(Series::new(
-            format!("{name}: grids, discretisation-error stop"),
-            pick_loose(|p| p.central_nm, ref_c),
-            Mark::LinePoints,
-        ));
-        series_m.push(Series::new(
-            format!("{name}: grids, discretisation-error stop"),
-            pick_loose(|p| p.minimum_nm, ref_m),
-            Mark::LinePoints,
-        ));
+        both(format!("{name}: grids, discretisation-error stop"), &pick_loose);
         stop_rules.push(json!({"scene": ok[0].scene, "strict": ok.iter().map(|p| json!({"n": p.n, "cycles": p.cycles, "wall_s": p.wall_s, "central_nm": p.central_nm, "minimum_nm": p.minimum_nm})).collect::<Vec<_>>(),
             "discretisation": loose.iter().map(|p| json!({"n": p.n, "converged": p.converged, "cycles": p.cycles, "wall_s": p.wall_s, "central_nm": p.central_nm, "minimum_nm": p.minimum_nm})).collect::<Vec<_>>()}));
         let below = ok[ok.len() - 2];
