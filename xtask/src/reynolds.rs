@@ -368,26 +368,17 @@ pub fn convergence(out: &Path, max_points: usize) -> Result<Vec<PathBuf>> {
                 .collect()
         };
         let (conv_c, conv_m) = (below.central_nm, below.minimum_nm);
-        series_c.push(Series::new(
-            format!("{name}: cycles on {}^2, total", below.n),
-            cyc(0, ref_c),
-            Mark::LinePoints,
-        ));
-        series_c.push(Series::new(
-            format!("{name}: cycles on {}^2, algebraic", below.n),
-            cyc(0, conv_c),
-            Mark::LinePoints,
-        ));
-        series_m.push(Series::new(
-            format!("{name}: cycles on {}^2, total", below.n),
-            cyc(1, ref_m),
-            Mark::LinePoints,
-        ));
-        series_m.push(Series::new(
-            format!("{name}: cycles on {}^2, algebraic", below.n),
-            cyc(1, conv_m),
-            Mark::LinePoints,
-        ));
+        for (k, series, r, conv) in
+            [(0, &mut series_c, ref_c, conv_c), (1, &mut series_m, ref_m, conv_m)]
+        {
+            for (what, against) in [("total", r), ("algebraic", conv)] {
+                series.push(Series::new(
+                    format!("{name}: cycles on {}^2, {what}", below.n),
+                    cyc(k, against),
+                    Mark::LinePoints,
+                ));
+            }
+        }
     }
     let png = out.join("reynolds_speed_accuracy.png");
     let panel = |title: &str, s: Vec<Series>| {
