@@ -199,4 +199,6 @@ fn main() {
         )
     });
     println!("{:?}", rep.map(|r| (r.converged, r.cycles, r.wall_time_s)));
+    let (hc, hmin) = s.films();
+    println!("films {hc:.17e} {hmin:.17e} p_sum {:.17e}", s.levels[0].p.sum());
 }

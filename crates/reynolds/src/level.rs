@@ -70,15 +70,45 @@ pub struct Level {
     laws: Array2<[f64; 3]>,
     /// The laws the cache holds values of (a level solved with other parameters starts afresh).
     laws_for: Option<(f64, Viscosity, Density)>,
+    /// `K(di, 0)` as a distributed change sees it ([`Self::kd`]), `di = 0 … 4`: what the line
+    /// Jacobian reads, tabulated once.
+    kd_line: [f64; 5],
+    /// `K(di, 0)`, `di = 0 … 4`, likewise.
+    kd_plain: [f64; 5],
+    /// One line's buffers, reused from line to line.
+    work: LineWork,
+}
+
+/// Buffers of one line's relaxation (kept so that a sweep allocates nothing).
+#[derive(Clone, Default)]
+struct LineWork {
+    /// `ε̄` on rows `j−1, j, j+1`.
+    eps: [Vec<f64>; 3],
+    /// `ρ̄` on row `j`.
+    rho: Vec<f64>,
+    /// Which unknowns change distributively.
+    dist: Vec<bool>,
+    /// Residuals of the line's equations.
+    r: Vec<f64>,
+    /// Line Jacobian (row q: columns q−2 … q+2) and a copy the elimination may destroy.
+    band: Vec<[f64; 5]>,
+    solve: Vec<[f64; 5]>,
+    /// Right-hand side in, changes `δ` out.
+    delta: Vec<f64>,
+    /// Unknowns held at `P = 0` by the complementarity passes.
+    fixed: Vec<bool>,
+    /// Pressure changes `(i, j, ΔP)`: proposed, then applied.
+    changes: Vec<(usize, usize, f64)>,
+    applied: Vec<(usize, usize, f64)>,
 }
 
 impl Level {
     pub fn new(grid: Grid) -> Self {
         assert!((grid.dx() - grid.dy()).abs() < 1e-12 * grid.dx(), "square cells required");
-        let kernel = [0, 1, 2].map(|dj| {
+        let kernel: [Vec<f64>; 3] = [0, 1, 2].map(|dj| {
             (0..grid.nx as i64 + 3).map(|di| influence_coefficient(&grid, di, dj)).collect()
         });
-        Self {
+        let mut l = Self {
             op: Deformation::new(grid),
             h: grid.dx(),
             p: grid.zeros(),
@@ -90,8 +120,14 @@ impl Level {
             history: grid.zeros(),
             laws: Array2::from_elem(grid.shape(), [f64::NAN; 3]),
             laws_for: None,
+            kd_line: [0.0; 5],
+            kd_plain: [0.0; 5],
+            work: LineWork::default(),
             grid,
-        }
+        };
+        l.kd_line = std::array::from_fn(|di| l.kd(di as i64, 0));
+        l.kd_plain = std::array::from_fn(|di| l.k(di as i64, 0));
+        l
     }
 
     #[inline]
@@ -144,10 +180,18 @@ impl Level {
         rho * h.max(0.0).powi(3) / eta_lambda
     }
 
-    /// `ε̄` and `ρ̄` on the whole grid.
+    /// `ε̄` and `ρ̄` on the whole grid (the laws from the relaxation's cache where it holds
+    /// the point's pressure: the same values, bit for bit).
     pub fn coefficients(&self, prm: &ReynoldsParams) -> (Array2<f64>, Array2<f64>) {
+        let cached = self.laws_for == Some((prm.lambda_bar, prm.viscosity, prm.density));
         let both =
-            Zip::from(&self.p).and(&self.film).par_map_collect(|&p, &h| Self::eps_rho(prm, p, h));
+            Zip::from(&self.p).and(&self.film).and(&self.laws).par_map_collect(|&p, &h, c| {
+                if cached && c[0].to_bits() == p.to_bits() {
+                    (Self::eps_of(c[2], h, c[1]), c[2])
+                } else {
+                    Self::eps_rho(prm, p, h)
+                }
+            });
         (both.mapv(|v| v.0), both.mapv(|v| v.1))
     }
 
@@ -160,8 +204,9 @@ impl Level {
             let e = rows.each_ref().map(|r| r.to_slice().expect("rows are contiguous"));
             let r = rho.row(j);
             let r = r.to_slice().expect("rows are contiguous");
+            let (p, film) = self.rows(j);
             for i in 1..nx - 1 {
-                f(j, i, self.op_line(e, r, i, j));
+                f(j, i, self.op_line(e, r, p, film, i, j));
             }
         }
     }
@@ -198,135 +243,142 @@ impl Level {
         // sweeps diverged sooner).
         let wedge_diag = (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs() / h
             + self.time_a0 * self.k(0, 0);
+        let mut w = std::mem::take(&mut self.work);
+        w.band.resize(m, [0.0; 5]);
+        w.delta.resize(m, 0.0);
         for j in 1..ny - 1 {
-            let (eps_rows, rho) = self.line_coefficients(prm, j);
-            let eps = eps_rows.each_ref().map(|r| r.as_slice());
+            self.line_coefficients(prm, j, &mut w);
+            let eps = w.eps.each_ref().map(|r| r.as_slice());
+            let rho = w.rho.as_slice();
             // Which points distribute.
-            let dist: Vec<bool> = (1..nx - 1)
-                .map(|i| 4.0 * eps[1][i] / (h * h) < s.distributive_threshold * rho[i] * wedge_diag)
-                .collect();
+            w.dist.clear();
+            w.dist.extend((1..nx - 1).map(|i| {
+                4.0 * eps[1][i] / (h * h) < s.distributive_threshold * rho[i] * wedge_diag
+            }));
             // Residuals on the line (cavitated points included: they may turn loaded).
-            let r: Vec<f64> =
-                (1..nx - 1).map(|i| self.rhs[[j, i]] - self.op_line(eps, &rho, i, j)).collect();
-            // Banded matrix: row q (point i = q+1), columns q-2..q+2.
-            let mut band = vec![[0.0f64; 5]; m];
+            w.r.clear();
+            let (p, film) = self.rows(j);
+            w.r.extend(
+                (1..nx - 1).map(|i| self.rhs[[j, i]] - self.op_line(eps, rho, p, film, i, j)),
+            );
             for q in 0..m {
-                let i = q + 1;
-                // Effect of unknown at column c (point ic) on equation at i.
-                for d in -2i64..=2 {
-                    let c = q as i64 + d;
-                    if c < 0 || c >= m as i64 {
-                        continue;
-                    }
-                    let ic = (c + 1) as usize;
-                    band[q][(d + 2) as usize] = self.dl_ddelta(eps, &rho, i, ic, dist[c as usize]);
-                }
+                w.band[q] = self.jacobian_row(eps, rho, q + 1, &w.dist);
             }
             // Complementarity on the line: points whose pressure the solve would drive negative
             // are fixed at P = 0 (their row becomes δ = −P) and the line solved again, so that
             // the others' changes account for it; clamping afterwards instead makes the
             // cavitation boundary flip from cycle to cycle.
+            let dist = &w.dist;
             let omega = |q: usize| if dist[q] { s.omega_jd } else { s.omega_gs };
-            let mut fixed = vec![false; m];
-            let mut delta = solve_banded(&mut band.clone(), r.clone());
+            let p_line = self.p.row(j);
+            let p_line = p_line.as_slice().expect("rows are contiguous");
+            w.fixed.clear();
+            w.fixed.resize(m, false);
+            w.solve.clone_from(&w.band);
+            w.delta.copy_from_slice(&w.r);
+            solve_banded(&mut w.solve, &mut w.delta);
             for _pass in 0..4 {
                 let mut grew = false;
                 for q in 0..m {
-                    if !fixed[q] && self.p[[j, q + 1]] + omega(q) * delta[q] < 0.0 {
-                        fixed[q] = true;
+                    if !w.fixed[q] && p_line[q + 1] + omega(q) * w.delta[q] < 0.0 {
+                        w.fixed[q] = true;
                         grew = true;
                     }
                 }
                 if !grew {
                     break;
                 }
-                let mut b2 = band.clone();
-                let mut r2 = r.clone();
+                w.solve.clone_from(&w.band);
+                w.delta.copy_from_slice(&w.r);
                 for q in 0..m {
-                    if fixed[q] {
-                        b2[q] = [0.0, 0.0, 1.0, 0.0, 0.0];
-                        r2[q] = -self.p[[j, q + 1]] / omega(q);
+                    if w.fixed[q] {
+                        w.solve[q] = [0.0, 0.0, 1.0, 0.0, 0.0];
+                        w.delta[q] = -p_line[q + 1] / omega(q);
                     }
                 }
-                delta = solve_banded(&mut b2, r2);
+                solve_banded(&mut w.solve, &mut w.delta);
             }
             // Apply changes (cavitation: no negative pressures).
-            let mut changes: Vec<(usize, usize, f64)> = Vec::with_capacity(3 * m);
+            w.changes.clear();
             for q in 0..m {
                 let i = q + 1;
-                let d = delta[q] * omega(q);
+                let d = w.delta[q] * omega(q);
                 if !d.is_finite() {
                     continue;
                 }
                 if dist[q] {
-                    changes.push((i, j, d));
+                    w.changes.push((i, j, d));
                     for (ii, jj) in [(i - 1, j), (i + 1, j), (i, j - 1), (i, j + 1)] {
                         if ii >= 1 && ii < nx - 1 && jj >= 1 && jj < ny - 1 {
-                            changes.push((ii, jj, -0.25 * d));
+                            w.changes.push((ii, jj, -0.25 * d));
                         }
                     }
                 } else {
-                    changes.push((i, j, d));
+                    w.changes.push((i, j, d));
                 }
             }
-            let mut applied = Vec::with_capacity(changes.len());
-            for (i, jj, d) in changes {
+            w.applied.clear();
+            for &(i, jj, d) in &w.changes {
                 let old = self.p[[jj, i]];
                 // Pressures below 1e-10 p_h are cavitation, not load: left positive they carry
                 // equations they cannot satisfy and keep the free boundary moving.
                 let new = if old + d > CAVITATION_FLOOR { old + d } else { 0.0 };
                 self.p[[jj, i]] = new;
                 if new != old {
-                    applied.push((i, jj, new - old));
+                    w.applied.push((i, jj, new - old));
                 }
             }
             // The next line sees the near-field film change of these changes at once (the full
             // film is recomputed by FFT after the sweep): within NEAR cells the kernel carries
             // what the line Jacobian needs; beyond, the change is smooth and small.
-            const NEAR: i64 = 8;
+            const NEAR: usize = 8;
             if j + 1 < ny - 1 {
-                for &(i, jj, d) in &applied {
-                    let (lo, hi) = ((i as i64 - NEAR).max(0), (i as i64 + NEAR).min(nx as i64 - 1));
+                let mut next = self.film.row_mut(j + 1);
+                let next = next.as_slice_mut().expect("rows are contiguous");
+                for &(i, jj, d) in &w.applied {
+                    let krow = &self.kernel[j + 1 - jj];
+                    let (lo, hi) = (i.saturating_sub(NEAR), (i + NEAR).min(nx - 1));
                     for ii in lo..=hi {
-                        self.film[[j + 1, ii as usize]] +=
-                            d * self.k(ii - i as i64, (j + 1) as i64 - jj as i64);
+                        next[ii] += d * krow[ii.abs_diff(i)];
                     }
                 }
             }
         }
+        self.work = w;
         self.update_film(h00);
     }
 
-    /// `ε̄` on lines `j−1, j, j+1` and `ρ̄` on line `j`, from the current pressure and film
-    /// (the laws from the cache, re-evaluated where the pressure changed: the same values
-    /// [`Self::eps_rho`] gives, bit for bit).
-    fn line_coefficients(&mut self, prm: &ReynoldsParams, j: usize) -> ([Vec<f64>; 3], Vec<f64>) {
+    /// `ε̄` on lines `j−1, j, j+1` and `ρ̄` on line `j`, from the current pressure and film,
+    /// into `w` (the laws from the cache, re-evaluated where the pressure changed: the same
+    /// values [`Self::eps_rho`] gives, bit for bit).
+    fn line_coefficients(&mut self, prm: &ReynoldsParams, j: usize, w: &mut LineWork) {
         let key = Some((prm.lambda_bar, prm.viscosity, prm.density));
         if self.laws_for != key {
             self.laws.fill([f64::NAN; 3]);
             self.laws_for = key;
         }
-        for jj in j - 1..=j + 1 {
-            for i in 0..self.grid.nx {
-                let p = self.p[[jj, i]];
-                let c = &mut self.laws[[jj, i]];
-                if c[0].to_bits() != p.to_bits() {
-                    *c = [p, prm.viscosity.eta(p) * prm.lambda_bar, prm.density.rho(p)];
+        let nx = self.grid.nx;
+        for (row, jj) in (j - 1..=j + 1).enumerate() {
+            let mut laws = self.laws.row_mut(jj);
+            let laws = laws.as_slice_mut().expect("rows are contiguous");
+            let p = self.p.row(jj);
+            let p = p.as_slice().expect("rows are contiguous");
+            let film = self.film.row(jj);
+            let film = film.as_slice().expect("rows are contiguous");
+            let eps = &mut w.eps[row];
+            eps.clear();
+            for i in 0..nx {
+                let c = &mut laws[i];
+                if c[0].to_bits() != p[i].to_bits() {
+                    *c = [p[i], prm.viscosity.eta(p[i]) * prm.lambda_bar, prm.density.rho(p[i])];
                 }
+                eps.push(Self::eps_of(c[2], film[i], c[1]));
+            }
+            if jj == j {
+                w.rho.clear();
+                w.rho.extend(laws.iter().map(|c| c[2]));
             }
         }
-        let (laws, film) = (&self.laws, &self.film);
-        let row = |jj: usize| -> Vec<(f64, f64)> {
-            (0..self.grid.nx)
-                .map(|i| {
-                    let [_, eta_lambda, rho] = laws[[jj, i]];
-                    (Self::eps_of(rho, film[[jj, i]], eta_lambda), rho)
-                })
-                .collect()
-        };
-        let centre = row(j);
-        let eps = [row(j - 1), centre.clone(), row(j + 1)].map(|r| r.iter().map(|v| v.0).collect());
-        (eps, centre.iter().map(|v| v.1).collect())
     }
 
     /// `ε̄` averaged to the half points east, west, north, south of `i` (rows `j−1, j, j+1`).
@@ -341,65 +393,95 @@ impl Level {
         )
     }
 
-    /// The discrete operator `L(P)` at `(i, j)`, given `ε̄` on rows `j−1, j, j+1` and `ρ̄` on
-    /// row `j`: the one place the discretisation is written.
-    fn op_line(&self, eps: [&[f64]; 3], rho: &[f64], i: usize, j: usize) -> f64 {
-        let (p, h) = (&self.p, self.h);
+    /// The discrete operator `L(P)` at `(i, j)`, given `ε̄` on rows `j−1, j, j+1`, `ρ̄` on row
+    /// `j`, and the rows `j−1, j, j+1` of `P` and `j` of `H`: the one place the discretisation
+    /// is written.
+    #[inline]
+    fn op_line(
+        &self,
+        eps: [&[f64]; 3],
+        rho: &[f64],
+        p: [&[f64]; 3],
+        film: &[f64],
+        i: usize,
+        j: usize,
+    ) -> f64 {
+        let h = self.h;
         let (ee, ew, en, es) = Self::half_points(eps, i);
-        let pc = p[[j, i]];
-        let a = (ee * (p[[j, i + 1]] - pc) - ew * (pc - p[[j, i - 1]]) + en * (p[[j + 1, i]] - pc)
-            - es * (pc - p[[j - 1, i]]))
+        let pc = p[1][i];
+        let a = (ee * (p[1][i + 1] - pc) - ew * (pc - p[1][i - 1]) + en * (p[2][i] - pc)
+            - es * (pc - p[0][i]))
             / (h * h);
-        let rh = |ii: usize| rho[ii] * self.film[[j, ii]];
+        let rh = |ii: usize| rho[ii] * film[ii];
         let b = if i >= 2 {
             (1.5 * rh(i) - 2.0 * rh(i - 1) + 0.5 * rh(i - 2)) / h
         } else {
             (rh(i) - rh(i - 1)) / h
         };
-        a - b - self.time_a0 * rho[i] * self.film[[j, i]] - self.history[[j, i]]
+        a - b - self.time_a0 * rho[i] * film[i] - self.history[[j, i]]
     }
 
-    /// `∂L_i/∂δ_ic` on line `j`: the change at `ic` is `+δ` there, and `−δ/4` at its neighbours
-    /// when distributive.
-    fn dl_ddelta(&self, eps: [&[f64]; 3], rho: &[f64], i: usize, ic: usize, dist: bool) -> f64 {
-        let h = self.h;
+    /// Rows `j−1, j, j+1` of `P` and row `j` of `H`, as [`Self::op_line`] reads them.
+    fn rows(&self, j: usize) -> ([&[f64]; 3], &[f64]) {
+        (
+            [row_of(&self.p, j - 1), row_of(&self.p, j), row_of(&self.p, j + 1)],
+            row_of(&self.film, j),
+        )
+    }
+
+    /// Row `i` of the line Jacobian: `∂L_i/∂δ_ic` for `ic = i−2 … i+2` on the line (zero
+    /// outside it), where the change at `ic` is `+δ` there, and `−δ/4` at its neighbours when
+    /// `dist[ic − 1]`.
+    fn jacobian_row(&self, eps: [&[f64]; 3], rho: &[f64], i: usize, dist: &[bool]) -> [f64; 5] {
+        // The smoother's approximation only (the equations are `op_line`'s): reciprocals of the
+        // spacing instead of divisions change its last digits, not the solution.
+        let (inv_h, inv_h2) = (1.0 / self.h, 1.0 / (self.h * self.h));
+        let m = dist.len();
         let (ee, ew, en, es) = Self::half_points(eps, i);
-        // Poiseuille stencil coefficient of P at (i + d, same line) in L_i.
-        let pois = |d: i64| -> f64 {
-            match d {
-                0 => -(ee + ew + en + es) / (h * h),
-                1 => ee / (h * h),
-                -1 => ew / (h * h),
-                _ => 0.0,
-            }
-        };
-        let d = ic as i64 - i as i64;
-        let mut a = pois(d);
-        if dist {
-            // Neighbours on the line at ic ± 1 each get −1/4; those off the line (ic, j ± 1)
-            // enter L_i only when ic = i, through en, es.
-            a -= 0.25 * (pois(d - 1) + pois(d + 1));
-            if d == 0 {
-                a -= 0.25 * (en + es) / (h * h);
-            }
-        }
-        // Wedge: −∂(ρH)_x/∂δ, H at (ii, j) changes by K(ii − ic, 0) (or the distributed kernel).
-        let kk = |ii: usize| -> f64 {
-            let di = ii as i64 - ic as i64;
-            if dist { self.kd(di, 0) } else { self.k(di, 0) }
-        };
-        let w = if i >= 2 {
-            (1.5 * rho[i] * kk(i) - 2.0 * rho[i - 1] * kk(i - 1) + 0.5 * rho[i - 2] * kk(i - 2)) / h
+        // Poiseuille stencil coefficients of P at i − 3 … i + 3 (same line) in L_i.
+        let pois = [0.0, 0.0, ew * inv_h2, -(ee + ew + en + es) * inv_h2, ee * inv_h2, 0.0, 0.0];
+        // Wedge: −∂(ρH)_x/∂δ; the film at the point `back` cells upstream of i changes by
+        // K(i − back − ic, 0) (or the distributed kernel).
+        let (r0, r1, r2) = if i >= 2 {
+            (1.5 * rho[i] * inv_h, -2.0 * rho[i - 1] * inv_h, 0.5 * rho[i - 2] * inv_h)
         } else {
-            (rho[i] * kk(i) - rho[i - 1] * kk(i - 1)) / h
+            (rho[i] * inv_h, -rho[i - 1] * inv_h, 0.0)
         };
-        a - w - self.time_a0 * rho[i] * kk(i)
+        let transient = self.time_a0 * rho[i];
+        let mut row = [0.0; 5];
+        for d in -2i64..=2 {
+            let ic = i as i64 + d;
+            if ic < 1 || ic > m as i64 {
+                continue;
+            }
+            let dist = dist[ic as usize - 1];
+            let c = (d + 3) as usize;
+            let (mut a, k) = (pois[c], if dist { &self.kd_line } else { &self.kd_plain });
+            if dist {
+                // Neighbours on the line at ic ± 1 each get −1/4; those off the line (ic, j ± 1)
+                // enter L_i only when ic = i, through en, es.
+                a -= 0.25 * (pois[c - 1] + pois[c + 1]);
+                if d == 0 {
+                    a -= 0.25 * (en + es) * inv_h2;
+                }
+            }
+            let kk = |back: i64| k[(d + back).unsigned_abs() as usize];
+            let w = r0 * kk(0) + r1 * kk(1) + r2 * kk(2);
+            row[(d + 2) as usize] = a - w - transient * kk(0);
+        }
+        row
     }
 }
 
+/// Row `j` of a grid array (standard layout) as a slice.
+fn row_of(a: &Array2<f64>, j: usize) -> &[f64] {
+    let n = a.ncols();
+    &a.as_slice().expect("grid arrays are in standard layout")[j * n..(j + 1) * n]
+}
+
 /// Solves the pentadiagonal system `band · x = r` (row q holds columns q−2 … q+2) by Gaussian
-/// elimination without pivoting.
-fn solve_banded(band: &mut [[f64; 5]], mut r: Vec<f64>) -> Vec<f64> {
+/// elimination without pivoting; `x` replaces `r`.
+fn solve_banded(band: &mut [[f64; 5]], r: &mut [f64]) {
     let m = band.len();
     // Full banded elimination with lower bandwidth 2, upper bandwidth 2 (fill-in stays inside).
     for q in 0..m {
@@ -424,17 +506,15 @@ fn solve_banded(band: &mut [[f64; 5]], mut r: Vec<f64>) -> Vec<f64> {
             r[row] -= f * r[q];
         }
     }
-    let mut x = vec![0.0; m];
     for q in (0..m).rev() {
         let mut s = r[q];
         for col in 1..=2 {
             if q + col < m {
-                s -= band[q][2 + col] * x[q + col];
+                s -= band[q][2 + col] * r[q + col];
             }
         }
-        x[q] = if band[q][2] != 0.0 { s / band[q][2] } else { 0.0 };
+        r[q] = if band[q][2] != 0.0 { s / band[q][2] } else { 0.0 };
     }
-    x
 }
 
 #[cfg(test)]
@@ -468,15 +548,16 @@ mod tests {
         let fresh = |l: &Level, prm: &ReynoldsParams, j: usize| -> (Vec<f64>, Vec<f64>) {
             (0..17).map(|i| Level::eps_rho(prm, l.p[[j, i]], l.film[[j, i]])).unzip()
         };
-        let (e, r) = l.line_coefficients(&roelands, 8);
-        assert_eq!((e[1].clone(), r), fresh(&l, &roelands, 8));
+        let mut w = LineWork::default();
+        l.line_coefficients(&roelands, 8, &mut w);
+        assert_eq!((w.eps[1].clone(), w.rho.clone()), fresh(&l, &roelands, 8));
         l.p[[8, 5]] *= 1.5;
         l.p[[9, 6]] = 0.0;
-        let (e, r) = l.line_coefficients(&roelands, 8);
-        assert_eq!((e[1].clone(), r), fresh(&l, &roelands, 8));
-        assert_eq!(e[2], fresh(&l, &roelands, 9).0);
-        let (e, r) = l.line_coefficients(&barus, 8);
-        assert_eq!((e[1].clone(), r), fresh(&l, &barus, 8));
+        l.line_coefficients(&roelands, 8, &mut w);
+        assert_eq!((w.eps[1].clone(), w.rho.clone()), fresh(&l, &roelands, 8));
+        assert_eq!(w.eps[2], fresh(&l, &roelands, 9).0);
+        l.line_coefficients(&barus, 8, &mut w);
+        assert_eq!((w.eps[1].clone(), w.rho.clone()), fresh(&l, &barus, 8));
     }
 
     #[test]
@@ -500,7 +581,8 @@ mod tests {
         }
         let x_true: Vec<f64> = (0..m).map(|k| (k as f64).sin() + 1.0).collect();
         let r: Vec<f64> = (0..m).map(|q| (0..m).map(|c| dense[q][c] * x_true[c]).sum()).collect();
-        let x = solve_banded(&mut band, r);
+        let mut x = r;
+        solve_banded(&mut band, &mut x);
         for k in 0..m {
             assert!((x[k] - x_true[k]).abs() < 1e-12);
         }
