@@ -111,8 +111,41 @@ fn sequence(solver: &DrySolver, gaps: &[Array2<f64>], load: f64, extrap: bool) -
     (time / steps, its as f64 / steps)
 }
 
-pub fn run(out: &Path, max: usize) -> Result<()> {
+/// One part of the benchmark.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Part {
+    Contact,
+    Layer,
+    Reynolds,
+}
+
+pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
     std::fs::create_dir_all(out)?;
+    let wanted = |p: Part| only.is_none_or(|o| o == p);
+    if wanted(Part::Contact) {
+        contact(out, max)?;
+    }
+    if wanted(Part::Layer) {
+        let layer = crate::layer::bench(max)?;
+        let f = out.join("bench_layer.json");
+        std::fs::write(&f, serde_json::to_string_pretty(&layer)? + "\n")?;
+        println!("wrote {}", f.display());
+        let steady = crate::layer::bench_steady(max)?;
+        let f = out.join("bench_layer_steady.json");
+        std::fs::write(&f, serde_json::to_string_pretty(&steady)? + "\n")?;
+        println!("wrote {}", f.display());
+    }
+    if wanted(Part::Reynolds) {
+        let reynolds = crate::reynolds::bench(max)?;
+        let f = out.join("bench_reynolds.json");
+        std::fs::write(&f, serde_json::to_string_pretty(&reynolds)? + "\n")?;
+        println!("wrote {}", f.display());
+    }
+    Ok(())
+}
+
+/// The deformation operator and the dry solver.
+fn contact(out: &Path, max: usize) -> Result<()> {
     println!("Contact core benchmark (median wall times; N = n^2 points; tolerance 1e-8)");
     println!(
         "{:>5} {:>3} {:>9} {:>10} {:>14} {:>10} {:>5} {:>10} {:>6} {:>11} {:>6}  nested start (n, its)",
@@ -167,18 +200,6 @@ pub fn run(out: &Path, max: usize) -> Result<()> {
         .collect();
     let f = out.join("bench_contact.json");
     std::fs::write(&f, serde_json::to_string_pretty(&json)? + "\n")?;
-    println!("wrote {}", f.display());
-    let layer = crate::layer::bench(max)?;
-    let f = out.join("bench_layer.json");
-    std::fs::write(&f, serde_json::to_string_pretty(&layer)? + "\n")?;
-    println!("wrote {}", f.display());
-    let steady = crate::layer::bench_steady(max)?;
-    let f = out.join("bench_layer_steady.json");
-    std::fs::write(&f, serde_json::to_string_pretty(&steady)? + "\n")?;
-    println!("wrote {}", f.display());
-    let reynolds = crate::reynolds::bench(max)?;
-    let f = out.join("bench_reynolds.json");
-    std::fs::write(&f, serde_json::to_string_pretty(&reynolds)? + "\n")?;
     println!("wrote {}", f.display());
     Ok(())
 }

@@ -80,13 +80,17 @@ enum Command {
         #[arg(long, default_value_t = 129)]
         check_points: usize,
     },
-    /// Time the deformation operator and the dry solver, 65² … 513².
+    /// Time the deformation operator, the dry solver, the layer model and the Reynolds solver,
+    /// 65² … 513².
     Bench {
         #[arg(long, default_value = "out/bench")]
         out: PathBuf,
         /// Finest grid, points per side.
         #[arg(long, default_value_t = 513)]
         max_points: usize,
+        /// Time only this part (all when absent).
+        #[arg(long, value_enum)]
+        only: Option<bench::Part>,
     },
     /// The sweep's cluster path against a real SLURM: a one-node cluster on localhost (installed
     /// with apt-get when missing; root), a 4-point sweep as an array of 2, merged, compared with
@@ -140,7 +144,7 @@ fn main() -> Result<()> {
                 Err(_) => scene_study::run(&study, &grids, &out).map(|_| ()),
             }
         }
-        Command::Bench { out, max_points } => bench::run(&out, max_points),
+        Command::Bench { out, max_points, only } => bench::run(&out, max_points, only),
         Command::Identify { out, points, squeeze_points, check_points } => {
             identify::run(&out, points, squeeze_points, check_points)
         }

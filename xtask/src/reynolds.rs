@@ -460,26 +460,44 @@ pub fn convergence(out: &Path, max_points: usize) -> Result<Vec<PathBuf>> {
 
 /// `cargo xtask bench`, Reynolds part: each built-in steady scene from Hertz to converged,
 /// 65² … `max` (the seed's from 257²: coarser grids cannot hold its film), with the time per
-/// finest-grid W-cycle.
+/// finest-grid W-cycle, on one thread and on two (the speed-up printed; the answers must agree
+/// to the last digit: the sweep order does not depend on the thread count).
 pub fn bench(max: usize) -> Result<Value> {
     println!("Reynolds solves (from Hertz, full-multigrid start, to the issue's criteria):");
     let mut rows = vec![];
     for name in ["reynolds-m20-l10", "reynolds-seed"] {
         for n in crate::grid_sizes(max).into_iter().filter(|&n| name != "reynolds-seed" || n >= 257)
         {
-            let r = solve_scene(name, n)?;
-            let fine = r.per_cycle.len().max(1);
-            let first_fine = r.per_cycle.first().map_or(0.0, |c| c.0);
-            let per_cycle = (r.wall_s - first_fine) / (fine.saturating_sub(1).max(1)) as f64;
-            println!(
-                "        per finest W-cycle {:.3} s ({} of {} cycles on {}^2)",
-                per_cycle, fine, r.cycles, n
+            let mut by_threads = vec![];
+            for threads in [1, 2] {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+                print!("  {threads} thread{}", if threads > 1 { "s" } else { " " });
+                let r = pool.install(|| solve_scene(name, n))?;
+                let fine = r.per_cycle.len().max(1);
+                let first_fine = r.per_cycle.first().map_or(0.0, |c| c.0);
+                let per_cycle = (r.wall_s - first_fine) / (fine.saturating_sub(1).max(1)) as f64;
+                println!(
+                    "        per finest W-cycle {:.3} s ({} of {} cycles on {}^2)",
+                    per_cycle, fine, r.cycles, n
+                );
+                rows.push(json!({"scene": name, "n": n, "threads": threads,
+                    "converged": r.converged, "cycles": r.cycles, "finest_cycles": fine,
+                    "wall_s": r.wall_s, "per_finest_cycle_s": per_cycle,
+                    "central_nm": r.central_nm, "minimum_nm": r.minimum_nm}));
+                by_threads.push(r);
+            }
+            let (one, two) = (&by_threads[0], &by_threads[1]);
+            anyhow::ensure!(
+                one.central_nm == two.central_nm && one.minimum_nm == two.minimum_nm,
+                "{name} on {n}^2: the thread count changed the answer ({} / {} nm)",
+                one.central_nm,
+                two.central_nm
             );
-            rows.push(json!({"scene": name, "n": n, "converged": r.converged, "cycles": r.cycles,
-                "finest_cycles": fine, "wall_s": r.wall_s, "per_finest_cycle_s": per_cycle,
-                "central_nm": r.central_nm, "minimum_nm": r.minimum_nm}));
+            println!("        2 threads: {:.2}x faster, same answer", one.wall_s / two.wall_s);
         }
     }
-    println!("Targets: M = 20, L = 10 on 257^2 <= 1 s, 513^2 <= 4 s; seed conditions 257^2 <= 5 s");
+    println!(
+        "Targets: M = 20, L = 10 single thread 257^2 <= 0.4 s, 513^2 <= 1.5 s; 2 threads >= 1.5x"
+    );
     Ok(json!(rows))
 }

@@ -107,9 +107,9 @@ fn seed_regime_failure_on_a_coarse_grid_is_a_closed_film_at_the_outlet() {
 
 #[test]
 fn over_relaxation_stalls_and_says_so() {
-    // Gauss–Seidel over-relaxed (1.2): the residual stops falling (measured: stalled at cycle 45
-    // with the force balance off by 1.5e-2). The stall rule, not the cycle limit, ends it.
-    let relax = RelaxSettings { omega_gs: 1.2, omega_jd: 1.2, ..Default::default() };
+    // Over-relaxed (1.15): the residual stops falling (measured: stalled at cycle 51; 1.1 still
+    // converges in 49 cycles, 1.2 overflows). The stall rule, not the cycle limit, ends it.
+    let relax = RelaxSettings { omega_gs: 1.15, omega_jd: 1.15, ..Default::default() };
     let d = failure(common::m20(), 65, ReynoldsSettings { relax, ..Default::default() });
     assert_eq!(d.kind, FailureKind::Stalled, "{d}");
     assert!(d.cycle < 200 && d.at.is_none(), "{d:?}");
@@ -124,16 +124,16 @@ fn cycle_limit_is_not_called_a_stall() {
 
 #[test]
 fn divergences_name_the_quantity_and_place() {
-    // An H00 gain 100x the default overshoots the force balance: the pressure grows by orders
-    // of magnitude (measured at cycle 9) and is stopped before it is infinite.
+    // An H00 gain 33x the default overshoots the force balance: the pressure grows by orders
+    // of magnitude (measured at cycle 14, 1.3e30 p_h) and is stopped before it is infinite.
     let (cycle, kind, at) =
-        divergence(common::m20(), 65, ReynoldsSettings { h00_gain: 30.0, ..Default::default() });
+        divergence(common::m20(), 65, ReynoldsSettings { h00_gain: 10.0, ..Default::default() });
     assert_eq!(kind, Divergence::Runaway);
     assert!(cycle < 20 && at.0.abs() <= 4.5 && at.1.abs() <= 3.0, "{cycle} {at:?}");
-    // Over-relaxed by 1.6 the pressure overflows to non-finite values (measured at cycle 9).
-    let relax = RelaxSettings { omega_gs: 1.6, omega_jd: 1.6, ..Default::default() };
+    // At 100x the pressure jumps within one cycle from finite to overflow (measured at cycle
+    // 11): that is a non-finite residual, not a runaway.
     let (_, kind, _) =
-        divergence(common::m20(), 65, ReynoldsSettings { relax, ..Default::default() });
+        divergence(common::m20(), 65, ReynoldsSettings { h00_gain: 30.0, ..Default::default() });
     assert!(
         matches!(kind, Divergence::NonFiniteResidual | Divergence::NonFinitePressure),
         "{kind:?}"
