@@ -219,7 +219,7 @@ impl Deformation {
         let norm = 1.0 / (mx * my) as f64;
 
         // A: real FFT of each (zero-padded) row of the input.
-        rows.par_chunks_mut(kx).enumerate().for_each_init(
+        rows.par_chunks_mut(kx).with_min_len(crate::par_min_len(mx)).enumerate().for_each_init(
             || (vec![0.0; mx], self.r2c.make_scratch_vec()),
             |(line, scratch), (j, spec)| {
                 line[..nx].iter_mut().zip(input.row(j)).for_each(|(l, &v)| *l = v);
@@ -232,7 +232,8 @@ impl Deformation {
         // each row (whole cache lines) instead of one value a row (measured: the strided gathers
         // of B and C were 18 % of a 513² steady layer solve).
         let rows_ref = &rows;
-        cols.par_chunks_mut(my * TILE).enumerate().for_each_init(
+        let min_blocks = crate::par_min_len(my * TILE);
+        cols.par_chunks_mut(my * TILE).with_min_len(min_blocks).enumerate().for_each_init(
             || vec![Complex::new(0.0, 0.0); self.fft_y.get_inplace_scratch_len()],
             |scratch, (b, block)| {
                 let k0 = b * TILE;
@@ -263,35 +264,40 @@ impl Deformation {
         // C: per output row: gather the spectrum, inverse real FFT, keep the first nx values;
         // rows in blocks of `TILE` for the same reason.
         let cols_ref = &cols;
-        out.axis_chunks_iter_mut(ndarray::Axis(0), TILE).into_par_iter().enumerate().for_each_init(
-            || {
-                (
-                    vec![Complex::new(0.0, 0.0); kx * TILE],
-                    vec![0.0; mx],
-                    self.c2r.make_scratch_vec(),
-                )
-            },
-            |(spec, line, scratch), (b, mut out_rows)| {
-                let j0 = b * TILE;
-                let height = out_rows.nrows();
-                for k in 0..kx {
-                    let src = &cols_ref[k * my + j0..k * my + j0 + height];
-                    for (t, &v) in src.iter().enumerate() {
-                        spec[t * kx + k] = v;
+        let min_blocks = crate::par_min_len(mx * TILE);
+        out.axis_chunks_iter_mut(ndarray::Axis(0), TILE)
+            .into_par_iter()
+            .with_min_len(min_blocks)
+            .enumerate()
+            .for_each_init(
+                || {
+                    (
+                        vec![Complex::new(0.0, 0.0); kx * TILE],
+                        vec![0.0; mx],
+                        self.c2r.make_scratch_vec(),
+                    )
+                },
+                |(spec, line, scratch), (b, mut out_rows)| {
+                    let j0 = b * TILE;
+                    let height = out_rows.nrows();
+                    for k in 0..kx {
+                        let src = &cols_ref[k * my + j0..k * my + j0 + height];
+                        for (t, &v) in src.iter().enumerate() {
+                            spec[t * kx + k] = v;
+                        }
                     }
-                }
-                for (t, mut out_row) in out_rows.axis_iter_mut(ndarray::Axis(0)).enumerate() {
-                    let spec = &mut spec[t * kx..(t + 1) * kx];
-                    // The result is real: the imaginary parts at 0 and Nyquist are rounding noise.
-                    spec[0].im = 0.0;
-                    if mx % 2 == 0 {
-                        spec[kx - 1].im = 0.0;
+                    for (t, mut out_row) in out_rows.axis_iter_mut(ndarray::Axis(0)).enumerate() {
+                        let spec = &mut spec[t * kx..(t + 1) * kx];
+                        // The result is real: the imaginary parts at 0 and Nyquist are rounding noise.
+                        spec[0].im = 0.0;
+                        if mx % 2 == 0 {
+                            spec[kx - 1].im = 0.0;
+                        }
+                        self.c2r.process_with_scratch(spec, line, scratch).unwrap();
+                        out_row.iter_mut().zip(&line[..nx]).for_each(|(o, &l)| *o = l);
                     }
-                    self.c2r.process_with_scratch(spec, line, scratch).unwrap();
-                    out_row.iter_mut().zip(&line[..nx]).for_each(|(o, &l)| *o = l);
-                }
-            },
-        );
+                },
+            );
         self.buffers.lock().unwrap().push((rows, cols));
     }
 

@@ -199,7 +199,8 @@ struct LineWork {
     /// Line Jacobian (row q: columns q−2 … q+2) and a copy the elimination may destroy.
     band: Vec<[f64; 5]>,
     solve: Vec<[f64; 5]>,
-    /// Right-hand side in, changes `δ` out.
+    /// The right-hand side as elimination leaves it, and the changes `δ`.
+    rhs: Vec<f64>,
     delta: Vec<f64>,
     /// Unknowns held at `P = 0` by the complementarity passes.
     fixed: Vec<bool>,
@@ -269,7 +270,7 @@ impl Level {
     /// `H = H00 + X²/2 + Y²/2 + W[P]`.
     pub fn update_film(&mut self, h00: f64) {
         self.op.apply(self.p.view(), self.film.view_mut());
-        Zip::from(&mut self.film).and(&self.shape).par_for_each(|f, &s| *f += s + h00);
+        Zip::from(&mut self.film).and(&self.shape).for_each(|f, &s| *f += s + h00);
     }
 
     /// `(ε̄, ρ̄)` at pressure `p` and film `h`: `ε̄ = ρ̄ H³ / (η̄ λ̄)` with `H ≥ 0`.
@@ -289,14 +290,19 @@ impl Level {
     /// the point's pressure: the same values, bit for bit).
     pub fn coefficients(&self, prm: &ReynoldsParams) -> (Array2<f64>, Array2<f64>) {
         let cached = self.laws_for == Some((prm.lambda_bar, prm.viscosity, prm.density));
-        let both =
-            Zip::from(&self.p).and(&self.film).and(&self.laws).par_map_collect(|&p, &h, c| {
-                if cached && c[0].to_bits() == p.to_bits() {
-                    (Self::eps_of(c[2], h, c[1]), c[2])
-                } else {
-                    Self::eps_rho(prm, p, h)
-                }
-            });
+        let at = |&p: &f64, &h: &f64, c: &[f64; 3]| {
+            if cached && c[0].to_bits() == p.to_bits() {
+                (Self::eps_of(c[2], h, c[1]), c[2])
+            } else {
+                Self::eps_rho(prm, p, h)
+            }
+        };
+        let zip = Zip::from(&self.p).and(&self.film).and(&self.laws);
+        let both = if self.p.len() >= 2 * ehl_core::PAR_MIN_WORK {
+            zip.par_map_collect(at)
+        } else {
+            zip.map_collect(at)
+        };
         (both.mapv(|v| v.0), both.mapv(|v| v.1))
     }
 
@@ -309,7 +315,8 @@ impl Level {
         let (eps, rho) = self.coefficients(prm);
         let (ny, nx) = self.p.dim();
         let mut out = self.grid.zeros();
-        out.axis_iter_mut(ndarray::Axis(0)).into_par_iter().enumerate().for_each(|(j, mut row)| {
+        let rows = out.axis_iter_mut(ndarray::Axis(0)).into_par_iter();
+        rows.with_min_len(ehl_core::par_min_len(nx)).enumerate().for_each(|(j, mut row)| {
             if j == 0 || j == ny - 1 {
                 return;
             }
@@ -371,18 +378,23 @@ impl Level {
                 Rows { ghost: Some(ghost), ..Rows::from_slices(0, nx, p_lo, f_lo, l_lo) };
             let mut above = Rows::from_slices(mid, nx, p_hi, f_hi, l_hi);
             let [w_lo, w_hi] = &mut work;
-            rayon::join(
-                || {
-                    for j in mid + 1..ny - 1 {
-                        this.relax_line(prm, s, &mut above, j, &[j + 1], w_hi);
-                    }
-                },
-                || {
-                    for j in (1..mid).rev() {
-                        this.relax_line(prm, s, &mut below, j, &[j - 1], w_lo);
-                    }
-                },
-            );
+            let mut upper = || {
+                for j in mid + 1..ny - 1 {
+                    this.relax_line(prm, s, &mut above, j, &[j + 1], w_hi);
+                }
+            };
+            let mut lower = || {
+                for j in (1..mid).rev() {
+                    this.relax_line(prm, s, &mut below, j, &[j - 1], w_lo);
+                }
+            };
+            // A coarse grid's half is less work than handing it to another thread.
+            if ny * nx >= 2 * ehl_core::PAR_MIN_WORK {
+                rayon::join(upper, lower);
+            } else {
+                upper();
+                lower();
+            }
             let deferred = below.ghost.take().map(|g| g.deferred).unwrap_or_default();
             for (i, d) in deferred {
                 above.add_p(i, mid, d);
@@ -458,28 +470,30 @@ impl Level {
         w.fixed.clear();
         w.fixed.resize(m, false);
         w.solve.clone_from(&w.band);
-        w.delta.copy_from_slice(&w.r);
-        solve_banded(&mut w.solve, &mut w.delta);
+        w.rhs.clone_from(&w.r);
+        eliminate_banded(&mut w.solve, &mut w.rhs, 0);
+        back_substitute_banded(&w.solve, &w.rhs, &mut w.delta);
         for _pass in 0..4 {
-            let mut grew = false;
+            // The rows before the first newly fixed one eliminate as they did in the last
+            // pass: the elimination resumes there (the same operations, the same numbers).
+            let mut first = None;
             for q in 0..m {
                 if !w.fixed[q] && p_line[q + 1] + omega(q) * w.delta[q] < 0.0 {
                     w.fixed[q] = true;
-                    grew = true;
+                    first.get_or_insert(q);
                 }
             }
-            if !grew {
-                break;
-            }
-            w.solve.clone_from(&w.band);
-            w.delta.copy_from_slice(&w.r);
-            for q in 0..m {
+            let Some(first) = first else { break };
+            w.solve[first..].copy_from_slice(&w.band[first..]);
+            w.rhs[first..].copy_from_slice(&w.r[first..]);
+            for q in first..m {
                 if w.fixed[q] {
                     w.solve[q] = [0.0, 0.0, 1.0, 0.0, 0.0];
-                    w.delta[q] = -p_line[q + 1] / omega(q);
+                    w.rhs[q] = -p_line[q + 1] / omega(q);
                 }
             }
-            solve_banded(&mut w.solve, &mut w.delta);
+            eliminate_banded(&mut w.solve, &mut w.rhs, first);
+            back_substitute_banded(&w.solve, &w.rhs, &mut w.delta);
         }
         // Apply changes (cavitation: no negative pressures).
         w.applied.clear();
@@ -641,12 +655,14 @@ fn row_of(a: &Array2<f64>, j: usize) -> &[f64] {
     &a.as_slice().expect("grid arrays are in standard layout")[j * n..(j + 1) * n]
 }
 
-/// Solves the pentadiagonal system `band · x = r` (row q holds columns q−2 … q+2) by Gaussian
-/// elimination without pivoting; `x` replaces `r`.
-fn solve_banded(band: &mut [[f64; 5]], r: &mut [f64]) {
+/// Forward elimination (no pivoting) of the pentadiagonal system `band · x = r` (row q holds
+/// columns q−2 … q+2), in place, for rows `from` on: rows before `from` must hold their
+/// eliminated state already, rows from `from` on their original one.
+fn eliminate_banded(band: &mut [[f64; 5]], r: &mut [f64], from: usize) {
     let m = band.len();
-    // Full banded elimination with lower bandwidth 2, upper bandwidth 2 (fill-in stays inside).
-    for q in 0..m {
+    // Lower bandwidth 2, upper bandwidth 2: fill-in stays inside the band. Pivots `from − 2`
+    // and `from − 1` still act on rows `from`, `from + 1`.
+    for q in from.saturating_sub(2)..m {
         let piv = band[q][2];
         if piv == 0.0 || !piv.is_finite() {
             continue;
@@ -655,6 +671,9 @@ fn solve_banded(band: &mut [[f64; 5]], r: &mut [f64]) {
             let row = q + below;
             if row >= m {
                 break;
+            }
+            if row < from {
+                continue;
             }
             let f = band[row][2 - below] / piv;
             if f == 0.0 {
@@ -668,14 +687,19 @@ fn solve_banded(band: &mut [[f64; 5]], r: &mut [f64]) {
             r[row] -= f * r[q];
         }
     }
+}
+
+/// Back substitution of an eliminated pentadiagonal system into `x`.
+fn back_substitute_banded(band: &[[f64; 5]], r: &[f64], x: &mut [f64]) {
+    let m = band.len();
     for q in (0..m).rev() {
         let mut s = r[q];
         for col in 1..=2 {
             if q + col < m {
-                s -= band[q][2 + col] * r[q + col];
+                s -= band[q][2 + col] * x[q + col];
             }
         }
-        r[q] = if band[q][2] != 0.0 { s / band[q][2] } else { 0.0 };
+        x[q] = if band[q][2] != 0.0 { s / band[q][2] } else { 0.0 };
     }
 }
 
@@ -777,8 +801,24 @@ mod tests {
         }
         let x_true: Vec<f64> = (0..m).map(|k| (k as f64).sin() + 1.0).collect();
         let r: Vec<f64> = (0..m).map(|q| (0..m).map(|c| dense[q][c] * x_true[c]).sum()).collect();
-        let mut x = r;
-        solve_banded(&mut band, &mut x);
+        let original = band.clone();
+        let (mut r, mut x) = (r, vec![0.0; m]);
+        eliminate_banded(&mut band, &mut r, 0);
+        back_substitute_banded(&band, &r, &mut x);
+        // Rows from 4 on replaced (row 4 by the identity, as a fixed point's) and the
+        // elimination resumed there: the same numbers as eliminating the new system afresh.
+        let mut changed = original.clone();
+        changed[4] = [0.0, 0.0, 1.0, 0.0, 0.0];
+        let r2: Vec<f64> = (0..m).map(|q| if q == 4 { -0.5 } else { q as f64 + 1.0 }).collect();
+        let (mut fresh, mut fresh_r) = (changed.clone(), r2.clone());
+        eliminate_banded(&mut fresh, &mut fresh_r, 0);
+        let mut resumed = original.clone();
+        let mut resumed_r: Vec<f64> = (0..m).map(|q| q as f64 + 1.0).collect();
+        eliminate_banded(&mut resumed, &mut resumed_r, 0);
+        resumed[4..].copy_from_slice(&changed[4..]);
+        resumed_r[4..].copy_from_slice(&r2[4..]);
+        eliminate_banded(&mut resumed, &mut resumed_r, 4);
+        assert_eq!((resumed, resumed_r), (fresh, fresh_r));
         for k in 0..m {
             assert!((x[k] - x_true[k]).abs() < 1e-12);
         }
