@@ -216,6 +216,21 @@ fn solve_scene(name: &str, n: usize) -> Result<Solve> {
 }
 
 fn solve_scene_with(name: &str, n: usize, stop: ehl_reynolds::StopRule) -> Result<Solve> {
+    let (r, diagnosis) = solve_scene_report(name, n, stop)?;
+    print_solve(&r, diagnosis);
+    Ok(r)
+}
+
+/// [`solve_scene`] without the line it prints.
+fn solve_scene_quiet(name: &str, n: usize) -> Result<Solve> {
+    Ok(solve_scene_report(name, n, ehl_reynolds::StopRule::Strict)?.0)
+}
+
+fn solve_scene_report(
+    name: &str,
+    n: usize,
+    stop: ehl_reynolds::StopRule,
+) -> Result<(Solve, Option<ehl_reynolds::Diagnosis>)> {
     let mut scene = ehl_scene::builtin(name)?.with_points(n)?;
     scene.reynolds.as_mut().expect("a Reynolds scene").solver.stop = stop;
     let (prm, mut s) = ehl_workbench::reynolds::build_solver(&scene);
@@ -240,6 +255,10 @@ fn solve_scene_with(name: &str, n: usize, stop: ehl_reynolds::StopRule) -> Resul
         max_pressure_ph: pmax,
         per_cycle,
     };
+    Ok((r, rep.diagnosis))
+}
+
+fn print_solve(r: &Solve, diagnosis: Option<ehl_reynolds::Diagnosis>) {
     println!(
         "  {:<18} {:>5} {:>6} {:>4} cycles {:>8.3} s  h_c {:>10.4} nm  h_min {:>10.4} nm  p_max {:.4} p_h{}",
         r.scene,
@@ -250,9 +269,8 @@ fn solve_scene_with(name: &str, n: usize, stop: ehl_reynolds::StopRule) -> Resul
         r.central_nm,
         r.minimum_nm,
         r.max_pressure_ph,
-        rep.diagnosis.map(|d| format!("  ({d})")).unwrap_or_default()
+        diagnosis.map(|d| format!("  ({d})")).unwrap_or_default()
     );
-    Ok(r)
 }
 
 /// `cargo xtask convergence reynolds`: grid studies of the two built-in Reynolds scenes with
@@ -468,23 +486,40 @@ pub fn bench(max: usize) -> Result<Value> {
     for name in ["reynolds-m20-l10", "reynolds-seed"] {
         for n in crate::grid_sizes(max).into_iter().filter(|&n| name != "reynolds-seed" || n >= 257)
         {
-            let mut by_threads = vec![];
-            for threads in [1, 2] {
-                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
-                print!("  {threads} thread{}", if threads > 1 { "s" } else { " " });
-                let r = pool.install(|| solve_scene(name, n))?;
+            // Wall times on this shared machine vary by ±30 % from run to run: each solve
+            // three times, one and two threads interleaved, the fastest of each kept.
+            let pools = [1, 2].map(|t| rayon::ThreadPoolBuilder::new().num_threads(t).build());
+            let mut by_threads: Vec<Solve> = vec![];
+            let mut walls = [vec![], vec![]];
+            for _rep in 0..3 {
+                for (k, pool) in pools.iter().enumerate() {
+                    let pool = pool.as_ref().map_err(|e| anyhow::anyhow!("{e}"))?;
+                    let r = pool.install(|| solve_scene_quiet(name, n))?;
+                    walls[k].push(r.wall_s);
+                    match by_threads.get_mut(k) {
+                        Some(best) if best.wall_s <= r.wall_s => {}
+                        Some(best) => *best = r,
+                        None => by_threads.push(r),
+                    }
+                }
+            }
+            for (k, r) in by_threads.iter().enumerate() {
+                let threads = k + 1;
                 let fine = r.per_cycle.len().max(1);
                 let first_fine = r.per_cycle.first().map_or(0.0, |c| c.0);
                 let per_cycle = (r.wall_s - first_fine) / (fine.saturating_sub(1).max(1)) as f64;
+                let mut w = walls[k].clone();
+                w.sort_by(f64::total_cmp);
+                print!("  {threads} thread{}", if threads > 1 { "s" } else { " " });
+                print_solve(r, None);
                 println!(
-                    "        per finest W-cycle {:.3} s ({} of {} cycles on {}^2)",
-                    per_cycle, fine, r.cycles, n
+                    "        fastest of 3 (median {:.3} s); per finest W-cycle {:.3} s ({} of {} cycles on {}^2)",
+                    w[1], per_cycle, fine, r.cycles, n
                 );
                 rows.push(json!({"scene": name, "n": n, "threads": threads,
                     "converged": r.converged, "cycles": r.cycles, "finest_cycles": fine,
-                    "wall_s": r.wall_s, "per_finest_cycle_s": per_cycle,
+                    "wall_s": r.wall_s, "median_wall_s": w[1], "per_finest_cycle_s": per_cycle,
                     "central_nm": r.central_nm, "minimum_nm": r.minimum_nm}));
-                by_threads.push(r);
             }
             let (one, two) = (&by_threads[0], &by_threads[1]);
             anyhow::ensure!(
