@@ -770,11 +770,14 @@ impl Scene {
             self.validate_reynolds_run(ck, run)?;
         }
         let s = &r.solver;
-        if s.max_cycles == 0 || s.gamma == 0 || s.gamma > 2 {
+        if s.max_cycles == 0 || !(1..=2).contains(&s.gamma) || !(1..=2).contains(&s.step_gamma) {
             return Err(ck.err(
                 "reynolds.solver",
-                format!("max_cycles {}, gamma {}", s.max_cycles, s.gamma),
-                "max_cycles >= 1, gamma 1 (V) or 2 (W)",
+                format!(
+                    "max_cycles {}, gamma {}, step_gamma {}",
+                    s.max_cycles, s.gamma, s.step_gamma
+                ),
+                "max_cycles >= 1, gamma and step_gamma 1 (V) or 2 (W)",
             ));
         }
         if s.stop == ehl_reynolds::StopRule::Discretisation && s.fmg_cycles == 0 {
