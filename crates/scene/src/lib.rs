@@ -780,6 +780,15 @@ impl Scene {
                 "max_cycles >= 1, gamma and step_gamma 1 (V) or 2 (W)",
             ));
         }
+        for (field, gain) in [("h00_gain", s.h00_gain), ("step_h00_gain", s.step_h00_gain)] {
+            if !(gain > 0.0 && gain <= 10.0) {
+                return Err(ck.err(
+                    &format!("reynolds.solver.{field}"),
+                    format!("{gain}"),
+                    "0 < gain <= 10 (times the Hertz compliance 1/pi)",
+                ));
+            }
+        }
         if s.stop == ehl_reynolds::StopRule::Discretisation && s.fmg_cycles == 0 {
             return Err(ck.err(
                 "reynolds.solver.stop",
