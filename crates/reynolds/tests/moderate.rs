@@ -61,6 +61,26 @@ fn seed_regime_converges_on_257_near_the_seed_film() {
     assert!(hmin > 0.0 && hmin < 0.5 * hc, "H_min {hmin} against H_c {hc}");
 }
 
+#[test]
+fn seed_regime_converges_on_the_standard_domain_with_the_expected_grid_error() {
+    // The seed's conditions on the usual wide domain [-4.5, 1.5] × [-3, 3], 257²: this stalled
+    // (force balance 1.65e-5 after 49 cycles) until the symmetric two-half sweep; measured now:
+    // converged in 18 cycles at H_c = 8.75 nm. A cell here is 0.0234 a, 2.39× the layer
+    // domain's 0.0098 a, so at second order its film error is 2.39² × the narrow 257² grid's
+    // (12.48 − 11.79 = 0.69 nm, README): 12.48 − 3.93 = 8.55 nm predicted. 5 % holds the
+    // measured +2.3 % (the wide domain's inlet also feeds the film more than the narrow one's)
+    // and fails a film off by a quarter of its grid error.
+    let prm = common::seed();
+    let grid = Grid::new(257, 257, (-4.5, 1.5), (-3.0, 3.0));
+    let h_ratio = grid.dx() / (2.5 / 256.0);
+    let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
+    let rep = s.solve(&mut |_| {}).unwrap();
+    assert!(rep.converged, "{:?}", rep.diagnosis);
+    let hc_nm = s.films().0 * prm.scales.delta * 1e9;
+    let predicted = 12.48 - 0.69 * h_ratio * h_ratio;
+    assert!((hc_nm / predicted - 1.0).abs() < 0.05, "h_c {hc_nm} nm against {predicted} nm");
+}
+
 fn solve(
     prm: ReynoldsParams,
     n: usize,
