@@ -16,9 +16,10 @@ pub mod laws;
 pub mod observe;
 pub mod params;
 
-/// Values of work below which a parallel loop keeps its items together in one task: the
-/// coarse multigrid grids (17², 33²) otherwise paid more for waking threads than for the work
-/// (on 17² the film update by FFT cost 26 µs, most of it thread hand-over).
+/// The least work (values computed) worth a parallel task of its own: smaller loops run as
+/// one task on the calling thread. The coarse multigrid grids (17², 33²) otherwise paid more
+/// for waking threads than for the work (on 17² the film update by FFT cost 26 µs, most of it
+/// thread hand-over).
 pub const PAR_MIN_WORK: usize = 16_384;
 
 /// Items per parallel task when each item carries `work` values: at least [`PAR_MIN_WORK`].

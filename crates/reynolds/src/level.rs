@@ -75,7 +75,7 @@ pub struct Level {
     /// Jacobian reads, tabulated once.
     kd_line: [f64; 5],
     /// `K(di, 0)`, `di = 0 … 4`, likewise.
-    kd_plain: [f64; 5],
+    k_line: [f64; 5],
     /// Each half-sweep's line buffers, reused from line to line.
     work: [LineWork; 2],
 }
@@ -227,12 +227,12 @@ impl Level {
             laws: Array2::from_elem(grid.shape(), [f64::NAN; 3]),
             laws_for: None,
             kd_line: [0.0; 5],
-            kd_plain: [0.0; 5],
+            k_line: [0.0; 5],
             work: Default::default(),
             grid,
         };
         l.kd_line = std::array::from_fn(|di| l.kd(di as i64, 0));
-        l.kd_plain = std::array::from_fn(|di| l.k(di as i64, 0));
+        l.k_line = std::array::from_fn(|di| l.k(di as i64, 0));
         l
     }
 
@@ -629,7 +629,7 @@ impl Level {
             }
             let dist = dist[ic as usize - 1];
             let c = (d + 3) as usize;
-            let (mut a, k) = (pois[c], if dist { &self.kd_line } else { &self.kd_plain });
+            let (mut a, k) = (pois[c], if dist { &self.kd_line } else { &self.k_line });
             if dist {
                 // Neighbours on the line at ic ± 1 each get −1/4; those off the line (ic, j ± 1)
                 // enter L_i only when ic = i, through en, es.
