@@ -102,16 +102,16 @@ struct Ghost {
 }
 
 impl<'a> Rows<'a> {
-    fn new(
-        first: usize,
-        nx: usize,
+    /// All rows of a level's arrays.
+    fn whole(
         p: &'a mut Array2<f64>,
         film: &'a mut Array2<f64>,
         laws: &'a mut Array2<[f64; 3]>,
     ) -> Self {
         let layout = "grid arrays are in standard layout";
+        let nx = p.ncols();
         Self::from_slices(
-            first,
+            0,
             nx,
             p.as_slice_mut().expect(layout),
             film.as_slice_mut().expect(layout),
@@ -360,7 +360,7 @@ impl Level {
         let mut work = std::mem::take(&mut self.work);
         {
             let this = &*self;
-            let mut whole = Rows::new(0, nx, &mut p, &mut film, &mut laws);
+            let mut whole = Rows::whole(&mut p, &mut film, &mut laws);
             let mid = ny / 2;
             this.relax_line(prm, s, &mut whole, mid, &[mid - 1, mid + 1], &mut work[0]);
             // The lower half keeps a frozen copy of the centre row; its changes there wait.
@@ -734,7 +734,7 @@ mod tests {
         let mut w = LineWork::default();
         let coefficients = |l: &mut Level, prm: &ReynoldsParams, j: usize, w: &mut LineWork| {
             l.laws_for(prm);
-            let mut rows = Rows::new(0, 17, &mut l.p, &mut l.film, &mut l.laws);
+            let mut rows = Rows::whole(&mut l.p, &mut l.film, &mut l.laws);
             Level::line_coefficients(prm, &mut rows, j, w);
         };
         coefficients(&mut l, &roelands, 8, &mut w);
