@@ -10,7 +10,8 @@ fn main() {
     let nested = args.get(3).map(|s| s != "0").unwrap_or(true);
     let substeps: usize = args.get(4).map(|s| s.parse().unwrap()).unwrap_or(4);
     let spec = LayerSpec { coefficient_smoothing_a: sm, ..SEED_LAYER };
-    let settings = DrySettings { tolerance: 1e-7, ..DrySettings::default() };
+    let dry_tol: f64 = std::env::var("DRYTOL").map(|v| v.parse().unwrap()).unwrap_or(1e-7);
+    let settings = DrySettings { tolerance: dry_tol, ..DrySettings::default() };
     let m = LayerModel::new(
         &ehl_core::SEED_CONTACT,
         &ehl_core::SEED_LUBRICANT,

@@ -1,5 +1,6 @@
 //! Diagnostic probe for M = 20, L = 10 (Roelands, Dowson-Higginson): `m20 N` solves on N²,
-//! `m20 N relax` watches single-grid relaxation, `m20 N freeze` runs cycles with H00 frozen and
+//! `m20 N relax` watches single-grid relaxation (`fmgrelax`: from the full-multigrid start,
+//! FMG cycles on each coarser grid), `m20 N freeze` runs cycles with H00 frozen and
 //! prints where the largest residuals sit, `m20 N diff` where the pressure changes between
 //! cycles, `m20 N steps` takes time steps from the steady state (a fixed point, or a drift?).
 //! Extra arguments: omega_jd, threshold, omega_gs. Environment: GAMMA, PRE, POST, COARSEST, FMG,
@@ -165,7 +166,13 @@ fn main() {
         }
         return;
     }
-    if std::env::args().nth(2).as_deref() == Some("relax") {
+    let mode = std::env::args().nth(2);
+    if matches!(mode.as_deref(), Some("relax" | "fmgrelax")) {
+        if mode.as_deref() == Some("fmgrelax") {
+            // The start only: the coarser grids' cycles, prolonged to the finest grid.
+            s.settings.max_cycles = 0;
+            let _ = s.solve(&mut |_| {});
+        }
         let h00 = s.h00;
         let rs = s.settings.relax;
         for k in 0..=400 {
