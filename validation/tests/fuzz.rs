@@ -125,7 +125,7 @@ fn check(text: &str) -> Result<(), TestCaseError> {
 
 proptest! {
     // A fixed seed, so CI runs the same 2000 cases every time (30-45 s here); FUZZ_SEED=<u64>
-    // explores others, FUZZ_CASES changes the count.
+    // explores others, FUZZ_CASES changes the count, FUZZ_TRACE=1 names each case as it starts.
     #![proptest_config(ProptestConfig {
         cases: env_or("FUZZ_CASES", 2000) as u32,
         rng_seed: proptest::test_runner::RngSeed::Fixed(env_or("FUZZ_SEED", 0x5eed_2026)),
@@ -147,6 +147,10 @@ proptest! {
         let path = all[pick % all.len()].clone();
         mutate(&mut v, &path, kind, k);
         let t0 = std::time::Instant::now();
+        if std::env::var("FUZZ_TRACE").is_ok() {
+            // Each case named before it runs: the last one printed is the one that hangs.
+            eprintln!("START {name} {path:?} kind {kind} k {}", k % EXTREMES.len());
+        }
         let r = check(&v.to_string());
         let dt = t0.elapsed().as_secs_f64();
         if dt > 0.5 {

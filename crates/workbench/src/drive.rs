@@ -67,6 +67,11 @@ pub struct SteadyRule {
     pub window_text: String,
 }
 
+/// The most fixed steps a feature's passage may plan: far beyond any scene (the hole's
+/// passage on 257² takes 2970), and a plan that asks for more is a mistaken input (a dent
+/// `1e20 a` wide never leaves the domain), not a run to start.
+pub const MAX_STEPS: f64 = 1e6;
+
 /// A march: steps, end, limits, snapshots. Times in s from the start of the motion.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
@@ -115,6 +120,14 @@ impl Plan {
         let steps = match (rolling, run.time.dt_s, controlled) {
             (true, _, _) => {
                 let dt = grid.dx() * a / (run.time.steps_per_cell * u);
+                if let Some((t, why)) = &end {
+                    let n = t / dt;
+                    if !(n <= MAX_STEPS) {
+                        bail!(
+                            "run.stop: ending when {why} takes {n:.3e} steps of {dt:.3e} s (at most {MAX_STEPS:e}): check run.features (a dent's `width_a` sets how far beyond the domain it reaches) and run.stop.until_feature_at_a"
+                        );
+                    }
+                }
                 // The last step lands on the end: equal steps a little shorter.
                 let dt = match &end {
                     Some((t, _)) => t / (t / dt - 1e-9).ceil().max(1.0),
@@ -474,5 +487,20 @@ mod tests {
         let p = Plan::from_run(&sq, &g, a, u, Some((1e-3, 3.0))).unwrap();
         assert!(matches!(p.steps, Steps::Controlled { dt0_s: 1e-3, order: 3.0, .. }));
         assert!(p.steady.as_ref().is_some_and(|s| s.min_time_s == s.window_s));
+    }
+
+    #[test]
+    fn a_passage_that_would_never_end_is_refused_before_it_starts() {
+        // A dent 1e20 a wide (a fuzzed scene) reaches 1e20 a beyond the outlet: its passage
+        // would take ~1e21 steps. The plan says which fields set that, and runs nothing.
+        let scene = ehl_scene::builtin("dent-shallow").unwrap();
+        let mut run = scene.run.clone().unwrap();
+        let g = scene.grid();
+        let (a, u) = (1.3e-4, 0.01);
+        assert!(Plan::from_run(&run, &g, a, u, None).is_ok());
+        let ehl_layer::Feature::Dent(d) = &mut run.features[0] else { panic!("a dent scene") };
+        d.width_a = 1e20;
+        let e = format!("{:#}", Plan::from_run(&run, &g, a, u, None).unwrap_err());
+        assert!(e.contains("run.stop") && e.contains("width_a") && e.contains("steps"), "{e}");
     }
 }
