@@ -71,6 +71,7 @@ fn map_sweep(
         let [hd, _, nvm] = sweep::merge::formulas_at(point).expect("a rolling Reynolds scene");
         let ok = mr.observables.is_some_and(|o| o.minimum_film_m > 0.0);
         let cycles = mr.indicators.get("cycles").map(|&c| c as u64).unwrap_or(0);
+        let lagged = mr.indicators.get("lagged_laws").is_some_and(|&t| t > 0.0);
         let hc_m = mr.observables.map(|o| o.central_film_m);
         match (ok, hc_m) {
             (true, Some(hc_m)) => println!(
@@ -93,7 +94,8 @@ fn map_sweep(
             }
         }
         rows.push(json!({
-            "m": m, "l": l, "converged": ok, "cycles": cycles, "diagnosis": mr.diagnosis,
+            "m": m, "l": l, "converged": ok, "cycles": cycles, "lagged_laws": lagged,
+            "diagnosis": mr.diagnosis,
             "domain_a": [rec.x_a, rec.y_a],
             "central_film_m": if ok { hc_m } else { None }, "hamrock_dowson_m": hd, "nvm_m": nvm,
             "wall_time_s": mr.wall_time_s,
@@ -116,13 +118,16 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
         narrow_from_m,
         Some((ViscosityLaw::Barus, DensityLaw::Incompressible)),
     )?;
-    let pick = |ok: bool, cycles: (u64, u64)| -> Vec<(f64, f64)> {
+    // Converged points by cycles, those the second attempt (lagged laws) converged apart.
+    let pick_lagged = |lagged: bool, ok: bool, cycles: (u64, u64)| -> Vec<(f64, f64)> {
         rows.iter()
             .filter(|r| r["converged"].as_bool() == Some(ok))
+            .filter(|r| !ok || r["lagged_laws"].as_bool() == Some(lagged))
             .filter(|r| (cycles.0..=cycles.1).contains(&r["cycles"].as_u64().unwrap()))
             .map(|r| (r["m"].as_f64().unwrap(), r["l"].as_f64().unwrap()))
             .collect()
     };
+    let pick = |ok: bool, cycles: (u64, u64)| pick_lagged(false, ok, cycles);
     let map = out.join("reynolds_stability.png");
     plot::charts(
         &map,
@@ -134,6 +139,11 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
                 Series::new("converged in <= 15 cycles", pick(true, (0, 15)), Mark::Points),
                 Series::new("converged in 16-30 cycles", pick(true, (16, 30)), Mark::Points),
                 Series::new("converged in > 30 cycles", pick(true, (31, u64::MAX)), Mark::Points),
+                Series::new(
+                    "converged with lagged laws (second attempt)",
+                    pick_lagged(true, true, (0, u64::MAX)),
+                    Mark::Points,
+                ),
                 Series::new(
                     "not converged (see JSON for why)",
                     pick(false, (0, u64::MAX)),

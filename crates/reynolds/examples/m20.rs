@@ -6,7 +6,7 @@
 //! Extra arguments: omega_jd, threshold, omega_gs. Environment: GAMMA, PRE, POST, COARSEST, FMG,
 //! MAXC, FTOL (film and load tolerance) override the settings; M, L the case; SEED=1 the seed's
 //! Table 1 conditions; NARROW=1 the domain [-HALF, HALF]² (HALF = 1.25); COURANT the step;
-//! STEPS how many (6); H00GAIN the `H00` update's gain; PROFILE=1 (with `steps`) where the residuals are largest.
+//! STEPS how many (6); LAG the laws' lag (`coefficient_lag`); H00GAIN the `H00` update's gain; PROFILE=1 (with `steps`) where the residuals are largest.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -80,6 +80,9 @@ fn main() {
     }
     if let Ok(v) = std::env::var("H00GAIN") {
         settings.h00_gain = v.parse().unwrap();
+    }
+    if let Ok(v) = std::env::var("LAG") {
+        settings.relax.coefficient_lag = v.parse().unwrap();
     }
     if let Some(v) = env("COARSEST") {
         settings.coarsest_points = v;

@@ -36,11 +36,22 @@ pub struct RelaxSettings {
     pub omega_gs: f64,
     /// Under-relaxation of distributive changes.
     pub omega_jd: f64,
+    /// Lagged laws: 0 (the default), the viscosity and density follow each pressure at once,
+    /// also within a sweep; `θ` in (0, 1], they are held through a sweep and then follow `θ`
+    /// of each point's pressure change (at convergence both are the same). The line Jacobian
+    /// holds `ε̄` fixed, and where `η̄` rises steeply with `P` (high `L`, light loads) a
+    /// checkerboard of a few tenths of `p_h` changes `ε̄` by orders of magnitude: on 257²
+    /// (`M = 10, L = 20`) the relaxation alone diverged from the converged 129² solution and
+    /// converged with `ε̄` held. Measured (257², `L = 20`): θ = 1 and 0.7 diverge, 0.5 leaves
+    /// `M = 20` stalled, 0.3 leaves `M = 500` and `2223` stalled, 0.2 converges `M = 10 … 2223`,
+    /// 0.1 diverges again at `M = 2223`. Slower where not needed (`M = 20, L = 10`: 17 cycles at 0.2
+    /// against 13), hence a second attempt's setting ([`crate::ReynoldsSettings::fallback_lag`]).
+    pub coefficient_lag: f64,
 }
 
 impl Default for RelaxSettings {
     fn default() -> Self {
-        Self { distributive_threshold: 0.3, omega_gs: 0.4, omega_jd: 0.3 }
+        Self { distributive_threshold: 0.3, omega_gs: 0.4, omega_jd: 0.3, coefficient_lag: 0.0 }
     }
 }
 
@@ -65,10 +76,14 @@ pub struct Level {
     /// … and `history` the known part from earlier steps (finest grid only: on coarse grids a
     /// constant term cancels in the FAS equations, so they keep zeros).
     pub history: Array2<f64>,
-    /// The laws at each point's pressure as last evaluated: `[P, η̄ λ̄, ρ̄]`. The line
-    /// relaxation reads three rows per line and a sweep changes few pressures between reads,
-    /// so `η̄` (a `pow` and an `exp`) is evaluated again only where `P` changed (bitwise).
+    /// The laws at each point as last evaluated: `[P_c, η̄ λ̄, ρ̄]` at the coefficient pressure
+    /// `P_c` (the point's pressure, or where lagged laws have got to: see
+    /// [`RelaxSettings::coefficient_lag`]). The line relaxation reads three rows per line and
+    /// a sweep changes few pressures between reads, so `η̄` (a `pow` and an `exp`) is evaluated
+    /// again only where `P` changed (bitwise).
     laws: Array2<[f64; 3]>,
+    /// Whether the laws lag the pressures (held through a sweep, then following part way).
+    lagged: bool,
     /// The laws the cache holds values of (a level solved with other parameters starts afresh).
     laws_for: Option<(f64, Viscosity, Density)>,
     /// `K(di, 0)` as a distributed change sees it ([`Self::kd`]), `di = 0 … 4`: what the line
@@ -226,6 +241,7 @@ impl Level {
             history: grid.zeros(),
             laws: Array2::from_elem(grid.shape(), [f64::NAN; 3]),
             laws_for: None,
+            lagged: false,
             kd_line: [0.0; 5],
             k_line: [0.0; 5],
             work: Default::default(),
@@ -287,11 +303,12 @@ impl Level {
     }
 
     /// `ε̄` and `ρ̄` on the whole grid (the laws from the relaxation's cache where it holds
-    /// the point's pressure: the same values, bit for bit).
+    /// the point's pressure, the same values bit for bit; lagged laws where they lag).
     pub fn coefficients(&self, prm: &ReynoldsParams) -> (Array2<f64>, Array2<f64>) {
         let cached = self.laws_for == Some((prm.lambda_bar, prm.viscosity, prm.density));
+        let held = cached && self.lagged;
         let at = |&p: &f64, &h: &f64, c: &[f64; 3]| {
-            if cached && c[0].to_bits() == p.to_bits() {
+            if cached && (c[0].to_bits() == p.to_bits() || held && c[0].is_finite()) {
                 (Self::eps_of(c[2], h, c[1]), c[2])
             } else {
                 Self::eps_rho(prm, p, h)
@@ -354,6 +371,7 @@ impl Level {
     pub fn relax(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
         let (ny, nx) = self.p.dim();
         self.laws_for(prm);
+        self.lagged = s.coefficient_lag > 0.0;
         let mut p = std::mem::take(&mut self.p);
         let mut film = std::mem::take(&mut self.film);
         let mut laws = std::mem::take(&mut self.laws);
@@ -402,6 +420,55 @@ impl Level {
         self.laws = laws;
         self.work = work;
         self.update_film(h00);
+        if self.lagged {
+            self.follow_laws(prm, s.coefficient_lag);
+        }
+    }
+
+    /// Lagged laws follow `theta` of each point's pressure change since they were evaluated
+    /// (all of it once within rounding of the pressure, so that a converged state's laws are
+    /// its own, bit for bit).
+    fn follow_laws(&mut self, prm: &ReynoldsParams, theta: f64) {
+        let at = |c: &mut [f64; 3], &p: &f64| {
+            let pc = if !c[0].is_finite() || (p - c[0]).abs() <= 1e-12 * p.abs().max(1e-3) {
+                p
+            } else {
+                c[0] + theta * (p - c[0])
+            };
+            if pc.to_bits() != c[0].to_bits() {
+                *c = laws_at(prm, pc);
+            }
+        };
+        let zip = Zip::from(&mut self.laws).and(&self.p);
+        if self.p.len() >= ehl_core::PAR_MIN_WORK { zip.par_for_each(at) } else { zip.for_each(at) }
+    }
+
+    /// The pressure each point's laws are evaluated at: what a coarser grid's lagged laws
+    /// start from.
+    pub fn coefficient_pressures(&self) -> Array2<f64> {
+        Zip::from(&self.p)
+            .and(&self.laws)
+            .map_collect(|&p, c| if self.lagged && c[0].is_finite() { c[0] } else { p })
+    }
+
+    /// Evaluates the laws at the coefficient pressures `pc` (a finer grid's, injected), to be
+    /// held while they lag.
+    pub fn set_coefficient_pressures(&mut self, prm: &ReynoldsParams, pc: &Array2<f64>) {
+        self.laws_for(prm);
+        self.lagged = true;
+        Zip::from(&mut self.laws).and(pc).for_each(|c, &pc| *c = laws_at(prm, pc));
+    }
+
+    /// Back to an empty state (no pressure, film, right-hand side, history or laws), the rigid
+    /// film kept.
+    pub fn reset(&mut self) {
+        for a in [&mut self.p, &mut self.film, &mut self.rhs, &mut self.history] {
+            a.fill(0.0);
+        }
+        self.time_a0 = 0.0;
+        self.laws.fill([f64::NAN; 3]);
+        self.laws_for = None;
+        self.lagged = false;
     }
 
     /// Makes the law cache hold values of `prm`'s laws (emptied when they differ).
@@ -438,7 +505,7 @@ impl Level {
             + self.time_a0 * self.k(0, 0);
         w.band.resize(m, [0.0; 5]);
         w.delta.resize(m, 0.0);
-        Self::line_coefficients(prm, rows, j, w);
+        Self::line_coefficients(prm, s.coefficient_lag > 0.0, rows, j, w);
         let eps = w.eps.each_ref().map(|r| r.as_slice());
         let rho = w.rho.as_slice();
         // Which points distribute.
@@ -534,16 +601,22 @@ impl Level {
 
     /// `ε̄` on lines `j−1, j, j+1` and `ρ̄` on line `j`, from the current pressure and film,
     /// into `w` (the laws from the cache, re-evaluated where the pressure changed: the same
-    /// values [`Self::eps_rho`] gives, bit for bit).
-    fn line_coefficients(prm: &ReynoldsParams, rows: &mut Rows, j: usize, w: &mut LineWork) {
+    /// values [`Self::eps_rho`] gives, bit for bit; `held`: lagged laws, not re-evaluated).
+    fn line_coefficients(
+        prm: &ReynoldsParams,
+        held: bool,
+        rows: &mut Rows,
+        j: usize,
+        w: &mut LineWork,
+    ) {
         for (slot, jj) in (j - 1..=j + 1).enumerate() {
             let (laws, p, film) = rows.laws_p_film(jj);
             let eps = &mut w.eps[slot];
             eps.clear();
             for i in 0..p.len() {
                 let c = &mut laws[i];
-                if c[0].to_bits() != p[i].to_bits() {
-                    *c = [p[i], prm.viscosity.eta(p[i]) * prm.lambda_bar, prm.density.rho(p[i])];
+                if c[0].to_bits() != p[i].to_bits() && !(held && c[0].is_finite()) {
+                    *c = laws_at(prm, p[i]);
                 }
                 eps.push(Self::eps_of(c[2], film[i], c[1]));
             }
@@ -646,6 +719,12 @@ impl Level {
     }
 }
 
+/// The laws' entry at pressure `p` [p_h]: `[P, η̄ λ̄, ρ̄]`.
+#[inline]
+fn laws_at(prm: &ReynoldsParams, p: f64) -> [f64; 3] {
+    [p, prm.viscosity.eta(p) * prm.lambda_bar, prm.density.rho(p)]
+}
+
 /// Row `j` of a grid array (standard layout) as a slice.
 fn row_of(a: &Array2<f64>, j: usize) -> &[f64] {
     let n = a.ncols();
@@ -735,7 +814,7 @@ mod tests {
         let coefficients = |l: &mut Level, prm: &ReynoldsParams, j: usize, w: &mut LineWork| {
             l.laws_for(prm);
             let mut rows = Rows::whole(&mut l.p, &mut l.film, &mut l.laws);
-            Level::line_coefficients(prm, &mut rows, j, w);
+            Level::line_coefficients(prm, false, &mut rows, j, w);
         };
         coefficients(&mut l, &roelands, 8, &mut w);
         assert_eq!((w.eps[1].clone(), w.rho.clone()), fresh(&l, &roelands, 8));

@@ -108,6 +108,8 @@ impl Outcome for ReynoldsOutcome {
         vec![
             (crate::flow::FLUX_INDICATOR.into(), self.flux_ratio_contact_mean()),
             ("cycles".into(), self.report.cycles as f64),
+            // The laws' lag the answer was relaxed with (0: none; > 0: a second attempt).
+            ("lagged_laws".into(), self.report.lagged_laws),
         ]
     }
     fn wall_time_s(&self) -> f64 {
@@ -380,6 +382,8 @@ impl ReynoldsOutcome {
             "solver": {
                 "settings": self.scene.reynolds.as_ref().unwrap().solver,
                 "cycles": self.report.cycles,
+                "lagged_laws": self.report.lagged_laws,
+                "first_attempt": self.report.first_attempt,
                 "final_residual": last.residual,
                 "final_load_error": last.load_error,
                 "history": self.report.history,
