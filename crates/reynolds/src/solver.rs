@@ -213,10 +213,12 @@ pub enum ReynoldsError {
     },
 }
 
-/// The cycles a diverged attempt ran.
-fn first_cycles(e: &ReynoldsError) -> usize {
-    match e {
-        ReynoldsError::Diverged { cycle, .. } => *cycle,
+impl ReynoldsError {
+    /// The cycle the solve stopped at.
+    pub fn cycle(&self) -> usize {
+        match self {
+            ReynoldsError::Diverged { cycle, .. } => *cycle,
+        }
     }
 }
 
@@ -548,7 +550,7 @@ impl ReynoldsSolver {
         let first = self.cycles(log, 0, 0.0);
         let theta = self.settings.fallback_lag;
         let given_up = match &first {
-            Err(e) => Some((e.to_string(), first_cycles(e))),
+            Err(e) => Some((e.to_string(), e.cycle())),
             Ok(r) => r
                 .diagnosis
                 .as_ref()
