@@ -147,6 +147,8 @@ impl DrySolver {
                 return Err(NumericError::Invalid("compliance must be finite and >= 0".into()));
             }
         }
+        // A non-finite rigid gap is named where it is, before the approach spreads it.
+        check_finite("rigid gap", &problem.rigid_gap.to_owned(), 0)?;
         let s = &self.settings;
         let mut coarse_iterations = vec![];
         if start == Start::Flat {
@@ -306,10 +308,13 @@ fn pcg(
         if !residual.is_finite() {
             check_finite("pressure", p_arr, it)?;
             check_finite("deformation", w_arr, it)?;
-            let bad = r.iter().position(|v| !v.is_finite()).unwrap_or(0);
+            // The gap before the approach (the mean over the contact) carries one bad point to
+            // every other: locate it there.
+            let raw = |i: usize| w[i] + g0[i] + c[i] * p[i];
+            let bad = (0..n).position(|i| !raw(i).is_finite()).unwrap_or(0);
             return Err(NumericError::NonFinite {
                 quantity: "gap",
-                value: r[bad],
+                value: raw(bad),
                 i: bad % grid.nx,
                 j: bad / grid.nx,
                 iteration: it,
@@ -513,6 +518,13 @@ mod tests {
         let (_, flat, _) =
             hertz_solve(129, DrySettings { nested: false, ..DrySettings::default() });
         assert!(!nested.coarse_iterations.is_empty() && nested.iterations <= 10, "{nested:?}");
+        // Convolutions: the start's, one a CG step, and one after each change of the contact
+        // set: more than the iterations, at most twice as many and one.
+        assert!(
+            nested.fine_applies > nested.iterations
+                && nested.fine_applies <= 2 * nested.iterations + 1,
+            "{nested:?}"
+        );
         assert!(flat.iterations > nested.iterations + 4, "{flat:?} vs {nested:?}");
         // The stop residual is the RMS gap on the contact set, below the tolerance.
         assert!(nested.residual < DrySettings::default().tolerance, "{nested:?}");
@@ -608,5 +620,22 @@ mod tests {
         let prob = DryProblem { rigid_gap: nan.view(), compliance: None, load: 1.0 };
         let err = solver.solve(&prob, &mut p, &mut w, Start::Flat).unwrap_err();
         assert!(err.to_string().contains("non-finite"), "{err}");
+        // The diagnosis names the rigid gap at the poisoned point (row 3, column 4).
+        assert!(
+            matches!(
+                err,
+                NumericError::NonFinite { quantity: "rigid gap", i: 4, j: 3, iteration: 0, .. }
+            ),
+            "{err:?}"
+        );
+        // Met inside the iteration (as a value that overflows would be), the gap is located at
+        // its point too, not where the approach, a mean over the contact, carried it first.
+        let err = pcg(solver.operator(), nan.view(), None, 1.0, &mut p, &mut w, 1e-8, 100, true)
+            .map(|_| ())
+            .unwrap_err();
+        assert!(
+            matches!(err, NumericError::NonFinite { quantity: "gap", i: 4, j: 3, .. }),
+            "{err:?}"
+        );
     }
 }
