@@ -560,6 +560,18 @@ mod tests {
         solver.solve(&prob, &mut pf, &mut wf, Start::Flat).unwrap();
         assert_eq!(p, pf);
         assert_eq!(w, wf);
+        // Either one alone in column-major order, from a warm start (a flat one replaces the
+        // pressure array by the nested start's): the same answer as the standard-layout warm
+        // start from the same pressures.
+        let start = p.mapv(|v| 0.9 * v + 0.01);
+        let warm = |mut p: Array2<f64>, mut w: Array2<f64>| {
+            p.assign(&start);
+            solver.solve(&prob, &mut p, &mut w, Start::Warm).unwrap();
+            (p.as_standard_layout().into_owned(), w.as_standard_layout().into_owned())
+        };
+        let reference = warm(g.zeros(), g.zeros());
+        assert_eq!(warm(Array2::zeros(g.shape().f()), g.zeros()), reference);
+        assert_eq!(warm(g.zeros(), Array2::zeros(g.shape().f())), reference);
     }
 
     #[test]
