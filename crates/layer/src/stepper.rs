@@ -343,4 +343,60 @@ mod tests {
         assert!((rms_active(&a, &b, &p) - want).abs() < 1e-15);
         assert_eq!(rms_active(&b, &b, &b), 0.0);
     }
+
+    /// Feeds the watch a history of strain changes at one point of a 9² grid; returns the step
+    /// it fired at (1-based), if any.
+    fn watch_fires(changes: &[f64]) -> Option<(usize, LayerError)> {
+        let (c, l) = (ehl_core::SEED_CONTACT, ehl_core::SEED_LUBRICANT);
+        let grid = ehl_core::Grid::square(9, 1.25);
+        let m = LayerModel::new(
+            &c,
+            &l,
+            &crate::SEED_LAYER,
+            0.01,
+            grid,
+            ehl_core::DrySettings::default(),
+            vec![],
+        );
+        let mut st = Stepper::new(Scheme::Explicit, 0);
+        let mut s = LayerState {
+            t: 0.0,
+            eps: m.grid.zeros(),
+            p: m.grid.zeros(),
+            w: m.grid.zeros(),
+            h0: 0.0,
+        };
+        for (k, &d) in changes.iter().enumerate() {
+            let before = s.eps.clone();
+            s.eps[[2, 6]] += d;
+            st.steps = k + 1;
+            if let Err(e) = st.watch(&m, &before, &s, 1e-6) {
+                return Some((k + 1, e));
+            }
+        }
+        None
+    }
+
+    #[test]
+    fn the_watch_fires_on_a_growing_flip_only() {
+        // Four flips in a row, each larger than the last and above 1e-3: diagnosed at the fifth
+        // change (the first has nothing to flip against) with the point's place and amplitude.
+        let (k, e) = watch_fires(&[0.01, -0.02, 0.04, -0.08, 0.16]).expect("a growing flip");
+        assert_eq!(k, 5);
+        let x6 = ehl_core::Grid::square(9, 1.25).x(6);
+        assert!(
+            matches!(e, LayerError::Unstable { step: 5, count: 4, x, amplitude, .. }
+                if x == x6 && amplitude == 0.16),
+            "{e:?}"
+        );
+        // A decaying oscillation, one of constant amplitude, a steady growth without flips, a
+        // flip series interrupted by a change of the same sign or started from no change (a
+        // sign test by quotient would count that), and flips below 1e-3 are not instabilities.
+        assert!(watch_fires(&[0.16, -0.08, 0.04, -0.02, 0.01, -0.005]).is_none());
+        assert!(watch_fires(&[0.25, -0.25, 0.25, -0.25, 0.25, -0.25]).is_none());
+        assert!(watch_fires(&[0.0, -0.02, 0.04, -0.08, 0.16]).is_none());
+        assert!(watch_fires(&[0.01, 0.02, 0.04, 0.08, 0.16]).is_none());
+        assert!(watch_fires(&[0.01, -0.02, 0.04, 0.08, -0.16, 0.32, -0.64]).is_none());
+        assert!(watch_fires(&[1e-5, -2e-5, 4e-5, -8e-5, 1.6e-4, -3.2e-4]).is_none());
+    }
 }
