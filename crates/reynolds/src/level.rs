@@ -785,6 +785,33 @@ mod tests {
     use crate::params::{DensityLaw, ViscosityLaw};
 
     #[test]
+    fn held_laws_reach_the_points_own_once_the_pressure_stops() {
+        // Lagged laws follow θ of the remaining change each sweep: from laws held at P = 0.5,
+        // with the pressure fixed at Hertz's, they close the gap geometrically (0.8^k) and snap
+        // to the point's own laws bit for bit once within 1e-12 (after ~125 sweeps), so that a
+        // converged state's laws are its own. Without the snap they stall an ulp or so away.
+        let prm = ReynoldsParams::from_si(
+            &ehl_core::SEED_CONTACT,
+            &ehl_core::SEED_LUBRICANT,
+            0.02,
+            ViscosityLaw::Roelands,
+            DensityLaw::DowsonHigginson,
+        );
+        let mut l = Level::new(Grid::square(9, 1.5));
+        l.p = l.grid.field(ehl_core::hertz::pressure);
+        l.set_coefficient_pressures(&prm, &l.grid.field(|_, _| 0.5));
+        l.follow_laws(&prm, 0.2);
+        let off = Zip::from(&l.laws).and(&l.p).fold(0usize, |n, c, &p| n + (c[0] != p) as usize);
+        assert!(off > 0, "one sweep must leave the laws lagging");
+        for _ in 0..200 {
+            l.follow_laws(&prm, 0.2);
+        }
+        for (c, &p) in l.laws.iter().zip(&l.p) {
+            assert_eq!(c, &laws_at(&prm, p), "laws held at {} for P = {p}", c[0]);
+        }
+    }
+
+    #[test]
     fn cached_laws_equal_fresh_ones_after_changes_and_under_new_laws() {
         // The cache must give Self::eps_rho's values bit for bit: after pressures change, and
         // when the same level is used with other laws (no stale η̄ from the first).
