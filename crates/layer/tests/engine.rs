@@ -285,17 +285,23 @@ fn the_stability_estimate_is_where_heun_turns_unstable() {
     );
 }
 
+/// `n` steps of `dt` from a uniform layer: the state and the stepper that took them.
+fn stepped(m: &LayerModel, scheme: Scheme, n: usize, dt: f64) -> (LayerState, Stepper) {
+    let mut s = uniform_state(m).unwrap();
+    let mut st = Stepper::new(scheme, 0);
+    for _ in 0..n {
+        st.step(m, &mut s, dt).unwrap();
+    }
+    (s, st)
+}
+
 #[test]
 fn steps_advance_the_clock() {
     // The state's time is the sum of the steps taken (the moving features and the ball read it).
     for scheme in [Scheme::Implicit, Scheme::Explicit] {
         let m = model(17, 0.01);
-        let mut s = uniform_state(&m).unwrap();
-        let mut st = Stepper::new(scheme, 0);
         let dt = 0.2 * stability_estimate(&m);
-        for _ in 0..3 {
-            st.step(&m, &mut s, dt).unwrap();
-        }
+        let (s, _) = stepped(&m, scheme, 3, dt);
         assert!((s.t - 3.0 * dt).abs() < 1e-12 * dt, "{scheme:?}: t = {:e} after 3 × {dt:e}", s.t);
     }
 }
@@ -306,12 +312,8 @@ fn reset_restarts_the_multistep_scheme() {
     // equals a fresh stepper's step bit for bit, while the stepper that kept its history takes
     // a BDF2 step that differs (measured 3.1e-2 in strain on 17²).
     let m = model(17, 0.01);
-    let mut s = uniform_state(&m).unwrap();
-    let mut st = Stepper::new(Scheme::Implicit, 0);
     let dt = 0.5 * m.grid.dx() * m.scales.a / m.u1;
-    for _ in 0..3 {
-        st.step(&m, &mut s, dt).unwrap();
-    }
+    let (s, mut st) = stepped(&m, Scheme::Implicit, 3, dt);
     let (mut kept, mut fresh, mut reset) = (s.clone(), s.clone(), s.clone());
     let mut st_kept = st.clone();
     st_kept.step(&m, &mut kept, dt).unwrap();
@@ -329,12 +331,8 @@ fn a_failing_contact_names_the_step_it_failed_in() {
     // non-finite gap and the error names step 3 (counted from the run's first), for both schemes.
     for scheme in [Scheme::Implicit, Scheme::Explicit] {
         let m = model(17, 0.01);
-        let mut s = uniform_state(&m).unwrap();
-        let mut st = Stepper::new(scheme, 0);
         let dt = 0.2 * stability_estimate(&m);
-        for _ in 0..2 {
-            st.step(&m, &mut s, dt).unwrap();
-        }
+        let (mut s, mut st) = stepped(&m, scheme, 2, dt);
         s.eps[[8, 8]] = f64::NAN;
         let e = st.step(&m, &mut s, dt).expect_err("a NaN strain must stop the step");
         assert!(matches!(e, LayerError::Contact { step: 3, .. }), "{scheme:?}: {e}");
