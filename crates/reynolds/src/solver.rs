@@ -408,11 +408,12 @@ impl ReynoldsSolver {
             .fold(((0, 0), f64::INFINITY), |a, (ix, &v)| if v < a.1 { (ix, v) } else { a });
         if hmin < 0.0 {
             let text = format!(
-                "the film closed at cycle {}: H = {hmin:.3e} a²/R at (x = {:.3} a, y = {:.3} a) where P = {:.3} p_h; the lubricated solution broke down (too high a load for this grid and method)",
+                "the film closed at cycle {}: H = {hmin:.3e} a²/R at (x = {:.3} a, y = {:.3} a) where P = {:.3} p_h; the lubricated solution broke down: the film is too thin for cells of {:.4} a (a finer grid or a narrower domain resolves thinner films)",
                 last.cycle,
                 f.grid.x(i),
                 f.grid.y(j),
-                f.p[[j, i]]
+                f.p[[j, i]],
+                f.grid.dx()
             );
             let at = Some((f.grid.x(i), f.grid.y(j)));
             return Diagnosis { kind: FailureKind::FilmClosed, cycle: last.cycle, at, text };

@@ -123,6 +123,8 @@ fn seed_regime_failure_on_a_coarse_grid_is_a_closed_film_at_the_outlet() {
         d.text.contains("film closed") && d.text.contains(&format!("cycle {}", d.cycle)),
         "{d}"
     );
+    // and names the cell size the film was too thin for (6 a / 32).
+    assert!(d.text.contains("cells of 0.1875 a"), "{d}");
 }
 
 #[test]
