@@ -541,5 +541,24 @@ mod tests {
         assert!(!stalled(&flat), "29 iterations are inside the window");
         flat.push(last * 1.5);
         assert!(stalled(&flat));
+        // The first 10 iterations only settle the start: 35 are too few to judge.
+        let mut short = vec![1e-6; 5];
+        short.extend(std::iter::repeat_n(1e-3, 30));
+        assert!(!stalled(&short));
+    }
+
+    #[test]
+    fn the_trend_reads_the_last_ten_iterations() {
+        let ramp = |from: f64, to: f64| -> Vec<f64> {
+            (0..12).map(|k| from * (to / from).powf(k as f64 / 11.0)).collect()
+        };
+        assert!(trend(&[1e-3; 9]).contains("too few"));
+        assert!(trend(&ramp(1e-4, 1e-3)).contains("diverges"), "{}", trend(&ramp(1e-4, 1e-3)));
+        assert!(trend(&ramp(1e-3, 8e-4)).contains("stalled"), "{}", trend(&ramp(1e-3, 8e-4)));
+        let falling = trend(&ramp(1e-3, 1e-5));
+        assert!(
+            falling.contains("still falling") && falling.contains("more iterations"),
+            "{falling}"
+        );
     }
 }
