@@ -148,7 +148,7 @@ impl DrySolver {
             }
         }
         // A non-finite rigid gap is named where it is, before the approach spreads it.
-        check_finite("rigid gap", &problem.rigid_gap.to_owned(), 0)?;
+        check_finite("rigid gap", problem.rigid_gap, 0)?;
         let s = &self.settings;
         let mut coarse_iterations = vec![];
         if start == Start::Flat {
@@ -306,8 +306,8 @@ fn pcg(
         }
         let residual = (ss / nc.max(1) as f64).sqrt();
         if !residual.is_finite() {
-            check_finite("pressure", p_arr, it)?;
-            check_finite("deformation", w_arr, it)?;
+            check_finite("pressure", &*p_arr, it)?;
+            check_finite("deformation", &*w_arr, it)?;
             // The gap before the approach (the mean over the contact) carries one bad point to
             // every other: locate it there.
             let raw = |i: usize| w[i] + g0[i] + c[i] * p[i];

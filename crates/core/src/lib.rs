@@ -49,12 +49,12 @@ pub enum NumericError {
 }
 
 /// Returns the first non-finite entry of `a` as an error naming `quantity` and `iteration`.
-pub fn check_finite(
+pub fn check_finite<'a>(
     quantity: &'static str,
-    a: &ndarray::Array2<f64>,
+    a: impl Into<ndarray::ArrayView2<'a, f64>>,
     iteration: usize,
 ) -> Result<(), NumericError> {
-    if let Some(((j, i), &value)) = a.indexed_iter().find(|(_, v)| !v.is_finite()) {
+    if let Some(((j, i), &value)) = a.into().indexed_iter().find(|(_, v)| !v.is_finite()) {
         return Err(NumericError::NonFinite { quantity, value, i, j, iteration });
     }
     Ok(())
