@@ -287,9 +287,11 @@ fn pcg(
     for it in 0..=max_iter {
         let p = p_arr.as_slice().unwrap();
         let w = w_arr.as_slice().unwrap();
+        // The gap before the approach `h0` (a mean over the contact, added below).
+        let raw = |i: usize| w[i] + g0[i] + c[i] * p[i];
         let (mut sum, mut nc, mut csum) = (0.0, 0usize, 0.0);
         for i in 0..n {
-            r[i] = w[i] + g0[i] + c[i] * p[i];
+            r[i] = raw(i);
             if p[i] > 0.0 {
                 sum += r[i];
                 csum += c[i];
@@ -308,9 +310,7 @@ fn pcg(
         if !residual.is_finite() {
             check_finite("pressure", &*p_arr, it)?;
             check_finite("deformation", &*w_arr, it)?;
-            // The gap before the approach (the mean over the contact) carries one bad point to
-            // every other: locate it there.
-            let raw = |i: usize| w[i] + g0[i] + c[i] * p[i];
+            // The approach carries one bad point to every other: locate it before the approach.
             let bad = (0..n).position(|i| !raw(i).is_finite()).unwrap_or(0);
             return Err(NumericError::NonFinite {
                 quantity: "gap",
