@@ -12,6 +12,12 @@ fn model(n: usize, smoothing: f64) -> LayerModel {
     LayerModel::new(&c, &l, &spec, 0.01, Grid::square(n, 1.25), settings, vec![])
 }
 
+/// Table 1 as published (no smoothing), the contact at its default tolerance, rolling at `u1` [m/s].
+fn table1(n: usize, u1: f64) -> LayerModel {
+    let (c, l) = (ehl_core::SEED_CONTACT, ehl_core::SEED_LUBRICANT);
+    LayerModel::new(&c, &l, &SEED_LAYER, u1, Grid::square(n, 1.25), DrySettings::default(), vec![])
+}
+
 /// The implicit march at one step per cell (whole-cell shifts, BDF2), past two flushes of the
 /// domain, until the strain changes by less than 1e-7 per step: the floor the contact
 /// tolerance leaves is 1–4e-8 (measured on 33²), so the test needs no driver.
@@ -139,9 +145,7 @@ fn the_local_march_sees_its_upstream_changes() {
     // iterations on the finest grid. Reading the kernel one cell off (K(0,0), K(1,0)) takes 54,
     // the deflection's sign flipped 50, the unloaded gap's layer added instead of subtracted
     // 50: the bound 46 leaves 3 for a change elsewhere and fails each of those.
-    let (c, l) = (ehl_core::SEED_CONTACT, ehl_core::SEED_LUBRICANT);
-    let grid = Grid::square(129, 1.25);
-    let m = LayerModel::new(&c, &l, &SEED_LAYER, 0.01, grid, DrySettings::default(), vec![]);
+    let m = table1(129, 0.01);
     let (_, rep) = rolling_steady(&m, &SteadySettings::default()).unwrap();
     let &(n, finest) = rep.iterations.last().unwrap();
     assert_eq!(n, 129);
@@ -161,18 +165,7 @@ fn rolling_slower_and_slower_tends_to_the_steady_squeeze() {
     // 3.6e-2, 1.2e-2, 6.0e-3, 3.5e-3 p_h at 2, 0.5, 0.2, 0.1 mm/s, and the fully compressed
     // points (ε = 1, the layer squeezed out) rise 4, 1602, 1845, 1855 towards the squeeze's 1861.
     // This reaches the local march's "no layer left" branch.
-    let (c, l) = (ehl_core::SEED_CONTACT, ehl_core::SEED_LUBRICANT);
-    let at = |u: f64| {
-        LayerModel::new(
-            &c,
-            &l,
-            &SEED_LAYER,
-            u,
-            Grid::square(65, 1.25),
-            DrySettings::default(),
-            vec![],
-        )
-    };
+    let at = |u: f64| table1(65, u);
     let (squeeze, _) = run::squeeze_steady(&at(0.0)).unwrap();
     let full = |s: &LayerState| s.eps.iter().filter(|&&e| e >= 1.0).count();
     let diff = |u: f64| {
