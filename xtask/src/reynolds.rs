@@ -360,7 +360,8 @@ pub fn convergence(out: &Path, max_points: usize) -> Result<Vec<PathBuf>> {
             ok.iter().map(|p| (p.wall_s, (pick(p) - r).abs())).collect()
         };
         // A curve on both charts: central film against its reference, minimum against its own.
-        let mut both = |label: String, pts: &dyn Fn(fn(&Solve) -> f64, f64) -> Vec<(f64, f64)>| {
+        type Points<'a> = &'a dyn Fn(fn(&Solve) -> f64, f64) -> Vec<(f64, f64)>;
+        let mut both = |label: String, pts: Points| {
             series_c.push(Series::new(
                 label.clone(),
                 pts(|p| p.central_nm, ref_c),

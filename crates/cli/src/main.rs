@@ -17,7 +17,7 @@ struct Cli {
 struct RunArgs {
     /// Built-in scene name (see `ehl scenes`) or path to a scene JSON file.
     scene: String,
-    /// Output folder (default: out/<scene name>); replaced as a whole when the run is done.
+    /// Output folder (default: out/SCENE, the scene's name); replaced as a whole when the run is done.
     #[arg(long)]
     out: Option<PathBuf>,
     /// Points per side, overriding the scene's grid.
@@ -37,7 +37,7 @@ struct SweepArgs {
     step: Option<SweepStep>,
     /// Built-in sweep name (see `ehl scenes`) or path to a sweep JSON file.
     sweep: Option<String>,
-    /// Sweep folder (default: out/sweep-<name>); a rerun into it skips finished points.
+    /// Sweep folder (default: out/sweep-NAME, the sweep's name); a rerun into it skips finished points.
     #[arg(long)]
     out: Option<PathBuf>,
     /// Points run at once, each on one thread (default: all cores).

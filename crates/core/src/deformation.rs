@@ -102,10 +102,13 @@ pub struct Deformation {
     /// Kernel spectrum `K̂[k][j]` (real: the kernel is even), not normalised.
     symbol: Vec<f64>,
     /// Spare work buffers: (row spectra ny×kx, column spectra kx×my).
-    buffers: Mutex<Vec<(Vec<Complex<f64>>, Vec<Complex<f64>>)>>,
+    buffers: Mutex<Vec<SpectraPair>>,
     /// Self-influence `K(0, 0)`: the local stiffness of one cell.
     k00: f64,
 }
+
+/// One convolution's work buffers: row spectra (ny × kx) and column spectra (kx × my).
+type SpectraPair = (Vec<Complex<f64>>, Vec<Complex<f64>>);
 
 impl Deformation {
     pub fn new(grid: Grid) -> Self {

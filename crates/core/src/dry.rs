@@ -142,10 +142,10 @@ impl DrySolver {
         if !(problem.load > 0.0 && problem.load.is_finite()) {
             return Err(NumericError::Invalid(format!("load must be > 0, got {}", problem.load)));
         }
-        if let Some(c) = problem.compliance {
-            if c.iter().any(|&v| !(v >= 0.0 && v.is_finite())) {
-                return Err(NumericError::Invalid("compliance must be finite and >= 0".into()));
-            }
+        if let Some(c) = problem.compliance
+            && c.iter().any(|&v| !(v >= 0.0 && v.is_finite()))
+        {
+            return Err(NumericError::Invalid("compliance must be finite and >= 0".into()));
         }
         // A non-finite rigid gap is named where it is, before the approach spreads it.
         check_finite("rigid gap", problem.rigid_gap, 0)?;

@@ -101,7 +101,7 @@ pub fn prolong(coarse: &Array2<f64>) -> Array2<f64> {
     let (ny, nx) = coarse.dim();
     Array2::from_shape_fn((2 * ny - 1, 2 * nx - 1), |(j, i)| {
         let (j0, i0) = (j / 2, i / 2);
-        let (j1, i1) = ((j + 1) / 2, (i + 1) / 2);
+        let (j1, i1) = (j.div_ceil(2), i.div_ceil(2));
         0.25 * (coarse[[j0, i0]] + coarse[[j0, i1]] + coarse[[j1, i0]] + coarse[[j1, i1]])
     })
 }

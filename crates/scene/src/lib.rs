@@ -111,11 +111,11 @@ impl Scene {
                 // The scenario stays; a dent's depth given in the layer's l0 becomes metres.
                 if let (Some(run), Some(l)) = (s.run.as_mut(), s.layer) {
                     for f in &mut run.features {
-                        if let Feature::Dent(d) = f {
-                            if let (Some(a), None) = (d.amplitude, d.depth_m) {
-                                d.depth_m = Some(a * l.supply_thickness_m);
-                                d.amplitude = None;
-                            }
+                        if let Feature::Dent(d) = f
+                            && let (Some(a), None) = (d.amplitude, d.depth_m)
+                        {
+                            d.depth_m = Some(a * l.supply_thickness_m);
+                            d.amplitude = None;
                         }
                     }
                 }
@@ -129,17 +129,17 @@ impl Scene {
     pub fn reynolds_conditions(&self) -> (Contact, f64) {
         let mut c = self.conditions.contact();
         let mut u_sum = 2.0 * self.conditions.rolling_velocity_m_s.unwrap_or(0.0);
-        if let (Some(r), Some(l)) = (&self.reynolds, &self.lubricant) {
-            if let Some(m) = &r.moes {
-                let (load, u) = m.to_load_and_velocity(
-                    c.ball_radius,
-                    c.reduced_modulus,
-                    l.eta0_pa_s,
-                    l.alpha_per_pa,
-                );
-                c.load = load;
-                u_sum = u;
-            }
+        if let (Some(r), Some(l)) = (&self.reynolds, &self.lubricant)
+            && let Some(m) = &r.moes
+        {
+            let (load, u) = m.to_load_and_velocity(
+                c.ball_radius,
+                c.reduced_modulus,
+                l.eta0_pa_s,
+                l.alpha_per_pa,
+            );
+            c.load = load;
+            u_sum = u;
         }
         (c, u_sum)
     }
@@ -525,7 +525,7 @@ pub fn builtin(name: &str) -> Result<Scene, SceneError> {
 
 /// A built-in name, or else a path to a JSON file.
 pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
-    if let Some(_) = BUILTINS.iter().find(|(n, _)| *n == name_or_path) {
+    if BUILTINS.iter().find(|(n, _)| *n == name_or_path).is_some() {
         return builtin(name_or_path);
     }
     let path = Path::new(name_or_path);

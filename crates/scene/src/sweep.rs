@@ -171,8 +171,8 @@ impl Sweep {
             .iter()
             .filter(|a| matches!(a.parameter, Parameter::MoesM | Parameter::MoesL))
             .collect();
-        if !moes.is_empty() {
-            if let Some(other) = self.parameters.iter().find(|a| {
+        if !moes.is_empty()
+            && let Some(other) = self.parameters.iter().find(|a| {
                 matches!(
                     a.parameter,
                     Parameter::RollingVelocity
@@ -180,13 +180,13 @@ impl Sweep {
                         | Parameter::Eta0
                         | Parameter::Alpha
                 )
-            }) {
-                return Err(ck.err(
+            })
+        {
+            return Err(ck.err(
                     "parameters",
                     format!("{} with {}", moes[0].parameter.name(), other.parameter.name()),
                     "Moes' M and L set the load and the velocity from R, E', eta0 and alpha: vary them with each other or with the grid or supply thickness, not with load, velocity, eta0 or alpha",
                 ));
-            }
         }
         let mut total = 1usize;
         for (k, a) in self.parameters.iter().enumerate() {
@@ -215,32 +215,32 @@ impl Sweep {
                 }
                 _ => {}
             }
-            if let Some(v) = &a.values {
-                if v.is_empty() || v.len() > 100 {
-                    return Err(ck.err(
-                        &f("values"),
-                        format!("{} values", v.len()),
-                        "1 ..= 100 values",
-                    ));
-                }
+            if let Some(v) = &a.values
+                && (v.is_empty() || v.len() > 100)
+            {
+                return Err(ck.err(
+                    &f("values"),
+                    format!("{} values", v.len()),
+                    "1 ..= 100 values",
+                ));
             }
-            if let Some([lo, hi]) = a.linear {
-                if !(lo.is_finite() && hi.is_finite() && lo != hi) {
-                    return Err(ck.err(
-                        &f("linear"),
-                        format!("[{lo}, {hi}]"),
-                        "two different finite numbers",
-                    ));
-                }
+            if let Some([lo, hi]) = a.linear
+                && !(lo.is_finite() && hi.is_finite() && lo != hi)
+            {
+                return Err(ck.err(
+                    &f("linear"),
+                    format!("[{lo}, {hi}]"),
+                    "two different finite numbers",
+                ));
             }
-            if let Some([lo, hi]) = a.log {
-                if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > 0.0 && lo != hi) {
-                    return Err(ck.err(
-                        &f("log"),
-                        format!("[{lo}, {hi}]"),
-                        "two different finite numbers > 0",
-                    ));
-                }
+            if let Some([lo, hi]) = a.log
+                && !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > 0.0 && lo != hi)
+            {
+                return Err(ck.err(
+                    &f("log"),
+                    format!("[{lo}, {hi}]"),
+                    "two different finite numbers > 0",
+                ));
             }
             for v in a.values() {
                 let ok = match a.parameter {

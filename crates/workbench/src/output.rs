@@ -20,10 +20,10 @@ static STAGE: std::sync::Mutex<Option<PathBuf>> = std::sync::Mutex::new(None);
 /// Removes the staging folder of the write in progress, if any: what an interrupted run must do
 /// so it leaves no partial output (the binary calls it from its SIGINT/SIGTERM handler).
 pub fn abandon_stage() {
-    if let Ok(mut g) = STAGE.lock() {
-        if let Some(p) = g.take() {
-            let _ = std::fs::remove_dir_all(p);
-        }
+    if let Ok(mut g) = STAGE.lock()
+        && let Some(p) = g.take()
+    {
+        let _ = std::fs::remove_dir_all(p);
     }
 }
 

@@ -60,9 +60,6 @@ pub struct TransientRecord {
     pub stop_reason: String,
 }
 
-/// The dimensionless parameters and a solver (hierarchy built, Hertz start) for a Reynolds
-/// scene.
-
 /// The registered Reynolds model.
 pub struct Reynolds;
 
@@ -140,6 +137,8 @@ impl Outcome for ReynoldsOutcome {
     }
 }
 
+/// The dimensionless parameters and a solver (hierarchy built, Hertz start) for a Reynolds
+/// scene.
 pub fn build_solver(scene: &Scene) -> (ReynoldsParams, ReynoldsSolver) {
     let spec = scene.reynolds.clone().expect("validated");
     let lub = scene.lubricant.expect("validated").lubricant();

@@ -12,6 +12,7 @@
 //!   short at 1 + 1.8 (m* − 1) for 0.2 m/s).
 //! - Layer: nothing happens before the layer touches the ball, where the Hertz separation equals
 //!   the supply thickness `l0`; the inlet goes where the separation is `2 l0`.
+//!
 //! So `x_min = −max(|x_min of the scene|, each listed model's inlet)`; the outlet is kept. The cells are
 //! never coarser than the scene's (its author's resolution: 0.0098 `a` in the seed scenes, the
 //! ~0.01 `a` the thin-film regime needs); a grown domain gets more points, rounded up to a count

@@ -396,7 +396,7 @@ fn one_parameter(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
                 panel("Central film h_c", "h_c [nm]", hc.clone()),
                 panel("Minimum film h_min", "h_min [nm]", hmin.clone()),
             ],
-            &note,
+            note,
         )
     })?;
     if let Some(((kl, name_l), (kr, name_r))) = film_pair(models, recs) {
@@ -436,7 +436,7 @@ fn one_parameter(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
             );
             b.log_x = log;
             b.log_y = true;
-            plot::charts(f, &[a, b], &note)
+            plot::charts(f, &[a, b], note)
         })?;
     }
     put(files, ctx.dir, "sweep_cost.png", &|f| {
@@ -445,7 +445,7 @@ fn one_parameter(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
                 .legend(SeriesLabelPosition::UpperLeft);
         p.log_x = log;
         p.log_y = true;
-        plot::charts(f, &[p], &note)
+        plot::charts(f, &[p], note)
     })?;
     Ok(())
 }
@@ -526,11 +526,11 @@ fn two_parameters(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
     let yl = format!("{} [{}]", a1.parameter.name(), a1.parameter.unit());
     if !panels.is_empty() {
         put(files, ctx.dir, "sweep_film_ratio.png", &|f| {
-            plot::cell_maps(f, &panels, &ticks(a0), &ticks(a1), &xl, &yl, &note)
+            plot::cell_maps(f, &panels, &ticks(a0), &ticks(a1), &xl, &yl, note)
         })?;
     }
     put(files, ctx.dir, "sweep_cost.png", &|f| {
-        plot::cell_maps(f, &cost_panels, &ticks(a0), &ticks(a1), &xl, &yl, &note)
+        plot::cell_maps(f, &cost_panels, &ticks(a0), &ticks(a1), &xl, &yl, note)
     })?;
     Ok(())
 }

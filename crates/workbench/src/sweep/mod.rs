@@ -358,22 +358,22 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                     check_wall_time_s: 0.0,
                     flag: None,
                 };
-                if let Ok((ob, lub, _)) = &main {
-                    if sweep.checks {
-                        let (gs, ds) = (adapt::grid_check(&one), adapt::domain_check(&one));
-                        let (g, tg) = run_model(&gs);
-                        let (d, td) = run_model(&ds);
-                        rec.check_wall_time_s = tg + td;
-                        let mut gc = check_record(&gs, &g);
-                        let mut dc = check_record(&ds, &d);
-                        gc.change = g.as_ref().ok().map(|(c, ..)| changes(ob, c, *lub));
-                        if let (Ok((c, ..)), Ok((big, ..))) = (&g, &d) {
-                            dc.change = Some(changes(big, c, *lub));
-                        }
-                        rec.flag = flag(sweep.flag_change_above, &gc, &dc);
-                        rec.grid_check = Some(gc);
-                        rec.domain_check = Some(dc);
+                if let Ok((ob, lub, _)) = &main
+                    && sweep.checks
+                {
+                    let (gs, ds) = (adapt::grid_check(&one), adapt::domain_check(&one));
+                    let (g, tg) = run_model(&gs);
+                    let (d, td) = run_model(&ds);
+                    rec.check_wall_time_s = tg + td;
+                    let mut gc = check_record(&gs, &g);
+                    let mut dc = check_record(&ds, &d);
+                    gc.change = g.as_ref().ok().map(|(c, ..)| changes(ob, c, *lub));
+                    if let (Ok((c, ..)), Ok((big, ..))) = (&g, &d) {
+                        dc.change = Some(changes(big, c, *lub));
                     }
+                    rec.flag = flag(sweep.flag_change_above, &gc, &dc);
+                    rec.grid_check = Some(gc);
+                    rec.domain_check = Some(dc);
                 }
                 rec
             })
