@@ -364,7 +364,8 @@ fn lateral(th: &Theta, n: usize) -> Result<Value> {
                     &s.conditions.contact(),
                     &lub,
                     &spec,
-                    s.conditions.rolling_velocity_m_s.unwrap(),
+                    ehl_core::Kinematics::constant(s.conditions.rolling_velocity_m_s.unwrap())
+                        .unwrap(),
                     s.grid(),
                     s.solver,
                     vec![],

@@ -326,7 +326,7 @@ fn stability_limit(grids: &[usize]) -> Result<Vec<serde_json::Value>> {
         let mut first_fail = None;
         for nt in [10.0, 5.0, 3.0, 2.0, 1.5, 1.0, 0.75, 0.5] {
             let mut s = start.final_state.clone();
-            let dt = model.grid.dx() * model.scales.a / (nt * model.u1);
+            let dt = model.grid.dx() * model.scales.a / (nt * model.rolling_speed());
             let mut st = Stepper::new(Scheme::Explicit, 0);
             let steps = (0.5 * nt / model.grid.dx()).ceil() as usize;
             let mut failure = None;
@@ -363,7 +363,7 @@ fn model_of(scene: &Scene) -> (LayerModel, f64) {
         &scene.conditions.contact(),
         &scene.lubricant.unwrap().lubricant(),
         &scene.layer.unwrap(),
-        scene.conditions.rolling_velocity_m_s.unwrap(),
+        ehl_core::Kinematics::constant(scene.conditions.rolling_velocity_m_s.unwrap()).unwrap(),
         scene.grid(),
         scene.solver,
         vec![],
@@ -445,7 +445,7 @@ pub fn bench(max: usize) -> Result<Vec<serde_json::Value>> {
         let (sq, rep) = squeeze_steady(&m)?;
         let sq_time = t.elapsed().as_secs_f64();
         let _ = rep;
-        let dt = m.grid.dx() * m.scales.a / (10.0 * m.u1);
+        let dt = m.grid.dx() * m.scales.a / (10.0 * m.rolling_speed());
         let mut per = vec![];
         for scheme in [Scheme::Implicit, Scheme::Explicit] {
             let mut s = sq.clone();

@@ -3,7 +3,8 @@
 //! Both solvers (the oedometric layer model and the Reynolds EHL model) stand on this crate:
 //! the conditions and their Hertzian scales ([`params`]), the uniform grid ([`grid`]), the elastic
 //! half-space deformation as an FFT convolution ([`deformation`]), the dry contact solver
-//! ([`dry`]) and Hertz's analytic solution to check them against ([`hertz`]).
+//! ([`dry`]), the motion of the surfaces over time ([`kinematics`]) and Hertz's analytic solution
+//! to check them against ([`hertz`]).
 //!
 //! Units: SI at the boundary (the `params` types), Hertzian dimensionless form inside:
 //! `X = x/a`, `P = p/p_h`, gaps and deformations in units of the Hertz approach `a²/R`.
@@ -12,6 +13,7 @@ pub mod deformation;
 pub mod dry;
 pub mod grid;
 pub mod hertz;
+pub mod kinematics;
 pub mod laws;
 pub mod observe;
 pub mod params;
@@ -30,6 +32,7 @@ pub fn par_min_len(work: usize) -> usize {
 pub use deformation::Deformation;
 pub use dry::{DryProblem, DryReport, DrySettings, DrySolver, Start};
 pub use grid::Grid;
+pub use kinematics::{Kinematics, KinematicsError};
 pub use observe::Observables;
 pub use params::{Contact, HertzScales, Lubricant, Moes, SEED_CONTACT, SEED_LUBRICANT};
 

@@ -16,7 +16,7 @@ fn main() {
         &ehl_core::SEED_CONTACT,
         &ehl_core::SEED_LUBRICANT,
         &spec,
-        0.01,
+        ehl_core::Kinematics::constant(0.01).unwrap(),
         Grid::square(n, 1.25),
         settings,
         vec![],

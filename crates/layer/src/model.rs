@@ -8,8 +8,8 @@ use crate::features::Feature;
 use crate::laws::{Damper, DamperReading, LawSet, ModulusLaw};
 use ehl_core::params::oedometric_modulus;
 use ehl_core::{
-    Contact, DryProblem, DryReport, DrySettings, DrySolver, Grid, HertzScales, Lubricant,
-    NumericError, Start,
+    Contact, DryProblem, DryReport, DrySettings, DrySolver, Grid, HertzScales, Kinematics,
+    Lubricant, NumericError, Start,
 };
 use ndarray::{Array2, Zip};
 use serde::{Deserialize, Serialize};
@@ -111,8 +111,9 @@ pub struct LayerModel {
     pub law: ModulusLaw,
     pub damper: Damper,
     pub spec: LayerSpec,
-    /// Rolling velocity `u1` [m/s] (0 in squeeze).
-    pub u1: f64,
+    /// How the surfaces move: the speed `u1(t)` [m/s] and the travel that carries the layer,
+    /// its supply and the features.
+    motion: Kinematics,
     /// Features passing (dents resolved to `A`: set them with [`LayerModel::set_features`]).
     pub features: Vec<Feature>,
     pub solver: DrySolver,
@@ -127,7 +128,7 @@ impl LayerModel {
         contact: &Contact,
         lub: &Lubricant,
         spec: &LayerSpec,
-        u1: f64,
+        motion: Kinematics,
         grid: Grid,
         settings: DrySettings,
         features: Vec<Feature>,
@@ -154,7 +155,7 @@ impl LayerModel {
             law: spec.modulus_law,
             damper,
             spec: *spec,
-            u1,
+            motion,
             features: resolve(features, spec.supply_thickness_m),
             solver: DrySolver::new(grid, settings),
             shape: grid.paraboloid(),
@@ -180,7 +181,7 @@ impl LayerModel {
             law: self.law,
             damper: self.damper,
             spec: self.spec,
-            u1: self.u1,
+            motion: self.motion.clone(),
             features: self.features.clone(),
             solver: DrySolver::new(grid, self.solver.settings),
             shape: grid.paraboloid(),
@@ -235,9 +236,25 @@ impl LayerModel {
         alpha_eff * (p - self.modulus(p, eps) * eps) - (1.0 - eps * e_p)
     }
 
-    /// Feature centre position at time `t` [a] (features move at `u1`).
+    /// Feature centre position at time `t` [a] (features travel with the surfaces).
     pub fn feature_x(&self, f: &Feature, t: f64) -> f64 {
-        f.x_start() + self.u1 * t / self.scales.a
+        f.x_start() + self.motion.travel(t) / self.scales.a
+    }
+
+    /// How the surfaces move.
+    pub fn motion(&self) -> &Kinematics {
+        &self.motion
+    }
+
+    /// The speed steady rolling rolls at [m/s]: the speed before the motion starts (a
+    /// steady-rolling start, then a stop, rolls at the scene's speed first).
+    pub fn rolling_speed(&self) -> f64 {
+        self.motion.speed_before()
+    }
+
+    /// Cells the layer moves in the step from `t` to `t + dt` [s].
+    pub fn cells_in_step(&self, t: f64, dt: f64) -> f64 {
+        self.motion.travel_in_step(t, dt) / (self.scales.a * self.grid.dx())
     }
 
     /// Supply thickness field `L0(x, t)` [a²/R]: `l0`, zero inside holes.

@@ -99,16 +99,17 @@ pub struct SteadyReport {
 /// Coarsest grid of the nested iteration: the inlet zone needs a few cells.
 const MIN_NESTED_POINTS: usize = 33;
 
-/// The steady rolling state of `m` (rolling at `m.u1 > 0`, no features), solved directly.
+/// The steady rolling state of `m` (rolling at [`LayerModel::rolling_speed`] `> 0`, no
+/// features), solved directly.
 pub fn rolling_steady(
     m: &LayerModel,
     settings: &SteadySettings,
 ) -> Result<(LayerState, SteadyReport), LayerError> {
     let t0 = Instant::now();
-    if !(m.u1 > 0.0) {
+    if !(m.rolling_speed() > 0.0) {
         return Err(LayerError::Setup(format!(
             "steady rolling needs a rolling velocity > 0 (got {} m/s)",
-            m.u1
+            m.rolling_speed()
         )));
     }
     if !m.features.is_empty() {
@@ -458,7 +459,7 @@ impl Coefficients {
 
 impl<'a> Cell<'a> {
     fn new(m: &'a LayerModel, substeps: usize) -> Self {
-        Self { m, substeps, dt: m.grid.dx() * m.scales.a / (m.u1 * substeps as f64) }
+        Self { m, substeps, dt: m.grid.dx() * m.scales.a / (m.rolling_speed() * substeps as f64) }
     }
 }
 

@@ -62,12 +62,15 @@ pub struct StepInfo {
     pub error_estimate: Option<f64>,
 }
 
-/// A past level, for BDF2 and the predictors: strain and pressure, and the step that left it.
+/// A past level, for BDF2 and the predictors: strain and pressure, the step that left it, and
+/// the cells the layer moved in that step (each level keeps its own shift: with a speed that
+/// changes, the past is not `u dt` behind at today's speed).
 #[derive(Clone)]
 struct Level {
     eps: Array2<f64>,
     p: Array2<f64>,
     dt: f64,
+    cells: f64,
 }
 
 /// Steps a [`LayerState`]; holds the history the multistep scheme needs.
@@ -106,11 +109,6 @@ impl Stepper {
         self.flips = None;
     }
 
-    /// Cells the layer moves in `dt`.
-    fn cells(m: &LayerModel, dt: f64) -> f64 {
-        m.u1 * dt / (m.scales.a * m.grid.dx())
-    }
-
     /// Advances `s` by `dt` [s].
     pub fn step(
         &mut self,
@@ -144,8 +142,8 @@ impl Stepper {
         }
     }
 
-    fn push_history(&mut self, s: &LayerState, dt: f64) {
-        self.history.insert(0, Level { eps: s.eps.clone(), p: s.p.clone(), dt });
+    fn push_history(&mut self, s: &LayerState, dt: f64, cells: f64) {
+        self.history.insert(0, Level { eps: s.eps.clone(), p: s.p.clone(), dt, cells });
         self.history.truncate(2);
     }
 
@@ -155,7 +153,7 @@ impl Stepper {
         s: &mut LayerState,
         dt: f64,
     ) -> Result<StepInfo, LayerError> {
-        let k = Self::cells(m, dt);
+        let k = m.cells_in_step(s.t, dt);
         let t1 = s.t + dt;
         let step = self.steps + 1;
         let rate = m.rate_field(&s.p, &s.eps);
@@ -180,7 +178,7 @@ impl Stepper {
         let r2 = solve(&eps_new, &mut p)?;
         // Heun minus Euler: the local error of the Euler stage, a conservative estimate.
         let err = self.estimate_error.then(|| rms_active(&eps_new, &eps_star, &p));
-        self.push_history(s, dt);
+        self.push_history(s, dt, k);
         *s = LayerState { t: t1, eps: eps_new, p, w, h0: r2.h0 };
         Ok(StepInfo { solves: 2, iterations: r1.iterations + r2.iterations, error_estimate: err })
     }
@@ -191,7 +189,7 @@ impl Stepper {
         s: &mut LayerState,
         dt: f64,
     ) -> Result<StepInfo, LayerError> {
-        let k = Self::cells(m, dt);
+        let k = m.cells_in_step(s.t, dt);
         let t1 = s.t + dt;
         let step = self.steps + 1;
         let eps_d = shift_strain(&s.eps, k);
@@ -200,7 +198,7 @@ impl Stepper {
             None => (1.0, eps_d.clone(), eps_d.clone()),
             Some(prev) => {
                 let om = dt / prev.dt;
-                let eps_dd = shift_strain(&prev.eps, k + Self::cells(m, prev.dt));
+                let eps_dd = shift_strain(&prev.eps, k + prev.cells);
                 let rhs = Zip::from(&eps_d)
                     .and(&eps_dd)
                     .par_map_collect(|&e1, &e0| (1.0 + om) * e1 - om * om / (1.0 + om) * e0);
@@ -260,8 +258,8 @@ impl Stepper {
         let err = if self.estimate_error && self.history.len() == 2 {
             let (l1, l2) = (&self.history[0], &self.history[1]);
             let (h, h1, h2) = (dt, l1.dt, l2.dt);
-            let e1 = shift_strain(&l1.eps, k + Self::cells(m, h1));
-            let e2 = shift_strain(&l2.eps, k + Self::cells(m, h1) + Self::cells(m, h2));
+            let e1 = shift_strain(&l1.eps, k + l1.cells);
+            let e2 = shift_strain(&l2.eps, k + l1.cells + l2.cells);
             // Nodes at -h, -(h+h1), -(h+h1+h2) relative to the new time; Lagrange weights at 0.
             let (x0, x1, x2) = (-h, -(h + h1), -(h + h1 + h2));
             let w0 = x1 * x2 / ((x0 - x1) * (x0 - x2));
@@ -275,7 +273,7 @@ impl Stepper {
         } else {
             None
         };
-        self.push_history(s, dt);
+        self.push_history(s, dt, k);
         *s = LayerState { t: t1, eps: eps_new, p, w, h0 };
         Ok(StepInfo { solves, iterations, error_estimate: err })
     }
@@ -353,7 +351,7 @@ mod tests {
             &c,
             &l,
             &crate::SEED_LAYER,
-            0.01,
+            ehl_core::Kinematics::constant(0.01).unwrap(),
             grid,
             ehl_core::DrySettings::default(),
             vec![],

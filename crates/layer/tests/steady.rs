@@ -5,17 +5,30 @@
 use ehl_core::{DrySettings, Grid};
 use ehl_layer::*;
 
+/// Constant speed `u1` [m/s].
+fn rolling(u1: f64) -> ehl_core::Kinematics {
+    ehl_core::Kinematics::constant(u1).unwrap()
+}
+
 fn model(n: usize, smoothing: f64) -> LayerModel {
     let spec = LayerSpec { coefficient_smoothing_a: smoothing, ..SEED_LAYER };
     let settings = DrySettings { tolerance: 1e-10, ..DrySettings::default() };
     let (c, l) = (ehl_core::SEED_CONTACT, ehl_core::SEED_LUBRICANT);
-    LayerModel::new(&c, &l, &spec, 0.01, Grid::square(n, 1.25), settings, vec![])
+    LayerModel::new(&c, &l, &spec, rolling(0.01), Grid::square(n, 1.25), settings, vec![])
 }
 
 /// Table 1 as published (no smoothing), the contact at its default tolerance, rolling at `u1` [m/s].
 fn table1(n: usize, u1: f64) -> LayerModel {
     let (c, l) = (ehl_core::SEED_CONTACT, ehl_core::SEED_LUBRICANT);
-    LayerModel::new(&c, &l, &SEED_LAYER, u1, Grid::square(n, 1.25), DrySettings::default(), vec![])
+    LayerModel::new(
+        &c,
+        &l,
+        &SEED_LAYER,
+        rolling(u1),
+        Grid::square(n, 1.25),
+        DrySettings::default(),
+        vec![],
+    )
 }
 
 /// The implicit march at one step per cell (whole-cell shifts, BDF2), past two flushes of the
@@ -24,7 +37,7 @@ fn table1(n: usize, u1: f64) -> LayerModel {
 fn marched(m: &LayerModel) -> LayerState {
     let mut s = uniform_state(m).unwrap();
     let mut st = Stepper::new(Scheme::Implicit, 0);
-    let dt = m.grid.dx() * m.scales.a / m.u1;
+    let dt = m.grid.dx() * m.scales.a / m.rolling_speed();
     for k in 0..5000 {
         let before = s.eps.clone();
         st.step(m, &mut s, dt).unwrap();
@@ -129,8 +142,7 @@ fn a_solve_that_does_not_converge_says_where_and_when() {
     m.features = vec![Feature::Hole(Hole { radius_a: 0.2, x_start_a: -1.0, y_a: 0.0 })];
     assert!(matches!(rolling_steady(&m, &SteadySettings::default()), Err(LayerError::Setup(_))));
     // Nor is standing still: a squeeze has its own steady solve.
-    let mut still = model(33, 0.0);
-    still.u1 = 0.0;
+    let still = table1(33, 0.0);
     match rolling_steady(&still, &SteadySettings::default()) {
         Err(LayerError::Setup(why)) => assert!(why.contains("rolling velocity > 0"), "{why}"),
         other => panic!("u1 = 0 must be refused: {:?}", other.map(|r| r.1)),

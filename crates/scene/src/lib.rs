@@ -3,7 +3,7 @@
 //!
 //! Built-in scenes are the JSON files in `validation/scenes/`, compiled in by name.
 
-use ehl_core::{Contact, DrySettings, Grid, Lubricant};
+use ehl_core::{Contact, DrySettings, Grid, Kinematics, KinematicsError, Lubricant};
 use ehl_layer::{Feature, LayerSpec, Scheme, SteadySettings};
 use ehl_reynolds::{DensityLaw, ReynoldsSettings, ViscosityLaw};
 use serde::{Deserialize, Serialize};
@@ -350,16 +350,53 @@ pub enum Method {
     March,
 }
 
-/// What the surfaces do.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+/// What the surfaces do, stated once for every model: pure rolling (both surfaces at one
+/// speed), at `conditions.rolling_velocity_m_s` unless a table gives the speeds. The core's
+/// [`Kinematics`] is what the models read ([`RunSpec::kinematics`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Motion {
     /// Pure rolling at `conditions.rolling_velocity_m_s`.
     Rolling,
-    /// Squeeze: the rolling stops (suddenly) at the start, the load stays.
+    /// Squeeze: the rolling stops (suddenly) at the start, the load stays (a stop at 0 s).
     Squeeze,
     /// No time stepping: the start state is the result (e.g. the steady squeeze).
     None,
+    /// Rolling at the scene's speed, then a sudden stop at `at_s` [s] (`{"stop": {"at_s": 0.05}}`).
+    #[serde(rename = "stop")]
+    StopAt {
+        /// When the surfaces stop [s].
+        at_s: f64,
+    },
+    /// From rest to the scene's speed in a linear ramp over `ramp_s` [s] (0: at once).
+    StartUp {
+        /// How long the ramp takes [s].
+        ramp_s: f64,
+    },
+    /// The speed as a piecewise-linear table of `[t [s], u [m/s]]` knots (two at one time: a
+    /// jump); after the last knot its speed holds.
+    Table {
+        /// The knots `[t, u]`, times non-decreasing from 0.
+        knots: Vec<[f64; 2]>,
+    },
+}
+
+impl Motion {
+    /// Whether anything marches in time (all but `none`).
+    pub fn marches(&self) -> bool {
+        *self != Motion::None
+    }
+    /// The name used in reports (`rolling`, `squeeze`, `stop`, `start-up`, `table`, `none`).
+    pub fn label(&self) -> &'static str {
+        match self {
+            Motion::Rolling => "rolling",
+            Motion::Squeeze => "squeeze",
+            Motion::None => "none",
+            Motion::StopAt { .. } => "stop",
+            Motion::StartUp { .. } => "start-up",
+            Motion::Table { .. } => "table",
+        }
+    }
 }
 
 /// A layer run.
@@ -393,6 +430,24 @@ pub struct RunSpec {
 }
 
 impl RunSpec {
+    /// The motion as the models read it, built on the reference speed `u_ref` [m/s] (the
+    /// scene's rolling speed; for a table without one, its largest speed).
+    pub fn kinematics(&self, u_ref: f64) -> Result<Kinematics, KinematicsError> {
+        match &self.motion {
+            Motion::Rolling => Kinematics::constant(u_ref),
+            Motion::None => Kinematics::constant(0.0),
+            Motion::Squeeze => Kinematics::stop_at(u_ref, 0.0),
+            Motion::StopAt { at_s } => Kinematics::stop_at(u_ref, *at_s),
+            Motion::StartUp { ramp_s } => Kinematics::start_up(u_ref, *ramp_s),
+            Motion::Table { knots } => {
+                let k: Vec<(f64, f64)> = knots.iter().map(|k| (k[0], k[1])).collect();
+                let reference =
+                    if u_ref > 0.0 { u_ref } else { k.iter().map(|k| k.1).fold(0.0, f64::max) };
+                Kinematics::table(&k, reference)
+            }
+        }
+    }
+
     /// The method this run uses, the default resolved.
     pub fn method(&self) -> Method {
         self.method.unwrap_or(
@@ -409,11 +464,13 @@ impl RunSpec {
         )
     }
     /// Every snapshot time [s]: `snapshots_s` and the times `snapshots_a` give for a feature
-    /// starting at `x_start_a` moving at `u1` [m/s] on the Hertz radius `a` [m], in order.
-    pub fn snapshot_times(&self, a: f64, u1: f64) -> Vec<f64> {
+    /// starting at `x_start_a` carried by `motion` on the Hertz radius `a` [m], in order; a
+    /// position the motion never carries the feature to has no time (the scene's checks refuse
+    /// it).
+    pub fn snapshot_times(&self, a: f64, motion: &Kinematics) -> Vec<f64> {
         let x0 = self.features.first().map(|f| f.x_start_a()).unwrap_or(0.0);
         let mut t: Vec<f64> = self.snapshots_s.clone();
-        t.extend(self.snapshots_a.iter().map(|&x| (x - x0) * a / u1));
+        t.extend(self.snapshots_a.iter().filter_map(|&x| motion.time_at_travel((x - x0) * a)));
         t.sort_by(f64::total_cmp);
         t
     }
@@ -862,17 +919,49 @@ impl Scene {
     }
 
     /// The scenario every marching model reads (method, start, motion, features, steps, stop
-    /// rule, snapshots), with features moving at the rolling velocity `u` [m/s].
+    /// rule, snapshots), the motion built on the rolling velocity `u` [m/s].
     fn validate_run(&self, ck: &Check, r: &RunSpec, u: f64) -> Result<(), SceneError> {
-        Self::validate_method(ck, r, u)?;
+        Self::validate_motion(ck, r, u)?;
+        let kin = r
+            .kinematics(u)
+            .map_err(|e| ck.err("run.motion", format!("{:?}", r.motion), &e.what))?;
+        let a = ehl_core::HertzScales::new(&self.conditions.contact()).a;
+        Self::validate_method(ck, r, &kin)?;
         Self::validate_steps(ck, r)?;
-        Self::validate_stop(ck, r, u)?;
+        Self::validate_stop(ck, r, &kin, a)?;
         Self::validate_features(ck, r)?;
-        Self::validate_snapshots(ck, r, u)
+        Self::validate_snapshots(ck, r, &kin, a)
+    }
+
+    /// A stop's time, a ramp's length, a table's knots; the scene's speed where the motion
+    /// rolls at it.
+    fn validate_motion(ck: &Check, r: &RunSpec, u: f64) -> Result<(), SceneError> {
+        match &r.motion {
+            Motion::StopAt { at_s } => ck.nonneg("run.motion.stop.at_s", *at_s, "s")?,
+            Motion::StartUp { ramp_s } => ck.nonneg("run.motion.start-up.ramp_s", *ramp_s, "s")?,
+            Motion::Table { knots } if knots.is_empty() => {
+                return Err(ck.err(
+                    "run.motion.table.knots",
+                    "[]".into(),
+                    "at least one [t (s), u (m/s)] knot",
+                ));
+            }
+            _ => {}
+        }
+        let uses_scene_speed =
+            matches!(r.motion, Motion::Rolling | Motion::StopAt { .. } | Motion::StartUp { .. });
+        if uses_scene_speed && !(u > 0.0) {
+            return Err(ck.err(
+                "conditions.rolling_velocity_m_s",
+                format!("{u}"),
+                &format!("must be > 0 (m/s): run.motion `{}` rolls at it", r.motion.label()),
+            ));
+        }
+        Ok(())
     }
 
     /// Method and start, the direct steady solve's settings, and the velocity rolling needs.
-    fn validate_method(ck: &Check, r: &RunSpec, u: f64) -> Result<(), SceneError> {
+    fn validate_method(ck: &Check, r: &RunSpec, kin: &Kinematics) -> Result<(), SceneError> {
         match (r.method(), r.start) {
             (Method::March, None) => {
                 return Err(ck.err(
@@ -936,13 +1025,15 @@ impl Scene {
         if !(1..=64).contains(&sd.substeps) {
             return Err(ck.err("run.steady.substeps", sd.substeps.to_string(), "must be 1 ..= 64"));
         }
-        let needs_rolling =
-            r.motion == Motion::Rolling || r.start == Some(StartState::SteadyRolling);
-        if needs_rolling && !(u > 0.0) {
+        let u = kin.speed_before();
+        if r.start == Some(StartState::SteadyRolling) && !(u > 0.0) {
             return Err(ck.err(
-                "conditions.rolling_velocity_m_s",
-                format!("{u}"),
-                "must be > 0 (m/s) for rolling motion or a steady-rolling start",
+                "run.start",
+                "steady-rolling".into(),
+                &format!(
+                    "a steady-rolling start needs the motion to roll before it starts; run.motion `{}` starts at rest (use a uniform or squeezed start)",
+                    r.motion.label()
+                ),
             ));
         }
         Ok(())
@@ -976,7 +1067,7 @@ impl Scene {
     }
 
     /// Stop rules: steady tolerance and windows, a feature's end, the time limit.
-    fn validate_stop(ck: &Check, r: &RunSpec, u: f64) -> Result<(), SceneError> {
+    fn validate_stop(ck: &Check, r: &RunSpec, kin: &Kinematics, a: f64) -> Result<(), SceneError> {
         let st = &r.stop;
         if !(st.steady_tolerance.is_finite()
             && st.steady_tolerance > 0.0
@@ -993,7 +1084,7 @@ impl Scene {
         let feature_ends = st.until_features_passed || st.until_feature_at_a.is_some();
         match st.max_time_s {
             Some(t) => ck.positive("run.stop.max_time_s", t, "s")?,
-            None if !feature_ends && r.method() == Method::March && r.motion != Motion::None => {
+            None if !feature_ends && r.method() == Method::March && r.motion.marches() => {
                 return Err(ck.err(
                     "run.stop.max_time_s",
                     "(missing)".into(),
@@ -1013,11 +1104,11 @@ impl Scene {
                 "needs at least one feature in run.features",
             ));
         }
-        if feature_ends && !(r.motion == Motion::Rolling && u > 0.0) {
+        if st.until_features_passed && !(kin.final_speed() > 0.0) {
             return Err(ck.err(
                 "run.motion",
-                format!("{:?}", r.motion),
-                "must be rolling (with a rolling velocity) for a feature to end the run",
+                r.motion.label().into(),
+                "must keep rolling (a final speed > 0) for every feature to leave the domain",
             ));
         }
         if let Some(x) = st.until_feature_at_a {
@@ -1027,6 +1118,17 @@ impl Scene {
                     "run.stop.until_feature_at_a",
                     format!("{x}"),
                     &format!("finite and > the first feature's start {x0} (a)"),
+                ));
+            }
+            if kin.time_at_travel((x - x0) * a).is_none() {
+                return Err(ck.err(
+                    "run.stop.until_feature_at_a",
+                    format!("{x}"),
+                    &format!(
+                        "a position run.motion `{}` carries the first feature to: it stops after {:.4} a",
+                        r.motion.label(),
+                        x0 + kin.travel_limit().unwrap_or(f64::INFINITY) / a
+                    ),
                 ));
             }
             if let Some((k, &xs)) = r.snapshots_a.iter().enumerate().find(|(_, xs)| **xs > x) {
@@ -1099,7 +1201,12 @@ impl Scene {
     }
 
     /// Snapshots by time, or by the first feature's position while it rolls.
-    fn validate_snapshots(ck: &Check, r: &RunSpec, u: f64) -> Result<(), SceneError> {
+    fn validate_snapshots(
+        ck: &Check,
+        r: &RunSpec,
+        kin: &Kinematics,
+        a: f64,
+    ) -> Result<(), SceneError> {
         for (k, &ts) in r.snapshots_s.iter().enumerate() {
             ck.nonneg(&format!("run.snapshots_s[{k}]"), ts, "s")?;
         }
@@ -1111,19 +1218,23 @@ impl Scene {
                     "positions of the first feature's centre: needs a feature in run.features",
                 ));
             };
-            if r.motion != Motion::Rolling || !(u > 0.0) {
-                return Err(ck.err(
-                    "run.snapshots_a",
-                    format!("{:?}", r.snapshots_a),
-                    "needs rolling motion with a rolling velocity (features move at u1); give run.snapshots_s instead",
-                ));
-            }
             for (k, &x) in r.snapshots_a.iter().enumerate() {
                 if !(x.is_finite() && x >= x0) {
                     return Err(ck.err(
                         &format!("run.snapshots_a[{k}]"),
                         format!("{x}"),
                         &format!("finite and >= the first feature's start {x0} (a)"),
+                    ));
+                }
+                if kin.time_at_travel((x - x0) * a).is_none() {
+                    return Err(ck.err(
+                        &format!("run.snapshots_a[{k}]"),
+                        format!("{x}"),
+                        &format!(
+                            "a position run.motion `{}` carries the first feature to (features travel with the surfaces; it stops at {:.4} a): give run.snapshots_s instead",
+                            r.motion.label(),
+                            x0 + kin.travel_limit().unwrap_or(f64::INFINITY) / a
+                        ),
                     ));
                 }
             }
@@ -1251,7 +1362,7 @@ mod tests {
         // Snapshots by dent position are the times the dent takes to get there: from -1.25 a
         // at 0.01 m/s on a = 0.13466 mm, -0.75 a is reached at 6.733e-3 s.
         let r = Scene::from_json(&text, "test").unwrap().run.unwrap();
-        let t = r.snapshot_times(1.3466e-4, 0.01);
+        let t = r.snapshot_times(1.3466e-4, &Kinematics::constant(0.01).unwrap());
         assert_eq!(t.len(), 5);
         assert!((t[0] - 6.733e-3).abs() < 1e-7 && (t[2] - 1.6833e-2).abs() < 1e-6, "{t:?}");
         let before = text.replace("[-0.75, -0.25, 0.0, 0.25, 0.75]", "[-2.0]");
@@ -1260,7 +1371,10 @@ mod tests {
         let rt = BUILTINS.iter().find(|b| b.0 == "reynolds-m20-l10-dent").unwrap().1.to_string();
         let ok = rt.replace("\"snapshots_a\": [-1.0, -0.5, 0.0, 0.5]", "\"snapshots_s\": [0.0]");
         let s = Scene::from_json(&ok, "test").unwrap();
-        assert_eq!(s.run.unwrap().snapshot_times(1e-4, 0.5), vec![0.0]);
+        assert_eq!(
+            s.run.unwrap().snapshot_times(1e-4, &Kinematics::constant(0.5).unwrap()),
+            vec![0.0]
+        );
     }
 
     #[test]

@@ -4,9 +4,9 @@
 //! the scene's `run` block becomes a [`Plan`] the same way for every model.
 
 use anyhow::{Context, Result, bail};
-use ehl_core::Grid;
 use ehl_core::observe::Observables;
-use ehl_scene::{Motion, RunSpec};
+use ehl_core::{Grid, Kinematics};
+use ehl_scene::RunSpec;
 use std::time::Instant;
 
 /// A model that can march in time.
@@ -72,12 +72,27 @@ pub struct SteadyRule {
 /// `1e20 a` wide never leaves the domain), not a run to start.
 pub const MAX_STEPS: f64 = 1e6;
 
-/// A march: steps, end, limits, snapshots. Times in s from the start of the motion.
+/// A stretch of the march with one way of choosing steps: the driver plans a phase for every
+/// piece of the motion on which the speed is linear ([`Kinematics::pieces`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Phase {
+    /// Start [s].
+    pub t0_s: f64,
+    /// End [s]; infinite for the last phase of a run with no planned end. Fixed steps land on
+    /// a finite end.
+    pub t1_s: f64,
+    /// How the steps are chosen in it.
+    pub steps: Steps,
+}
+
+/// A march: its phases, end, limits, snapshots. Times in s from the start of the motion.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
-    pub steps: Steps,
+    /// In time order, covering `[0, end)`.
+    pub phases: Vec<Phase>,
     /// Where a feature ends the run, and why; with fixed steps the last step lands on it.
     pub end: Option<(f64, String)>,
+    /// The steady rule, for runs no feature ends.
     pub steady: Option<SteadyRule>,
     /// A run not finished by then stops and says so.
     pub max_time_s: Option<f64>,
@@ -86,19 +101,40 @@ pub struct Plan {
 }
 
 impl Plan {
-    /// The scene's run for a model whose features move at `u` [m/s] on the Hertz radius `a` [m]
-    /// over `grid` [a]. Rolling steps `n_t` per cell; a squeeze takes `run.time.dt_s` or, absent,
-    /// error control from `controlled` (the model's first step [s] and order), refused when the
-    /// model has none.
+    /// One phase of equal steps from 0 on (what most tests want).
+    pub fn single(steps: Steps) -> Plan {
+        Plan {
+            phases: vec![Phase { t0_s: 0.0, t1_s: f64::INFINITY, steps }],
+            end: None,
+            steady: None,
+            max_time_s: None,
+            snapshot_times_s: vec![],
+        }
+    }
+
+    /// The scene's run for a model whose surfaces (and features) move by `motion` on the Hertz
+    /// radius `a` [m] over `grid` [a]. Where the surfaces roll, `n_t` steps per cell at the
+    /// piece's largest speed (so no step carries the layer more than `1/n_t` of a cell); where
+    /// they rest, `run.time.dt_s` or, absent, error control from `controlled` (the model's first
+    /// step [s] and order), refused when the model has none.
     pub fn from_run(
         run: &RunSpec,
         grid: &Grid,
         a: f64,
-        u: f64,
+        motion: &Kinematics,
         controlled: Option<(f64, f64)>,
     ) -> Result<Plan> {
-        let rolling = run.motion == Motion::Rolling && u > 0.0;
         let st = &run.stop;
+        let reach = |s_m: f64, what: &str| {
+            motion.time_at_travel(s_m).with_context(|| {
+                format!(
+                    "run.stop: {what} needs {:.4} a of travel, but run.motion `{}` stops after {:.4} a",
+                    s_m / a,
+                    run.motion.label(),
+                    motion.travel_limit().unwrap_or(f64::INFINITY) / a
+                )
+            })
+        };
         // Where a feature ends the run: the first of the two rules.
         let mut end: Option<(f64, String)> = None;
         let mut first = |t: f64, why: String| {
@@ -106,58 +142,68 @@ impl Plan {
                 end = Some((t, why));
             }
         };
-        if rolling && st.until_features_passed {
-            let t = run
-                .features
-                .iter()
-                .map(|f| (grid.x_max + f.reach() - f.x_start()) * a / u)
-                .fold(0.0, f64::max);
+        if st.until_features_passed {
+            let mut t = 0.0f64;
+            for f in &run.features {
+                t = t.max(reach(
+                    (grid.x_max + f.reach() - f.x_start()) * a,
+                    "every feature leaving",
+                )?);
+            }
             first(t, "every feature has left the domain".into());
         }
-        if let (true, Some(x), Some(f)) = (rolling, st.until_feature_at_a, run.features.first()) {
-            first((x - f.x_start()) * a / u, format!("the first feature is at x = {x} a"));
+        if let (Some(x), Some(f)) = (st.until_feature_at_a, run.features.first()) {
+            let t = reach((x - f.x_start()) * a, &format!("the first feature reaching x = {x} a"))?;
+            first(t, format!("the first feature is at x = {x} a"));
         }
-        let steps = match (rolling, run.time.dt_s, controlled) {
-            (true, _, _) => {
-                let dt = grid.dx() * a / (run.time.steps_per_cell * u);
-                if let Some((t, why)) = &end {
-                    let n = t / dt;
+        let t_end = end.as_ref().map_or(f64::INFINITY, |e| e.0);
+        let mut phases = vec![];
+        for piece in motion.pieces(t_end) {
+            let steps = if piece.max_speed > 0.0 {
+                let dt = grid.dx() * a / (run.time.steps_per_cell * piece.max_speed);
+                let span = piece.t1 - piece.t0;
+                if span.is_finite() {
+                    let n = span / dt;
                     if !(n <= MAX_STEPS) {
                         bail!(
-                            "run.stop: ending when {why} takes {n:.3e} steps of {dt:.3e} s (at most {MAX_STEPS:e}): check run.features (a dent's `width_a` sets how far beyond the domain it reaches) and run.stop.until_feature_at_a"
+                            "run.stop: the phase from {:.4e} s to {:.4e} s takes {n:.3e} steps of {dt:.3e} s (at most {MAX_STEPS:e}): check run.features (a dent's `width_a` sets how far beyond the domain it reaches), run.stop.until_feature_at_a and run.motion",
+                            piece.t0,
+                            piece.t1
                         );
                     }
+                    // The last step lands on the phase's end: equal steps a little shorter.
+                    Steps::Fixed { dt_s: span / (n - 1e-9).ceil().max(1.0) }
+                } else {
+                    Steps::Fixed { dt_s: dt }
                 }
-                // The last step lands on the end: equal steps a little shorter.
-                let dt = match &end {
-                    Some((t, _)) => t / (t / dt - 1e-9).ceil().max(1.0),
-                    None => dt,
-                };
-                Steps::Fixed { dt_s: dt }
-            }
-            (false, Some(dt), _) => Steps::Fixed { dt_s: dt },
-            (false, None, Some((dt0, order))) => {
-                Steps::Controlled { dt0_s: dt0, tolerance: run.time.error_tolerance, order }
-            }
-            (false, None, None) => {
-                bail!(
-                    "run.time.dt_s: required (s): this model has no error control to choose the step"
-                )
-            }
-        };
+            } else {
+                match (run.time.dt_s, controlled) {
+                    (Some(dt), _) => Steps::Fixed { dt_s: dt },
+                    (None, Some((dt0, order))) => {
+                        Steps::Controlled { dt0_s: dt0, tolerance: run.time.error_tolerance, order }
+                    }
+                    (None, None) => bail!(
+                        "run.time.dt_s: required (s) while the surfaces rest: this model has no error control to choose the step"
+                    ),
+                }
+            };
+            phases.push(Phase { t0_s: piece.t0, t1_s: piece.t1, steps });
+        }
         let steady = end.is_none().then(|| {
-            let (window_s, window_text) = if rolling {
+            // From the last knot on the motion is constant: steady is judged there.
+            let (u, settled) = (motion.final_speed(), motion.settled_from());
+            let (window_s, window_text) = if u > 0.0 {
                 (st.window_travel_a * a / u, format!("{} a of travel", st.window_travel_a))
             } else {
                 (st.window_time_s, format!("{} s", st.window_time_s))
             };
             // Rolling from any start: the domain's material must have been replaced once.
-            let min_time_s = if rolling { (grid.x_max - grid.x_min) * a / u } else { window_s };
+            let min_time_s =
+                settled + if u > 0.0 { (grid.x_max - grid.x_min) * a / u } else { window_s };
             SteadyRule { tolerance: st.steady_tolerance, window_s, min_time_s, window_text }
         });
-        // Positions (`snapshots_a`) need rolling, which the scene checks make sure of.
-        let snapshot_times_s = run.snapshot_times(a, u);
-        Ok(Plan { steps, end, steady, max_time_s: st.max_time_s, snapshot_times_s })
+        let snapshot_times_s = run.snapshot_times(a, motion);
+        Ok(Plan { phases, end, steady, max_time_s: st.max_time_s, snapshot_times_s })
     }
 }
 
@@ -199,19 +245,36 @@ pub fn drive<T: Transient>(
     let mut pending: Vec<f64> = plan.snapshot_times_s.clone();
     let (mut steps, mut rejected, mut solves, mut iterations) = (0, 0, 0, 0);
     let mut dt_range = (f64::INFINITY, 0.0f64);
-    // Fixed steps: the snapshot at the nearest step, known in advance.
-    let nearest = |t: f64, dt: f64| (t / dt).round() as usize;
-    while pending.first().is_some_and(|&t| match plan.steps {
-        Steps::Fixed { dt_s } => nearest(t, dt_s) == 0,
-        Steps::Controlled { .. } => t <= 0.0,
-    }) {
+    if plan.phases.is_empty() {
+        bail!("the march has no phase to run (an empty plan)");
+    }
+    // The phase the march is in, and the steps taken in it.
+    let (mut phase, mut phase_steps) = (0usize, 0usize);
+    // Whether a snapshot at `ts` is due once the march is at `t` in `phase` after `k` of its
+    // steps. Fixed steps: at the step nearest to it, known in advance; controlled steps land
+    // on it. A time in a later phase waits for that phase.
+    let due = |ts: f64, t: f64, phase: usize, k: usize| {
+        let ph = &plan.phases[phase];
+        if ts < ph.t0_s {
+            return true;
+        }
+        if ts >= ph.t1_s && phase + 1 < plan.phases.len() {
+            return false;
+        }
+        match ph.steps {
+            Steps::Fixed { dt_s } => ((ts - ph.t0_s) / dt_s).round() as usize <= k,
+            Steps::Controlled { .. } => ts <= t + 1e-12 * t.max(1e-300),
+        }
+    };
+    while pending.first().is_some_and(|&ts| due(ts, 0.0, phase, 0)) {
         snapshots.push((0.0, model.snapshot()));
         pending.remove(0);
     }
-    let mut dt_next = match plan.steps {
+    let first_dt = |ph: &Phase| match ph.steps {
         Steps::Fixed { dt_s } => dt_s,
         Steps::Controlled { dt0_s, .. } => dt0_s,
     };
+    let mut dt_next = first_dt(&plan.phases[0]);
     let (finished, stop_reason) = loop {
         let t = elapsed(model);
         if let Some(limit) = plan.max_time_s {
@@ -221,17 +284,21 @@ pub fn drive<T: Transient>(
             }
         }
         let when = |k: usize, t: f64| format!("time step {k} (t = {t:.6e} s)");
-        let step = match plan.steps {
+        let ph = &plan.phases[phase];
+        let step = match ph.steps {
             Steps::Fixed { dt_s } => {
                 dt_range = (dt_range.0.min(dt_s), dt_range.1.max(dt_s));
                 model.step(dt_s, false).with_context(|| when(steps + 1, t))?
             }
             Steps::Controlled { tolerance, order, .. } => loop {
-                // Land on the next snapshot time rather than pass it.
-                let dt = match pending.first() {
+                // Land on the next snapshot time and on the phase's end rather than pass them.
+                let mut dt = match pending.first() {
                     Some(&ts) if t + dt_next > ts && ts > t => ts - t,
                     _ => dt_next,
                 };
+                if t + dt > ph.t1_s {
+                    dt = ph.t1_s - t;
+                }
                 let saved = model.save().context(
                     "error-controlled steps need a model that can return to its last state",
                 )?;
@@ -257,6 +324,14 @@ pub fn drive<T: Transient>(
                 }
             },
         };
+        phase_steps += 1;
+        // Into the next phase once this one's end is reached (to rounding).
+        let t_now = elapsed(model);
+        if phase + 1 < plan.phases.len() && t_now >= plan.phases[phase].t1_s * (1.0 - 1e-12) {
+            phase += 1;
+            phase_steps = 0;
+            dt_next = first_dt(&plan.phases[phase]);
+        }
         steps += 1;
         solves += step.solves;
         iterations += step.iterations;
@@ -266,10 +341,7 @@ pub fn drive<T: Transient>(
         history.push((t, model.monitors(&row)));
         rows.push(row);
         observed.push((t, ob));
-        while pending.first().is_some_and(|&ts| match plan.steps {
-            Steps::Fixed { dt_s } => nearest(ts, dt_s) <= steps,
-            Steps::Controlled { .. } => ts <= t + 1e-12 * t.max(1e-300),
-        }) {
+        while pending.first().is_some_and(|&ts| due(ts, t, phase, phase_steps)) {
             snapshots.push((t, model.snapshot()));
             pending.remove(0);
         }
@@ -385,7 +457,7 @@ mod tests {
     }
 
     fn plan(steps: Steps) -> Plan {
-        Plan { steps, end: None, steady: None, max_time_s: None, snapshot_times_s: vec![] }
+        Plan::single(steps)
     }
 
     #[test]
@@ -468,12 +540,16 @@ mod tests {
         let run = scene.run.as_ref().unwrap();
         let g = scene.grid();
         let (a, u) = (1e-4, 0.5);
-        let p = Plan::from_run(run, &g, a, u, None).unwrap();
+        let k = Kinematics::constant(u).unwrap();
+        let p = Plan::from_run(run, &g, a, &k, None).unwrap();
         // From x = −2 a to 1 a at u: 3 a / u; one step per cell of 6/128 a: 64 steps exactly.
         let (t_end, why) = p.end.clone().unwrap();
         assert!((t_end - 3.0 * a / u).abs() < 1e-15, "{t_end}");
         assert!(why.contains("x = 1"), "{why}");
-        let Steps::Fixed { dt_s } = p.steps else { panic!("{:?}", p.steps) };
+        let [Phase { steps: Steps::Fixed { dt_s }, t1_s, .. }] = p.phases[..] else {
+            panic!("{:?}", p.phases)
+        };
+        assert_eq!(t1_s, t_end, "the phase ends where the feature does");
         assert!((t_end / dt_s - 64.0).abs() < 1e-9, "{}", t_end / dt_s);
         // A feature ends it: no steady rule; snapshots at the dent positions' times.
         assert!(p.steady.is_none());
@@ -482,11 +558,82 @@ mod tests {
         let mut sq = run.clone();
         sq.motion = ehl_scene::Motion::Squeeze;
         sq.stop.until_feature_at_a = None;
-        let e = Plan::from_run(&sq, &g, a, u, None).unwrap_err();
+        let stop = sq.kinematics(u).unwrap();
+        let e = Plan::from_run(&sq, &g, a, &stop, None).unwrap_err();
         assert!(e.to_string().contains("run.time.dt_s"), "{e}");
-        let p = Plan::from_run(&sq, &g, a, u, Some((1e-3, 3.0))).unwrap();
-        assert!(matches!(p.steps, Steps::Controlled { dt0_s: 1e-3, order: 3.0, .. }));
+        let p = Plan::from_run(&sq, &g, a, &stop, Some((1e-3, 3.0))).unwrap();
+        assert!(matches!(p.phases[0].steps, Steps::Controlled { dt0_s: 1e-3, order: 3.0, .. }));
         assert!(p.steady.as_ref().is_some_and(|s| s.min_time_s == s.window_s));
+    }
+
+    #[test]
+    fn a_stop_mid_run_rolls_in_cells_up_to_it_then_rests_under_error_control() {
+        let scene = ehl_scene::builtin("squeeze-after-stop").unwrap();
+        let mut run = scene.run.clone().unwrap();
+        run.motion = ehl_scene::Motion::StopAt { at_s: 0.01 };
+        run.snapshots_s = vec![0.004, 0.0102, 0.3];
+        let g = scene.grid();
+        let a = 1.3467e-4;
+        let k = run.kinematics(0.01).unwrap();
+        let p = Plan::from_run(&run, &g, a, &k, Some((1e-4, 3.0))).unwrap();
+        // Rolling to the stop: 10 steps a cell at 0.01 m/s, landing on 0.01 s; then at rest.
+        let [first, rest] = &p.phases[..] else { panic!("{:?}", p.phases) };
+        let Steps::Fixed { dt_s } = first.steps else { panic!("{first:?}") };
+        let cells = 0.01 * 0.01 / (g.dx() * a);
+        assert_eq!((first.t0_s, first.t1_s), (0.0, 0.01));
+        assert!(((0.01 / dt_s) - (10.0 * cells).ceil()).abs() < 1e-6, "{dt_s}");
+        assert!(matches!(rest.steps, Steps::Controlled { dt0_s: 1e-4, .. }));
+        assert_eq!((rest.t0_s, rest.t1_s), (0.01, f64::INFINITY));
+        // Steady is judged at rest only, one window after the stop.
+        let rule = p.steady.clone().unwrap();
+        assert_eq!((rule.window_s, rule.min_time_s), (0.5, 0.01 + 0.5));
+        // Driven: equal steps up to the stop (the last lands on it), then controlled ones; the
+        // snapshot before the stop at its nearest step, those after it exactly.
+        let mut m = Relax::new(3.0);
+        let p = Plan { max_time_s: Some(0.4), ..p };
+        let r = drive(&mut m, &p, &mut |_| {}).unwrap();
+        let n_fixed = (0.01 / dt_s).round() as usize;
+        let fixed = &m.steps_seen[..n_fixed];
+        assert!(fixed.iter().all(|&d| d == dt_s), "equal steps while rolling");
+        let t_stop: f64 = fixed.iter().sum();
+        assert!((t_stop - 0.01).abs() < 1e-15, "the last rolling step lands on the stop: {t_stop}");
+        assert_eq!(m.steps_seen[n_fixed], 1e-4, "error control starts from its first step");
+        let at: Vec<f64> = r.snapshots.iter().map(|s| s.0).collect();
+        assert!((at[0] - (0.004 / dt_s).round() * dt_s).abs() < 1e-15, "{at:?}");
+        assert!((at[1] - 0.0102).abs() < 1e-15 && (at[2] - 0.3).abs() < 1e-15, "{at:?}");
+    }
+
+    #[test]
+    fn a_start_up_ramp_takes_the_top_speeds_steps_and_a_feature_ends_it_by_travel() {
+        let scene = ehl_scene::builtin("reynolds-m20-l10-dent").unwrap();
+        let mut run = scene.run.clone().unwrap();
+        let (g, a, u) = (scene.grid(), 1e-4, 0.5);
+        // Ramp over the time the dent needs at full speed for 1 a: the dent, from x = −2 a to
+        // 1 a, travels ½ u T = 0.5 a on the ramp and the rest (2.5 a) at u.
+        let ramp = a / u;
+        run.motion = ehl_scene::Motion::StartUp { ramp_s: ramp };
+        let k = run.kinematics(u).unwrap();
+        let p = Plan::from_run(&run, &g, a, &k, None).unwrap();
+        let (t_end, _) = p.end.clone().unwrap();
+        assert!((t_end - (ramp + 2.5 * a / u)).abs() < 1e-15, "{t_end}");
+        assert_eq!(p.phases.len(), 2);
+        assert_eq!((p.phases[0].t1_s, p.phases[1].t0_s, p.phases[1].t1_s), (ramp, ramp, t_end));
+        // Both take steps no longer than a cell at the top speed (one step a cell here).
+        for ph in &p.phases {
+            let Steps::Fixed { dt_s } = ph.steps else { panic!("{ph:?}") };
+            assert!(dt_s <= g.dx() * a / u * (1.0 + 1e-12), "{dt_s}");
+        }
+        // Snapshots by position become times along the ramp: x = −1.75 a is 0.25 a of
+        // travel, reached at t with ½ (u/T) t² = 0.25 a.
+        run.snapshots_a = vec![-1.75];
+        let p = Plan::from_run(&run, &g, a, &k, None).unwrap();
+        let want = (2.0 * 0.25 * a * ramp / u).sqrt();
+        assert!((p.snapshot_times_s[0] - want).abs() < 1e-15, "{:?}", p.snapshot_times_s);
+        // A motion that stops before the feature gets there: refused, saying how far it goes.
+        run.motion = ehl_scene::Motion::StopAt { at_s: a / u };
+        let e = Plan::from_run(&run, &g, a, &run.kinematics(u).unwrap(), None).unwrap_err();
+        let e = format!("{e:#}");
+        assert!(e.contains("run.stop") && e.contains("stops after 1.0000 a"), "{e}");
     }
 
     #[test]
@@ -497,10 +644,11 @@ mod tests {
         let mut run = scene.run.clone().unwrap();
         let g = scene.grid();
         let (a, u) = (1.3e-4, 0.01);
-        assert!(Plan::from_run(&run, &g, a, u, None).is_ok());
+        let k = Kinematics::constant(u).unwrap();
+        assert!(Plan::from_run(&run, &g, a, &k, None).is_ok());
         let ehl_layer::Feature::Dent(d) = &mut run.features[0] else { panic!("a dent scene") };
         d.width_a = 1e20;
-        let e = format!("{:#}", Plan::from_run(&run, &g, a, u, None).unwrap_err());
+        let e = format!("{:#}", Plan::from_run(&run, &g, a, &k, None).unwrap_err());
         assert!(e.contains("run.stop") && e.contains("width_a") && e.contains("steps"), "{e}");
     }
 }

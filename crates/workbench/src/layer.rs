@@ -162,16 +162,17 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     let lub = scene.lubricant.expect("validated").lubricant();
     let contact = scene.conditions.contact();
     let u_roll = scene.conditions.rolling_velocity_m_s.unwrap_or(0.0);
+    let motion = r.kinematics(u_roll).with_context(|| format!("scene `{}`", scene.name))?;
     let grid = scene.grid();
     let t0 = Instant::now();
-    let mut m = LayerModel::new(&contact, &lub, &spec, u_roll, grid, scene.solver, vec![]);
+    let mut m = LayerModel::new(&contact, &lub, &spec, motion, grid, scene.solver, vec![]);
     let setup_time_s = t0.elapsed().as_secs_f64();
     let fail = |what: &str| format!("scene `{}`: {what}", scene.name);
 
     let spin = crate::progress::spinner("layer");
     let mut squeeze = None;
     let mut steady = None;
-    let mut stepper = Stepper::new(r.time.scheme, r.time.picard);
+    let stepper = Stepper::new(r.time.scheme, r.time.picard);
     let mut solve_steady = |what: &str| -> Result<LayerState> {
         spin.set_message(format!("{what}: steady rolling, solved directly"));
         let (s, rep) = rolling_steady(&m, &r.steady).with_context(|| fail(what))?;
@@ -194,22 +195,15 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     // The scene's own motion starts at t = 0.
     state.t = 0.0;
     m.set_features(r.features.clone());
-    m.u1 = match r.motion {
-        Motion::Rolling => u_roll,
-        Motion::Squeeze | Motion::None => 0.0,
-    };
-    let record = match (method, r.motion) {
+    let record = match (method, &r.motion) {
         (Method::Steady, _) | (_, Motion::None) => None,
         (Method::March, motion) => {
-            if motion == Motion::Squeeze {
-                stepper.reset();
-            }
-            let label = format!("{:?}", motion).to_lowercase();
+            let label = motion.label();
             // Error control from a step the layer resolves at the inlet, η(0)/Eo / 100; BDF2's
             // error estimate is third order, Heun's second.
             let order = if stepper.scheme == Scheme::Implicit { 3.0 } else { 2.0 };
             let controlled = Some((m.eta(0.0) / m.eo * 1e-2, order));
-            let plan = Plan::from_run(r, &grid, m.scales.a, m.u1, controlled)
+            let plan = Plan::from_run(r, &grid, m.scales.a, m.motion(), controlled)
                 .with_context(|| fail("run"))?;
             let mut march = LayerMarch { m: &m, state, stepper };
             let mut rec = drive::drive(&mut march, &plan, &mut |t| {

@@ -5,7 +5,7 @@ use crate::model::{Centreline, ContactModel, Outcome, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use anyhow::{Context, Result, bail};
 use ehl_core::observe::Observables;
-use ehl_core::{Grid, HertzScales, hertz};
+use ehl_core::{Grid, HertzScales, Kinematics, hertz};
 use ehl_reynolds::formulas::{hamrock_dowson_central, nvm_central};
 use ehl_reynolds::{ReynoldsParams, ReynoldsReport, ReynoldsSolver};
 use ehl_scene::Scene;
@@ -225,6 +225,8 @@ struct ReynoldsMarch<'a> {
     /// The step [s] and the time unit `a/u_m` [s].
     dt_s: f64,
     time_unit: f64,
+    /// How the surfaces move (the dents travel with the ball).
+    motion: Kinematics,
     /// Where the first dent starts [a] (0 without dents: the travel).
     x0: f64,
     centre: (usize, usize),
@@ -242,7 +244,8 @@ impl Transient for ReynoldsMarch<'_> {
     fn step(&mut self, dt: f64, _estimate_error: bool) -> Result<Step> {
         // The backward differences assume equal steps: the plan's fixed step is the only one.
         debug_assert!((dt - self.dt_s).abs() <= 1e-12 * dt);
-        let travel = (self.steps + 1) as f64 * self.dt_s / self.time_unit;
+        let t_new = (self.steps + 1) as f64 * self.dt_s;
+        let travel = self.motion.travel(t_new) / self.solver.prm.scales.a;
         if !self.dents.is_empty() {
             set_dents(self.solver, &self.dents, travel);
         }
@@ -264,7 +267,7 @@ impl Transient for ReynoldsMarch<'_> {
         let t_s = self.time();
         TransientRow {
             t_s,
-            dent_x_a: self.x0 + t_s / self.time_unit,
+            dent_x_a: self.x0 + self.motion.travel(t_s) / self.solver.prm.scales.a,
             central_film_m: ob.central_film_m,
             minimum_film_m: ob.minimum_film_m,
             max_pressure_pa: ob.max_pressure_pa,
@@ -300,17 +303,28 @@ fn run_transient(
 ) -> Result<TransientRecord> {
     let s = prm.scales;
     let (_, u_sum) = scene.reynolds_conditions();
-    // Under pure rolling a dent on the ball moves at the mean velocity.
+    // Under pure rolling a dent on the ball moves at the mean velocity, the reference speed of
+    // the solver's scales (`λ̄`, the time unit `a/u_m`).
     let u_m = 0.5 * u_sum;
+    let motion = run.kinematics(u_m).with_context(|| format!("scene `{}`", scene.name))?;
     let g = solver.levels[0].grid;
-    let plan = drive::Plan::from_run(run, &g, s.a, u_m, None)
+    let plan = drive::Plan::from_run(run, &g, s.a, &motion, None)
         .with_context(|| format!("scene `{}`: run", scene.name))?;
-    let drive::Steps::Fixed { dt_s } = plan.steps else { unreachable!("rolling: fixed steps") };
+    // The solver's backward differences take equal steps: one phase of them.
+    let dt_s = match plan.phases.as_slice() {
+        [drive::Phase { steps: drive::Steps::Fixed { dt_s }, .. }] => *dt_s,
+        _ => bail!(
+            "scene `{}`: run.motion `{}`: the Reynolds march takes equal steps at one speed (a motion that changes speed is not marched by it yet)",
+            scene.name,
+            run.motion.label()
+        ),
+    };
     let x0 = dents.first().map_or(0.0, |d| d.x_start_a);
     let centre = (g.row_nearest(0.0), g.col_nearest(0.0));
     let time_unit = s.a / u_m;
     let h_ref = s.h_si(solver.films().0);
-    let mut march = ReynoldsMarch { solver, dents, steps: 0, dt_s, time_unit, x0, centre, h_ref };
+    let mut march =
+        ReynoldsMarch { solver, dents, steps: 0, dt_s, time_unit, motion, x0, centre, h_ref };
     let expected = plan.end.as_ref().map_or(0, |e| (e.0 / dt_s).round() as u64);
     let spin = crate::progress::bar(expected, "dent passing");
     let rec = drive::drive(&mut march, &plan, &mut |_| spin.inc(1))
