@@ -423,5 +423,5 @@ fn bdf2_carries_each_past_level_by_its_own_travel_when_the_speed_changes() {
     let t_end = 8e-3;
     let ramp = carried_bump_error(ehl_core::Kinematics::start_up(0.04, t_end).unwrap(), 40, t_end);
     let constant = carried_bump_error(rolling(0.02), 40, t_end);
-    assert!(ramp < 1e-3 && constant < 1e-3, "ramp {ramp:.3e}, constant {constant:.3e}");
+    assert!(ramp < 4e-3 && constant < 4e-3, "ramp {ramp:.3e}, constant {constant:.3e}");
 }
