@@ -1448,6 +1448,45 @@ mod tests {
     }
 
     #[test]
+    fn motions_that_change_are_read_once_and_refused_where_they_cannot_run() {
+        let text = |n: &str| BUILTINS.iter().find(|b| b.0 == n).unwrap().1.to_string();
+        let sq = text("squeeze-after-stop");
+        let with =
+            |motion: &str| sq.replace("\"motion\": \"squeeze\"", &format!("\"motion\": {motion}"));
+        // A stop later on, a ramp, a table: parsed into the core's kinematics.
+        let s = Scene::from_json(&with("{ \"stop\": { \"at_s\": 0.02 } }"), "test").unwrap();
+        let k = s.run.as_ref().unwrap().kinematics(0.01).unwrap();
+        assert_eq!((k.speed(0.01), k.speed(0.03), k.reference_speed()), (0.01, 0.0, 0.01));
+        let t = with("{ \"table\": { \"knots\": [[0, 0.01], [0.1, 0.0]] } }");
+        let s = Scene::from_json(&t, "test").unwrap();
+        let k = s.run.as_ref().unwrap().kinematics(0.01).unwrap();
+        assert!((k.travel(1.0) - 5e-4).abs() < 1e-18);
+        // Refusals name the field: a stop before 0, a table running backwards, a steady-rolling
+        // start for a motion that starts at rest.
+        let m = refused(&with("{ \"stop\": { \"at_s\": -1.0 } }"));
+        assert!(m.contains("run.motion.stop.at_s") && m.contains(">= 0"), "{m}");
+        let m = refused(&with("{ \"table\": { \"knots\": [[1.0, 0.01], [0.5, 0.0]] } }"));
+        assert!(m.contains("run.motion") && m.contains("must not decrease"), "{m}");
+        let m = refused(&with("{ \"start-up\": { \"ramp_s\": 0.01 } }"));
+        assert!(m.contains("run.start") && m.contains("starts at rest"), "{m}");
+        // A feature snapshot the motion never carries the feature to.
+        let dent = text("dent-shallow");
+        let stopped = dent
+            .replace("\"motion\": \"rolling\"", "\"motion\": { \"stop\": { \"at_s\": 0.005 } }");
+        let m = refused(&stopped);
+        assert!(m.contains("run.motion") && m.contains("leave the domain"), "{m}");
+        // 0.005 s at 0.01 m/s carries the dent 0.37 a: from -1.25 a to -0.88 a, short of -0.75 a.
+        let m = refused(&stopped.replace("\"until_features_passed\": true,", ""));
+        assert!(m.contains("run.snapshots_a[0]") && m.contains("stops at -0.8787 a"), "{m}");
+        // The Reynolds march rolls at one speed (for now): other motions are refused by name.
+        let r = text("reynolds-m20-l10-dent").replace(
+            "\"motion\": \"rolling\"",
+            "\"motion\": { \"start-up\": { \"ramp_s\": 0.01 } }",
+        );
+        assert!(refused(&r).contains("run.motion"));
+    }
+
+    #[test]
     fn unknown_name_lists_builtins() {
         let m = load("no-such-scene").unwrap_err().to_string();
         assert!(m.contains("hertz"), "{m}");
