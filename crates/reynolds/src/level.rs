@@ -73,6 +73,10 @@ pub struct Level {
     /// Transient term `∂(ρ̄H)/∂T ≈ time_a0 · ρ̄H + history` (second-order backward
     /// differences): `time_a0` [1/ΔT] is 0 for a steady problem …
     pub time_a0: f64,
+    /// The wedge term's speed factor `u(t)/u_ref`: the scales (`λ̄`, the time unit `a/u_ref`)
+    /// are built on a fixed reference speed, and the surfaces' speed at the time solved for
+    /// enters here (1 at the reference speed, 0 at rest: a pure squeeze).
+    pub speed: f64,
     /// … and `history` the known part from earlier steps (finest grid only: on coarse grids a
     /// constant term cancels in the FAS equations, so they keep zeros).
     pub history: Array2<f64>,
@@ -238,6 +242,7 @@ impl Level {
             kernel,
             shape: grid.paraboloid(),
             time_a0: 0.0,
+            speed: 1.0,
             history: grid.zeros(),
             laws: Array2::from_elem(grid.shape(), [f64::NAN; 3]),
             laws_for: None,
@@ -501,8 +506,9 @@ impl Level {
         // and the smoother amplified an error there from step to step (seed conditions, 257²,
         // one step a cell: the residual grew 1.37× a step and diverged after ~50 steps; more
         // sweeps diverged sooner).
-        let wedge_diag = (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs() / h
-            + self.time_a0 * self.k(0, 0);
+        let wedge_diag =
+            self.speed * (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs() / h
+                + self.time_a0 * self.k(0, 0);
         w.band.resize(m, [0.0; 5]);
         w.delta.resize(m, 0.0);
         Self::line_coefficients(prm, s.coefficient_lag > 0.0, rows, j, w);
@@ -664,7 +670,7 @@ impl Level {
         } else {
             (rh(i) - rh(i - 1)) / h
         };
-        a - b - self.time_a0 * rho[i] * film[i] - self.history[[j, i]]
+        a - self.speed * b - self.time_a0 * rho[i] * film[i] - self.history[[j, i]]
     }
 
     /// Rows `j−1, j, j+1` of `P` and row `j` of `H`, as [`Self::op_line`] reads them.
@@ -712,7 +718,7 @@ impl Level {
                 }
             }
             let kk = |back: i64| k[(d + back).unsigned_abs() as usize];
-            let w = r0 * kk(0) + r1 * kk(1) + r2 * kk(2);
+            let w = self.speed * (r0 * kk(0) + r1 * kk(1) + r2 * kk(2));
             row[(d + 2) as usize] = a - w - transient * kk(0);
         }
         row
@@ -854,8 +860,11 @@ mod tests {
         let (mut l, prm) = hertzian_level();
         let j = 16;
         let m = l.grid.nx - 2;
-        for time_a0 in [0.0, 1.5 / 0.05] {
+        // Steady at the reference speed; a time step at the reference speed, at half of it,
+        // and at rest (a pure squeeze: no wedge term at all).
+        for (time_a0, speed) in [(0.0, 1.0), (1.5 / 0.05, 1.0), (1.5 / 0.05, 0.5), (30.0, 0.0)] {
             l.time_a0 = time_a0;
+            l.speed = speed;
             let (eps, rho) = l.coefficients(&prm);
             let e = [row_of(&eps, j - 1), row_of(&eps, j), row_of(&eps, j + 1)];
             let r = row_of(&rho, j);
@@ -875,7 +884,7 @@ mod tests {
                     let got = row[(d + 2) as usize];
                     assert!(
                         (got - fd).abs() <= 1e-7 * scale,
-                        "a0 = {time_a0}, i = {i}, column {ic} (dist {}): Jacobian {got:.9e}, finite difference {fd:.9e}",
+                        "a0 = {time_a0}, speed {speed}, i = {i}, column {ic} (dist {}): Jacobian {got:.9e}, finite difference {fd:.9e}",
                         dist[ic - 1]
                     );
                 }

@@ -291,6 +291,16 @@ impl ReynoldsSolver {
         self.levels[0].update_film(h00);
     }
 
+    /// Sets the surfaces' speed as a factor of the reference speed the scales are built on
+    /// (`u(t)/u_ref`; 1 at the reference, 0 at rest) on every level: the wedge term's weight.
+    /// Dimensionless time stays in units of `a/u_ref`, so a speed that falls to 0 leaves the
+    /// time step finite.
+    pub fn set_speed(&mut self, factor: f64) {
+        for l in &mut self.levels {
+            l.speed = factor;
+        }
+    }
+
     /// One time step of `dt` [a/u_m] (the dent, if any, already moved by the caller): the
     /// time derivative by backward differences ([`TimeScheme`]), solved by W-cycles from the
     /// last state. The steady solve before the first step is

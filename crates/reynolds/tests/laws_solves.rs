@@ -65,3 +65,38 @@ fn barus_coefficient_is_moes_alpha_bar() {
     }
     assert_eq!(prm.density, laws::Density::Incompressible);
 }
+
+#[test]
+fn the_wedge_speed_factor_is_the_solve_at_that_speed() {
+    // Scales built on a reference speed twice the rolling one, the wedge term at half of it:
+    // the same equation as the solve whose scales are built on the rolling speed itself
+    // (`∇·(ε̄_ref ∇P) − ½ ∂(ρ̄H)/∂X = 0` is `∇·(2 ε̄_ref ∇P) − ∂(ρ̄H)/∂X = 0`, and `2 ε̄_ref` is
+    // `ε̄` at half the reference's `λ̄`). Rolling at 2 m/s (sum 4 m/s) on the seed's contact,
+    // 65²: the central films agree to 2.6e-8 of themselves (two iteration paths to one discrete
+    // answer, each stopped at the solver's tolerance); the bound 1e-5 is far below what the
+    // speed itself moves (the film at twice the speed is 1.62 times thicker, which is what a
+    // factor the operator ignored would give).
+    let lub = ehl_core::SEED_LUBRICANT;
+    let at = |u_sum: f64| {
+        ReynoldsParams::from_si(
+            &SEED_CONTACT,
+            &lub,
+            u_sum,
+            ViscosityLaw::Roelands,
+            DensityLaw::DowsonHigginson,
+        )
+    };
+    let grid = Grid::new(65, 65, (-4.5, 1.5), (-3.0, 3.0));
+    let solve = |prm: ReynoldsParams, factor: f64| {
+        let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
+        s.set_speed(factor);
+        let rep = s.solve(&mut |_| {}).unwrap();
+        assert!(rep.converged, "{:?}", rep.diagnosis);
+        (prm.scales.h_si(s.films().0), rep.cycles)
+    };
+    let (own, _) = solve(at(4.0), 1.0);
+    let (halved, _) = solve(at(8.0), 0.5);
+    let (twice, _) = solve(at(8.0), 1.0);
+    assert!((halved / own - 1.0).abs() < 1e-5, "{halved:e} against {own:e}");
+    assert!(twice / own > 1.3, "the speed must matter: {twice:e} against {own:e}");
+}

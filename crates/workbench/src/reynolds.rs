@@ -249,6 +249,8 @@ impl Transient for ReynoldsMarch<'_> {
         if !self.dents.is_empty() {
             set_dents(self.solver, &self.dents, travel);
         }
+        // The wedge term at the speed of the time solved for (the scales stay at u_m).
+        self.solver.set_speed(self.motion.speed(t_new) / self.motion.reference_speed());
         let where_ = || format!("dent at x = {:.3} a", self.x0 + travel);
         let rep = self.solver.step(dt / self.time_unit, &mut |_| {}).with_context(where_)?;
         if !rep.converged {
