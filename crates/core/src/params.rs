@@ -97,10 +97,6 @@ impl HertzScales {
     pub fn h_dimless(&self, h: f64) -> f64 {
         h / self.delta
     }
-    /// Time [s] from `T = t u / a` [-] at velocity `u` [m/s].
-    pub fn t_si(&self, t: f64, u: f64) -> f64 {
-        t * self.a / u
-    }
 }
 
 /// Moes' dimensionless load `M` and material parameter `L` (the Reynolds solver's inputs).
@@ -217,8 +213,6 @@ mod tests {
             assert!((s.p_dimless(s.p_si(v)) - v).abs() < 1e-15);
             assert!((s.h_dimless(s.h_si(v)) - v).abs() < 1e-15);
         }
-        // Travelling 2 a at 0.01 m/s takes 2 a / u = 26.9 ms.
-        assert!((s.t_si(2.0, 0.01) / (2.0 * s.a / 0.01) - 1.0).abs() < 1e-15);
     }
 
     #[test]

@@ -421,7 +421,7 @@ pub struct RunSpec {
     #[serde(default)]
     pub snapshots_s: Vec<f64>,
     /// … and positions [a] of the first feature's centre at which fields are written (a
-    /// feature moves at `u1`: the time is `(x − x_start) a / u1`).
+    /// feature travels with the surfaces: the time is when the motion has carried it there).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub snapshots_a: Vec<f64>,
     /// The direct steady solve (method `steady`, and a `steady-rolling` start).

@@ -332,12 +332,9 @@ fn run_transient(
     let rec = drive::drive(&mut march, &plan, &mut |_| spin.inc(1))
         .with_context(|| format!("scene `{}`: Reynolds march", scene.name))?;
     spin.finish_and_clear();
+    let at = |t: f64| x0 + march.motion.travel(t) / s.a;
     Ok(TransientRecord {
-        snapshots: rec
-            .snapshots
-            .into_iter()
-            .map(|(t, (p, h))| (x0 + t / time_unit, p, h))
-            .collect(),
+        snapshots: rec.snapshots.into_iter().map(|(t, (p, h))| (at(t), p, h)).collect(),
         rows: rec.rows,
         observed: rec.observed,
         dt_s,
