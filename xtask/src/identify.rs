@@ -154,11 +154,11 @@ pub struct Grids {
 fn steady_hc(th: &Theta, n: usize) -> Result<(f64, f64)> {
     let mut s = scene("rolling-steady", n, th)?;
     match layer(&s) {
-        Ok(o) => Ok((o.final_monitor.central_thickness / 25e-9, 1e-5)),
+        Ok(o) => Ok((o.final_monitor.central_thickness / o.supply_thickness_m, 1e-5)),
         Err(_) => {
             s.run.as_mut().unwrap().steady.strain_tolerance = 1e-3;
             let o = layer(&s)?;
-            Ok((o.final_monitor.central_thickness / 25e-9, 1e-3))
+            Ok((o.final_monitor.central_thickness / o.supply_thickness_m, 1e-3))
         }
     }
 }
@@ -176,7 +176,7 @@ fn evaluate(th: &Theta, g: Grids) -> Result<Eval> {
     let ((st, ro), sq) =
         rayon::join(|| (steady_hc(th, g.rolling), layer(&rolling)), || layer(&squeeze));
     let ((hc_steady, steady_tolerance), ro, sq) = (st?, ro?, sq?);
-    let (a, p_h, l0) = (ro.scales.a, ro.scales.p_h, 25e-9);
+    let (a, p_h, l0) = (ro.scales.a, ro.scales.p_h, ro.supply_thickness_m);
     let u1 = rolling.conditions.rolling_velocity_m_s.unwrap();
     let ro_rec = ro.record.as_ref().context("rolling: no record")?;
     let sq_rec = sq.record.as_ref().context("squeeze: no record")?;
@@ -364,11 +364,11 @@ fn lateral(th: &Theta, n: usize) -> Result<Value> {
                     &s.conditions.contact(),
                     &lub,
                     &spec,
+                    o.supply_thickness_m,
                     ehl_core::Kinematics::constant(s.conditions.rolling_velocity_m_s.unwrap())
                         .unwrap(),
                     s.grid(),
                     s.solver,
-                    vec![],
                 );
                 let (p, eps) = (&o.final_state.p, &o.final_state.eps);
                 let pc = m.coefficient_pressure(p);
@@ -677,7 +677,7 @@ fn features(th: &Theta) -> Result<Value> {
         layer(&scene_with(name, 129, |s| {
             set_laws(s, th);
             let r = s.run.as_mut().unwrap();
-            if let (Some(w), ehl_layer::Feature::Dent(d)) = (width, &mut r.features[0]) {
+            if let (Some(w), ehl_scene::Feature::Dent(d)) = (width, &mut r.features[0]) {
                 d.width_a = w;
             }
             r.stop.until_features_passed = false;

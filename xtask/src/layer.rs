@@ -2,7 +2,7 @@
 //! against implicit, the explicit stability limit by experiment, speed against accuracy, and the
 //! per-step bench.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use ehl_layer::{LayerModel, ModulusLaw, Scheme, Stepper, squeeze_steady};
 use ehl_scene::Scene;
 use ehl_scene::TimeSettings;
@@ -321,7 +321,7 @@ fn stability_limit(grids: &[usize]) -> Result<Vec<serde_json::Value>> {
     for &n in grids {
         let scene = rolling(n, Scheme::Implicit, 10.0);
         let start = layer(run_scene(&scene)?);
-        let (model, estimate) = model_of(&scene);
+        let (model, estimate) = model_of(&scene)?;
         let mut last_ok = None;
         let mut first_fail = None;
         for nt in [10.0, 5.0, 3.0, 2.0, 1.5, 1.0, 0.75, 0.5] {
@@ -358,24 +358,24 @@ fn stability_limit(grids: &[usize]) -> Result<Vec<serde_json::Value>> {
     Ok(rows)
 }
 
-fn model_of(scene: &Scene) -> (LayerModel, f64) {
+fn model_of(scene: &Scene) -> Result<(LayerModel, f64)> {
     let m = LayerModel::new(
         &scene.conditions.contact(),
         &scene.lubricant.unwrap().lubricant(),
         &scene.layer.unwrap(),
+        scene.supply.as_ref().context("a layer scene has a supply")?.thickness_m,
         ehl_core::Kinematics::constant(scene.conditions.rolling_velocity_m_s.unwrap()).unwrap(),
         scene.grid(),
         scene.solver,
-        vec![],
     );
     let e = ehl_layer::stability_estimate(&m);
-    (m, e)
+    Ok((m, e))
 }
 
 /// Seed Fig. 3 analogue: the modulus laws against strain and pressure.
 pub fn modulus_figure(out: &Path) -> Result<PathBuf> {
     let scene = ehl_scene::builtin("rolling-from-uniform").unwrap();
-    let (m, _) = model_of(&scene.with_points(17).unwrap());
+    let (m, _) = model_of(&scene.with_points(17)?)?;
     let laws = [ModulusLaw::Power, ModulusLaw::PowerLinear, ModulusLaw::Geometric];
     let mut panels = vec![];
     let style = |k: usize| if k == 0 { Mark::Line } else { Mark::LinePoints };
@@ -440,7 +440,7 @@ pub fn bench(max: usize) -> Result<Vec<serde_json::Value>> {
     let mut rows = vec![];
     for n in crate::grid_sizes(max) {
         let scene = rolling(n, Scheme::Implicit, 10.0);
-        let (m, _) = model_of(&scene);
+        let (m, _) = model_of(&scene)?;
         let t = Instant::now();
         let (sq, rep) = squeeze_steady(&m)?;
         let sq_time = t.elapsed().as_secs_f64();

@@ -147,9 +147,9 @@ fn bad_sweeps_are_refused_before_anything_is_written() {
         (text.replace("rolling_velocity_m_s", "speed"), "parameters[0].parameter"),
         (text.replace("seed-65.json", "missing.json"), "missing.json"),
         (
-            text.replace("conditions.rolling_velocity_m_s", "layer.supply_thickness_m")
+            text.replace("conditions.rolling_velocity_m_s", "supply.thickness_m")
                 .replace("seed-65.json", "hertz"),
-            "no layer",
+            "no supply",
         ),
     ] {
         std::fs::write(&sweep, &bad).unwrap();

@@ -11,6 +11,7 @@
 
 pub mod deformation;
 pub mod dry;
+pub mod features;
 pub mod grid;
 pub mod hertz;
 pub mod kinematics;
@@ -31,6 +32,7 @@ pub fn par_min_len(work: usize) -> usize {
 
 pub use deformation::Deformation;
 pub use dry::{DryProblem, DryReport, DrySettings, DrySolver, Start};
+pub use features::{Dent, Hole, Passing, Supply};
 pub use grid::Grid;
 pub use kinematics::{Kinematics, KinematicsError};
 pub use observe::Observables;

@@ -16,10 +16,10 @@ fn main() {
         &ehl_core::SEED_CONTACT,
         &ehl_core::SEED_LUBRICANT,
         &spec,
+        ehl_layer::SEED_SUPPLY_THICKNESS_M,
         ehl_core::Kinematics::constant(0.01).unwrap(),
         Grid::square(n, 1.25),
         settings,
-        vec![],
     );
     let tol: f64 = std::env::var("TOL").map(|v| v.parse().unwrap()).unwrap_or(1e-6);
     let st =

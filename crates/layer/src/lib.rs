@@ -3,7 +3,6 @@
 //! with a transported Kelvin–Voigt layer `l = l0 (1 − ε)` in the gap,
 //! `η(p) Dε/Dt + E(p, ε) ε = p`. The contact is the shared core's [`ehl_core::DrySolver`].
 
-pub mod features;
 pub mod laws;
 pub mod model;
 pub mod run;
@@ -11,9 +10,10 @@ pub mod steady;
 pub mod stepper;
 pub mod transport;
 
-pub use features::{Dent, Feature, Hole};
 pub use laws::{DamperReading, LawSet, ModulusLaw};
-pub use model::{LawParameters, LayerModel, LayerSpec, LayerState, Monitor, SEED_LAYER};
+pub use model::{
+    LawParameters, LayerModel, LayerSpec, LayerState, Monitor, SEED_LAYER, SEED_SUPPLY_THICKNESS_M,
+};
 pub use run::{Snapshot, SqueezeReport, squeeze_steady, uniform_state};
 pub use steady::{SteadyReport, SteadySettings, rolling_steady, strain_residual};
 pub use stepper::{LayerError, Scheme, Stepper, stability_estimate};

@@ -4,12 +4,12 @@
 //! `η(p) Dε/Dt + E(p, ε) ε = p`, `Dε/Dt = ∂ε/∂t + u1 ∂ε/∂x`. Pressures in `p_h`, lengths in `a`,
 //! time in seconds (rolling and squeeze share a clock, and squeeze has no velocity scale).
 
-use crate::features::Feature;
 use crate::laws::{Damper, DamperReading, LawSet, ModulusLaw};
 use ehl_core::params::oedometric_modulus;
 use ehl_core::{
     Contact, DryProblem, DryReport, DrySettings, DrySolver, Grid, HertzScales, Kinematics,
     Lubricant, NumericError, Start,
+    features::{Dent, Hole},
 };
 use ndarray::{Array2, Zip};
 use serde::{Deserialize, Serialize};
@@ -18,8 +18,6 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LayerSpec {
-    /// Supplied (undeformed) layer thickness `l0` [m].
-    pub supply_thickness_m: f64,
     /// Layer modulus `E_layer` [Pa] (at ε = 0).
     pub modulus_pa: f64,
     /// Layer Poisson ratio `ν` [-].
@@ -52,10 +50,12 @@ pub struct LayerSpec {
     pub coefficient_smoothing_a: f64,
 }
 
-/// The seed's Table 1 layer (25 nm supply, 100 MPa, ν = 0.3, κ = 5.5e5 read as a factor, the
-/// power modulus law), unsmoothed: the model as published.
+/// The seed's Table 1 supply: a 25 nm layer on the track [m].
+pub const SEED_SUPPLY_THICKNESS_M: f64 = 25e-9;
+
+/// The seed's Table 1 layer (100 MPa, ν = 0.3, κ = 5.5e5 read as a factor, the power modulus
+/// law), unsmoothed: the model as published. Its supply is [`SEED_SUPPLY_THICKNESS_M`].
 pub const SEED_LAYER: LayerSpec = LayerSpec {
-    supply_thickness_m: 25e-9,
     modulus_pa: 1e8,
     poisson_ratio: 0.3,
     damper_constant: Some(5.5e5),
@@ -102,8 +102,10 @@ impl LayerSpec {
 pub struct LayerModel {
     pub scales: HertzScales,
     pub grid: Grid,
-    /// `l0 / (a²/R)`.
+    /// The supplied layer's thickness `l0 / (a²/R)` …
     pub l0: f64,
+    /// … and in metres, as given.
+    supply_thickness_m: f64,
     /// `Eo / p_h`.
     pub eo: f64,
     /// `p_ref / p_h`.
@@ -114,8 +116,10 @@ pub struct LayerModel {
     /// How the surfaces move: the speed `u1(t)` [m/s] and the travel that carries the layer,
     /// its supply and the features.
     motion: Kinematics,
-    /// Features passing (dents resolved to `A`: set them with [`LayerModel::set_features`]).
-    pub features: Vec<Feature>,
+    /// Dents in the ball passing (set with [`LayerModel::set_passing`]).
+    dents: Vec<Dent>,
+    /// Holes in the supply passing, likewise.
+    holes: Vec<Hole>,
     pub solver: DrySolver,
     /// `(X² + Y²)/2`.
     shape: Array2<f64>,
@@ -124,14 +128,16 @@ pub struct LayerModel {
 }
 
 impl LayerModel {
+    /// The model of a layer `spec` supplied `supply_thickness_m` [m] thick, moving by `motion`,
+    /// on `grid`, with nothing passing (see [`LayerModel::set_passing`]).
     pub fn new(
         contact: &Contact,
         lub: &Lubricant,
         spec: &LayerSpec,
+        supply_thickness_m: f64,
         motion: Kinematics,
         grid: Grid,
         settings: DrySettings,
-        features: Vec<Feature>,
     ) -> Self {
         let scales = HertzScales::new(contact);
         let laws = spec
@@ -149,14 +155,16 @@ impl LayerModel {
         };
         let damper = Damper { eta_zero: eta_zero_pa_s / scales.p_h, shape };
         Self {
-            l0: spec.supply_thickness_m / scales.delta,
+            l0: supply_thickness_m / scales.delta,
+            supply_thickness_m,
             eo: oedometric_modulus(spec.modulus_pa, spec.poisson_ratio) / scales.p_h,
             p_ref: laws.reference_pressure_over_p_h,
             law: spec.modulus_law,
             damper,
             spec: *spec,
             motion,
-            features: resolve(features, spec.supply_thickness_m),
+            dents: vec![],
+            holes: vec![],
             solver: DrySolver::new(grid, settings),
             shape: grid.paraboloid(),
             load: scales.load_dimensionless(),
@@ -165,9 +173,15 @@ impl LayerModel {
         }
     }
 
-    /// Features to pass from now on (a dent's depth in metres resolved to `l0`'s units).
-    pub fn set_features(&mut self, features: Vec<Feature>) {
-        self.features = resolve(features, self.spec.supply_thickness_m);
+    /// What passes from now on: dents in the ball and holes in the supply.
+    pub fn set_passing(&mut self, dents: Vec<Dent>, holes: Vec<Hole>) {
+        self.dents = dents;
+        self.holes = holes;
+    }
+
+    /// Whether anything passes (a dent or a hole).
+    pub fn has_passing(&self) -> bool {
+        !(self.dents.is_empty() && self.holes.is_empty())
     }
 
     /// The same model on another grid (same laws, velocity, features and solver settings).
@@ -176,13 +190,15 @@ impl LayerModel {
             scales: self.scales,
             grid,
             l0: self.l0,
+            supply_thickness_m: self.supply_thickness_m,
             eo: self.eo,
             p_ref: self.p_ref,
             law: self.law,
             damper: self.damper,
             spec: self.spec,
             motion: self.motion.clone(),
-            features: self.features.clone(),
+            dents: self.dents.clone(),
+            holes: self.holes.clone(),
             solver: DrySolver::new(grid, self.solver.settings),
             shape: grid.paraboloid(),
             load: self.load,
@@ -236,9 +252,14 @@ impl LayerModel {
         alpha_eff * (p - self.modulus(p, eps) * eps) - (1.0 - eps * e_p)
     }
 
-    /// Feature centre position at time `t` [a] (features travel with the surfaces).
-    pub fn feature_x(&self, f: &Feature, t: f64) -> f64 {
-        f.x_start() + self.motion.travel(t) / self.scales.a
+    /// How far the surfaces, and everything they carry, have travelled at time `t` [a].
+    pub fn travel_a(&self, t: f64) -> f64 {
+        self.motion.travel(t) / self.scales.a
+    }
+
+    /// The supplied layer's thickness `l0` [m].
+    pub fn supply_thickness_m(&self) -> f64 {
+        self.supply_thickness_m
     }
 
     /// How the surfaces move.
@@ -259,35 +280,25 @@ impl LayerModel {
 
     /// Supply thickness field `L0(x, t)` [a²/R]: `l0`, zero inside holes.
     pub fn supply(&self, t: f64) -> Array2<f64> {
-        if !self.features.iter().any(|f| matches!(f, Feature::Hole(_))) {
+        if self.holes.is_empty() {
             return Array2::from_elem(self.grid.shape(), self.l0);
         }
-        let holes: Vec<_> = self
-            .features
-            .iter()
-            .filter_map(|f| match f {
-                Feature::Hole(h) => Some((*h, self.feature_x(f, t))),
-                _ => None,
-            })
-            .collect();
-        self.grid.field(
-            |x, y| {
-                if holes.iter().any(|(h, xc)| h.inside(x, y, *xc)) { 0.0 } else { self.l0 }
-            },
-        )
+        let travel = self.travel_a(t);
+        self.grid.field(|x, y| {
+            let dry = self.holes.iter().any(|h| h.inside(x, y, h.x_start_a + travel));
+            if dry { 0.0 } else { self.l0 }
+        })
     }
 
     /// Rigid gap of the ball: `f + b(t)` [a²/R].
     pub fn ball(&self, t: f64) -> Array2<f64> {
         let mut g = self.shape.clone();
-        for f in &self.features {
-            if let Feature::Dent(d) = f {
-                let xc = self.feature_x(f, t);
-                let l0 = self.l0;
-                Zip::indexed(&mut g).par_for_each(|(j, i), v| {
-                    *v += l0 * d.depth(self.grid.x(i), self.grid.y(j), xc);
-                });
-            }
+        let (travel, delta) = (self.travel_a(t), self.scales.delta);
+        for d in &self.dents {
+            let xc = d.x_start_a + travel;
+            Zip::indexed(&mut g).par_for_each(|(j, i), v| {
+                *v += d.gap(self.grid.x(i), self.grid.y(j), xc, delta);
+            });
         }
         g
     }
@@ -332,17 +343,6 @@ impl LayerModel {
 
 /// `f` smoothed by a separable Gaussian of standard deviations `sigma_x`, `sigma_y` [a]
 /// (0: not along that axis), truncated at 3σ, edge values held.
-/// Every dent's depth as the factor `A` for a supply thickness `l0_m` [m]: what the model holds.
-fn resolve(features: Vec<Feature>, l0_m: f64) -> Vec<Feature> {
-    features
-        .into_iter()
-        .map(|f| match f {
-            Feature::Dent(d) => Feature::Dent(d.resolved(l0_m)),
-            other => other,
-        })
-        .collect()
-}
-
 pub fn gaussian_smooth(f: &Array2<f64>, grid: &Grid, sigma_x: f64, sigma_y: f64) -> Array2<f64> {
     let weights = |sigma: f64, h: f64| -> Vec<f64> {
         if sigma <= 0.0 {

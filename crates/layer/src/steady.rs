@@ -112,7 +112,7 @@ pub fn rolling_steady(
             m.rolling_speed()
         )));
     }
-    if !m.features.is_empty() {
+    if m.has_passing() {
         return Err(LayerError::Setup(
             "steady rolling: a feature passing is not steady; march it in time".into(),
         ));

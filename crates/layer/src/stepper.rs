@@ -351,10 +351,10 @@ mod tests {
             &c,
             &l,
             &crate::SEED_LAYER,
+            crate::SEED_SUPPLY_THICKNESS_M,
             ehl_core::Kinematics::constant(0.01).unwrap(),
             grid,
             ehl_core::DrySettings::default(),
-            vec![],
         );
         let mut st = Stepper::new(Scheme::Explicit, 0);
         let mut s = LayerState {

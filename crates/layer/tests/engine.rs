@@ -15,7 +15,15 @@ fn model(n: usize, u1: f64) -> LayerModel {
     let lub = ehl_core::SEED_LUBRICANT;
     let spec = LayerSpec { coefficient_smoothing_a: 0.0, ..SEED_LAYER };
     let settings = DrySettings { tolerance: 1e-11, ..DrySettings::default() };
-    LayerModel::new(&contact, &lub, &spec, rolling(u1), Grid::square(n, 1.25), settings, vec![])
+    LayerModel::new(
+        &contact,
+        &lub,
+        &spec,
+        SEED_SUPPLY_THICKNESS_M,
+        rolling(u1),
+        Grid::square(n, 1.25),
+        settings,
+    )
 }
 
 /// Squeeze from a uniform layer for `t_end` with `k` equal steps; returns the strain field.
@@ -153,10 +161,10 @@ fn literal_damper_reading_is_the_factor_reading_times_eta0() {
             &ehl_core::SEED_CONTACT,
             &lub,
             &spec,
+            SEED_SUPPLY_THICKNESS_M,
             rolling(0.01),
             Grid::square(17, 1.25),
             DrySettings::default(),
-            vec![],
         )
     };
     let factor = make(LayerSpec { damper_reading: DamperReading::Factor, ..SEED_LAYER });
@@ -211,10 +219,10 @@ fn law_parameters_reach_the_laws() {
             &contact,
             &lub,
             &spec,
+            SEED_SUPPLY_THICKNESS_M,
             rolling(0.01),
             Grid::square(9, 1.25),
             DrySettings::default(),
-            vec![],
         )
     };
     let base = make(SEED_LAYER);
@@ -393,10 +401,10 @@ fn carried_bump_error(motion: ehl_core::Kinematics, k: usize, t_end: f64) -> f64
         &ehl_core::SEED_CONTACT,
         &ehl_core::SEED_LUBRICANT,
         &spec,
+        SEED_SUPPLY_THICKNESS_M,
         motion.clone(),
         Grid::square(65, 1.25),
         DrySettings::default(),
-        vec![],
     );
     let bump = |x: f64| 0.3 * (-((x + 0.6) / 0.25).powi(2)).exp();
     let mut s = uniform_state(&m).unwrap();

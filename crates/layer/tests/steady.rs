@@ -14,7 +14,15 @@ fn model(n: usize, smoothing: f64) -> LayerModel {
     let spec = LayerSpec { coefficient_smoothing_a: smoothing, ..SEED_LAYER };
     let settings = DrySettings { tolerance: 1e-10, ..DrySettings::default() };
     let (c, l) = (ehl_core::SEED_CONTACT, ehl_core::SEED_LUBRICANT);
-    LayerModel::new(&c, &l, &spec, rolling(0.01), Grid::square(n, 1.25), settings, vec![])
+    LayerModel::new(
+        &c,
+        &l,
+        &spec,
+        SEED_SUPPLY_THICKNESS_M,
+        rolling(0.01),
+        Grid::square(n, 1.25),
+        settings,
+    )
 }
 
 /// Table 1 as published (no smoothing), the contact at its default tolerance, rolling at `u1` [m/s].
@@ -24,10 +32,10 @@ fn table1(n: usize, u1: f64) -> LayerModel {
         &c,
         &l,
         &SEED_LAYER,
+        SEED_SUPPLY_THICKNESS_M,
         rolling(u1),
         Grid::square(n, 1.25),
         DrySettings::default(),
-        vec![],
     )
 }
 
@@ -73,7 +81,7 @@ fn marched_steady_state_is_the_fixed_point_of_the_steady_solve() {
         };
         let (d, rep) = rolling_steady(&m, &settings).unwrap();
         let (a, b) = (Monitor::of(&m, &s, 0), Monitor::of(&m, &d, 0));
-        let l0 = 25e-9;
+        let l0 = SEED_SUPPLY_THICKNESS_M;
         // Same discrete equations: the films agree to the march's steady tolerance and the
         // contact tolerance together (~1e-8 l0); 1e-6 l0 leaves room for neither scheme's error.
         assert!((a.central_thickness - b.central_thickness).abs() < 1e-6 * l0, "{a:?} {b:?}");
@@ -139,7 +147,7 @@ fn a_solve_that_does_not_converge_says_where_and_when() {
     assert!(msg.contains("too few iterations to judge"), "{msg}");
     // Features are not steady: refused before any work.
     let mut m = model(33, 0.0);
-    m.features = vec![Feature::Hole(Hole { radius_a: 0.2, x_start_a: -1.0, y_a: 0.0 })];
+    m.set_passing(vec![], vec![ehl_core::Hole { radius_a: 0.2, x_start_a: -1.0, y_a: 0.0 }]);
     assert!(matches!(rolling_steady(&m, &SteadySettings::default()), Err(LayerError::Setup(_))));
     // Nor is standing still: a squeeze has its own steady solve.
     let still = table1(33, 0.0);

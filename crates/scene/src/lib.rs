@@ -3,8 +3,10 @@
 //!
 //! Built-in scenes are the JSON files in `validation/scenes/`, compiled in by name.
 
-use ehl_core::{Contact, DrySettings, Grid, Kinematics, KinematicsError, Lubricant};
-use ehl_layer::{Feature, LayerSpec, Scheme, SteadySettings};
+use ehl_core::{
+    Contact, Dent, DrySettings, Grid, Hole, Kinematics, KinematicsError, Lubricant, Passing, Supply,
+};
+use ehl_layer::{LayerSpec, Scheme, SteadySettings};
 use ehl_reynolds::{DensityLaw, ReynoldsSettings, ViscosityLaw};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -32,6 +34,11 @@ pub struct Scene {
     /// Lubricant (the layer's damper, the Reynolds fluid); required by those models.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lubricant: Option<LubricantSpec>,
+    /// The oil supplied to the contact (its thickness, holes in it), one for every model: the
+    /// layer model's layer. Required by the layer model; the Reynolds model runs fully flooded
+    /// (and says so in its summary) until it reads it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub supply: Option<Supply>,
     /// The viscoelastic layer; required by the layer model.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layer: Option<LayerSpec>,
@@ -105,22 +112,12 @@ impl Scene {
                 s.layer = None;
                 s.run = None;
                 s.reynolds = None;
+                s.supply = None;
             }
             Model::Layer => s.reynolds = None,
-            Model::Reynolds => {
-                // The scenario stays; a dent's depth given in the layer's l0 becomes metres.
-                if let (Some(run), Some(l)) = (s.run.as_mut(), s.layer) {
-                    for f in &mut run.features {
-                        if let Feature::Dent(d) = f
-                            && let (Some(a), None) = (d.amplitude, d.depth_m)
-                        {
-                            d.depth_m = Some(a * l.supply_thickness_m);
-                            d.amplitude = None;
-                        }
-                    }
-                }
-                s.layer = None;
-            }
+            // The scenario and the supply stay (a dent's depth in units of the supply is
+            // resolved from the supply, the same for every model).
+            Model::Reynolds => s.layer = None,
         }
         s
     }
@@ -142,6 +139,91 @@ impl Scene {
             u_sum = u;
         }
         (c, u_sum)
+    }
+}
+
+impl Scene {
+    /// The dents of the run in the ball, their depths in metres (an `amplitude` in units of the
+    /// supply's thickness resolved with it).
+    pub fn dents(&self) -> Result<Vec<Dent>, SceneError> {
+        let Some(r) = &self.run else { return Ok(vec![]) };
+        let l0 = self.supply.as_ref().map(|s| s.thickness_m);
+        let mut out = vec![];
+        for (k, f) in r.features.iter().enumerate() {
+            match f {
+                Feature::Dent(d) => out.push(d.resolved(l0).ok_or_else(|| SceneError::Range {
+                    origin: self.name.clone(),
+                    field: format!("run.features[{k}].dent.amplitude"),
+                    value: format!("{:?}", d.amplitude),
+                    allowed: "a depth in units of supply.thickness_m needs a supply: give `supply`, or `depth_m`".into(),
+                })?),
+                Feature::Hole(_) => {}
+            }
+        }
+        Ok(out)
+    }
+
+    /// The holes in the supply.
+    pub fn holes(&self) -> Vec<Hole> {
+        self.supply.as_ref().map_or(vec![], |s| s.holes.clone())
+    }
+
+    /// What passes through the contact, in order: the run's dents, then the supply's holes.
+    /// "The first feature" of the stop rules and `run.snapshots_a` is the first of these.
+    pub fn passing(&self) -> Vec<Passing> {
+        let dents = self.run.iter().flat_map(|r| &r.features).filter_map(|f| match f {
+            Feature::Dent(d) => Some(Passing { x_start_a: d.x_start_a, reach_a: d.reach_a() }),
+            Feature::Hole(_) => None,
+        });
+        dents.chain(self.holes().iter().map(Passing::from)).collect()
+    }
+}
+
+/// A feature of the run. Only dents (in the ball's surface) belong here; a hole is in the oil
+/// supply (`supply.holes`) and is refused here with that said.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Feature {
+    /// A dent (or bump) in the ball.
+    Dent(DentSpec),
+    /// Refused: holes are in `supply.holes`.
+    Hole(Hole),
+}
+
+/// A dent as a scene gives it: the depth in metres, or as the seed's factor `A` in units of the
+/// supply's thickness (exactly one of the two).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DentSpec {
+    /// Height factor `A` [-]: depth in units of `supply.thickness_m` …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub amplitude: Option<f64>,
+    /// … or the depth at the centre [m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_m: Option<f64>,
+    /// Width factor `W` [a].
+    pub width_a: f64,
+    /// Centre at `t = 0` [a].
+    pub x_start_a: f64,
+    /// Centre across the rolling direction [a].
+    #[serde(default)]
+    pub y_a: f64,
+}
+
+impl DentSpec {
+    /// The dent with its depth in metres, an amplitude resolved with the supply's thickness
+    /// `l0_m` [m]; `None` when an amplitude has no supply to refer to.
+    pub fn resolved(&self, l0_m: Option<f64>) -> Option<Dent> {
+        let depth_m = match (self.depth_m, self.amplitude, l0_m) {
+            (Some(d), _, _) => d,
+            (None, Some(a), Some(l0)) => a * l0,
+            _ => return None,
+        };
+        Some(Dent { depth_m, width_a: self.width_a, x_start_a: self.x_start_a, y_a: self.y_a })
+    }
+    /// Radius beyond which the dent is below 1e-6 of its depth [a].
+    pub fn reach_a(&self) -> f64 {
+        Dent { depth_m: 0.0, width_a: self.width_a, x_start_a: 0.0, y_a: 0.0 }.reach_a()
     }
 }
 
@@ -463,12 +545,12 @@ impl RunSpec {
             },
         )
     }
-    /// Every snapshot time [s]: `snapshots_s` and the times `snapshots_a` give for a feature
-    /// starting at `x_start_a` carried by `motion` on the Hertz radius `a` [m], in order; a
+    /// Every snapshot time [s]: `snapshots_s` and the times `snapshots_a` give for the `first`
+    /// feature carried by `motion` on the Hertz radius `a` [m], in order; a
     /// position the motion never carries the feature to has no time (the scene's checks refuse
     /// it).
-    pub fn snapshot_times(&self, a: f64, motion: &Kinematics) -> Vec<f64> {
-        let x0 = self.features.first().map(|f| f.x_start_a()).unwrap_or(0.0);
+    pub fn snapshot_times(&self, a: f64, motion: &Kinematics, first: Option<&Passing>) -> Vec<f64> {
+        let x0 = first.map_or(0.0, |f| f.x_start_a);
         let mut t: Vec<f64> = self.snapshots_s.clone();
         t.extend(self.snapshots_a.iter().filter_map(|&x| motion.time_at_travel((x - x0) * a)));
         t.sort_by(f64::total_cmp);
@@ -722,8 +804,20 @@ impl Scene {
             ck.nonneg("lubricant.alpha_per_pa", l.alpha_per_pa, "1/Pa")?;
             ck.positive("lubricant.p0_roelands_pa", l.p0_roelands_pa, "Pa")?;
         }
+        if let Some(sup) = &self.supply {
+            ck.positive("supply.thickness_m", sup.thickness_m, "m")?;
+            for (k, h) in sup.holes.iter().enumerate() {
+                ck.positive(&format!("supply.holes[{k}].radius_a"), h.radius_a, "units of a")?;
+                if !(h.x_start_a.is_finite() && h.y_a.is_finite()) {
+                    return Err(ck.err(
+                        &format!("supply.holes[{k}]"),
+                        "non-finite position".into(),
+                        "x_start_a, y_a must be finite",
+                    ));
+                }
+            }
+        }
         if let Some(l) = &self.layer {
-            ck.positive("layer.supply_thickness_m", l.supply_thickness_m, "m")?;
             ck.positive("layer.modulus_pa", l.modulus_pa, "Pa")?;
             if !(l.poisson_ratio.is_finite() && (0.0..0.5).contains(&l.poisson_ratio)) {
                 return Err(ck.err(
@@ -882,24 +976,12 @@ impl Scene {
                 |allowed| format!("must be {allowed} for the Reynolds model (its march starts from its steady solve and rolls)"),
             )?;
         }
-        for (k, f) in r.features.iter().enumerate() {
-            match f {
-                Feature::Hole(_) => {
-                    return Err(ck.err(
-                        &format!("run.features[{k}]"),
-                        "hole".into(),
-                        "a dent: a hole in the supplied layer needs the layer model",
-                    ));
-                }
-                Feature::Dent(d) if d.depth_m.is_none() => {
-                    return Err(ck.err(
-                        &format!("run.features[{k}].dent.depth_m"),
-                        "(missing)".into(),
-                        "required by the Reynolds model (m); `amplitude` is in units of the layer's l0, which a Reynolds scene has no layer for",
-                    ));
-                }
-                Feature::Dent(_) => {}
-            }
+        if let Some(k) = self.supply.as_ref().and_then(|s| (!s.holes.is_empty()).then_some(0)) {
+            return Err(ck.err(
+                &format!("supply.holes[{k}]"),
+                "(given)".into(),
+                "none for the Reynolds model: it runs fully flooded and cannot see a hole in the supply (the layer model can)",
+            ));
         }
         let (_, u_sum) = self.reynolds_conditions();
         self.validate_run(ck, r, 0.5 * u_sum)
@@ -910,6 +992,13 @@ impl Scene {
         let missing = |f: &str| ck.err(f, "(missing)".into(), "required by the layer model");
         if self.lubricant.is_none() {
             return Err(missing("lubricant"));
+        }
+        if self.supply.is_none() {
+            return Err(ck.err(
+                "supply",
+                "(missing)".into(),
+                "required by the layer model: its layer is the supplied oil (supply.thickness_m, m)",
+            ));
         }
         if self.layer.is_none() {
             return Err(missing("layer"));
@@ -926,11 +1015,12 @@ impl Scene {
             .kinematics(u)
             .map_err(|e| ck.err("run.motion", format!("{:?}", r.motion), &e.what))?;
         let a = ehl_core::HertzScales::new(&self.conditions.contact()).a;
-        Self::validate_method(ck, r, &kin)?;
+        let passing = self.passing();
+        Self::validate_method(ck, r, &kin, !passing.is_empty())?;
         Self::validate_steps(ck, r)?;
-        Self::validate_stop(ck, r, &kin, a)?;
-        Self::validate_features(ck, r)?;
-        Self::validate_snapshots(ck, r, &kin, a)
+        Self::validate_stop(ck, r, &kin, a, passing.first())?;
+        self.validate_features(ck, r)?;
+        Self::validate_snapshots(ck, r, &kin, a, passing.first())
     }
 
     /// A stop's time, a ramp's length, a table's knots; the scene's speed where the motion
@@ -961,7 +1051,12 @@ impl Scene {
     }
 
     /// Method and start, the direct steady solve's settings, and the velocity rolling needs.
-    fn validate_method(ck: &Check, r: &RunSpec, kin: &Kinematics) -> Result<(), SceneError> {
+    fn validate_method(
+        ck: &Check,
+        r: &RunSpec,
+        kin: &Kinematics,
+        anything_passes: bool,
+    ) -> Result<(), SceneError> {
         match (r.method(), r.start) {
             (Method::March, None) => {
                 return Err(ck.err(
@@ -989,10 +1084,10 @@ impl Scene {
                         "must be rolling",
                     ),
                     (
-                        !r.features.is_empty(),
+                        anything_passes,
                         "run.features",
-                        format!("{} feature(s)", r.features.len()),
-                        "a feature passing is not steady: none allowed",
+                        format!("{} dent(s) and the supply's holes", r.features.len()),
+                        "a dent or a hole passing is not steady: none allowed",
                     ),
                     (
                         !r.snapshots_s.is_empty(),
@@ -1067,7 +1162,13 @@ impl Scene {
     }
 
     /// Stop rules: steady tolerance and windows, a feature's end, the time limit.
-    fn validate_stop(ck: &Check, r: &RunSpec, kin: &Kinematics, a: f64) -> Result<(), SceneError> {
+    fn validate_stop(
+        ck: &Check,
+        r: &RunSpec,
+        kin: &Kinematics,
+        a: f64,
+        first: Option<&Passing>,
+    ) -> Result<(), SceneError> {
         let st = &r.stop;
         if !(st.steady_tolerance.is_finite()
             && st.steady_tolerance > 0.0
@@ -1093,7 +1194,7 @@ impl Scene {
             }
             None => {}
         }
-        if feature_ends && r.features.is_empty() {
+        if feature_ends && first.is_none() {
             return Err(ck.err(
                 if st.until_features_passed {
                     "run.stop.until_features_passed"
@@ -1101,7 +1202,7 @@ impl Scene {
                     "run.stop.until_feature_at_a"
                 },
                 "(given)".into(),
-                "needs at least one feature in run.features",
+                "needs a feature passing: a dent in run.features or a hole in supply.holes",
             ));
         }
         if st.until_features_passed && !(kin.final_speed() > 0.0) {
@@ -1112,7 +1213,7 @@ impl Scene {
             ));
         }
         if let Some(x) = st.until_feature_at_a {
-            let x0 = r.features.first().map_or(f64::NAN, |f| f.x_start_a());
+            let x0 = first.map_or(f64::NAN, |f| f.x_start_a);
             if !(x.is_finite() && x > x0) {
                 return Err(ck.err(
                     "run.stop.until_feature_at_a",
@@ -1142,8 +1243,9 @@ impl Scene {
         Ok(())
     }
 
-    /// Features: a dent (depth in one unit) or a hole, each with a finite place.
-    fn validate_features(ck: &Check, r: &RunSpec) -> Result<(), SceneError> {
+    /// Features: dents (depth in one unit, an amplitude with a supply to refer to), each with a
+    /// finite place; a hole is refused here (it is in the supply).
+    fn validate_features(&self, ck: &Check, r: &RunSpec) -> Result<(), SceneError> {
         for (k, f) in r.features.iter().enumerate() {
             match f {
                 Feature::Dent(d) => {
@@ -1158,6 +1260,13 @@ impl Scene {
                         }
                         (Some(a), None) if !a.is_finite() => {
                             return Err(ck.err(&f("amplitude"), format!("{a}"), "must be finite"));
+                        }
+                        (Some(_), None) if self.supply.is_none() => {
+                            return Err(ck.err(
+                                &f("amplitude"),
+                                "(given)".into(),
+                                "in units of supply.thickness_m: give `supply`, or the depth in metres (`depth_m`)",
+                            ));
                         }
                         (None, Some(m)) if !m.is_finite() => {
                             return Err(ck.err(
@@ -1181,19 +1290,12 @@ impl Scene {
                         ));
                     }
                 }
-                Feature::Hole(h) => {
-                    ck.positive(
-                        &format!("run.features[{k}].hole.radius_a"),
-                        h.radius_a,
-                        "units of a",
-                    )?;
-                    if !(h.x_start_a.is_finite() && h.y_a.is_finite()) {
-                        return Err(ck.err(
-                            &format!("run.features[{k}].hole"),
-                            "non-finite position".into(),
-                            "x_start_a, y_a must be finite",
-                        ));
-                    }
+                Feature::Hole(_) => {
+                    return Err(ck.err(
+                        &format!("run.features[{k}]"),
+                        "hole".into(),
+                        "a dent: a hole is in the oil supply, not the ball (move it to supply.holes)",
+                    ));
                 }
             }
         }
@@ -1206,16 +1308,17 @@ impl Scene {
         r: &RunSpec,
         kin: &Kinematics,
         a: f64,
+        first: Option<&Passing>,
     ) -> Result<(), SceneError> {
         for (k, &ts) in r.snapshots_s.iter().enumerate() {
             ck.nonneg(&format!("run.snapshots_s[{k}]"), ts, "s")?;
         }
         if !r.snapshots_a.is_empty() {
-            let Some(x0) = r.features.first().map(|f| f.x_start_a()) else {
+            let Some(x0) = first.map(|f| f.x_start_a) else {
                 return Err(ck.err(
                     "run.snapshots_a",
                     format!("{:?}", r.snapshots_a),
-                    "positions of the first feature's centre: needs a feature in run.features",
+                    "positions of the first feature's centre: needs a dent in run.features or a hole in supply.holes",
                 ));
             };
             for (k, &x) in r.snapshots_a.iter().enumerate() {
@@ -1326,8 +1429,9 @@ mod tests {
     }
 
     #[test]
-    fn a_comparison_runs_one_dent_in_either_unit() {
-        // The layer's dent in units of l0 reaches the Reynolds model in metres.
+    fn a_comparison_runs_one_dent_and_one_supply_through_every_model() {
+        // A dent in units of the supply's thickness is the same dent in metres for every model;
+        // the supply stays for the Reynolds model (to read) and leaves the dry one.
         let text = BUILTINS.iter().find(|b| b.0 == "dent-shallow").unwrap().1.to_string();
         let mut s = Scene::from_json(&text, "test").unwrap();
         s.model = None;
@@ -1339,11 +1443,23 @@ mod tests {
             solver: ReynoldsSettings::default(),
         });
         let r = s.for_model(Model::Reynolds);
-        let ehl_layer::Feature::Dent(d) = r.run.as_ref().unwrap().features[0] else { panic!() };
-        assert_eq!((d.amplitude, d.depth_m), (None, Some(1.25 * 2.5e-8)));
-        assert!(r.layer.is_none());
         let l = s.for_model(Model::Layer);
-        assert_eq!(l.run, s.run);
+        assert_eq!(r.dents().unwrap(), l.dents().unwrap());
+        assert_eq!(r.dents().unwrap()[0].depth_m, 1.25 * 2.5e-8);
+        assert!(r.layer.is_none() && r.supply == s.supply && l.run == s.run);
+        assert!(s.for_model(Model::Dry).supply.is_none());
+        // A hole in the ball is refused (it belongs to the supply); one in the supply, for the
+        // Reynolds model, too (it runs flooded: it cannot see it).
+        let m = refused(&text.replace("{\n        \"dent\"", "{\n        \"hole\": { \"radius_a\": 0.2, \"x_start_a\": -1.0 } }, {\n        \"dent\""));
+        assert!(m.contains("run.features[0]") && m.contains("supply.holes"), "{m}");
+        let mut holed = s.clone();
+        holed.supply.as_mut().unwrap().holes =
+            vec![Hole { radius_a: 0.2, x_start_a: -1.0, y_a: 0.0 }];
+        let m = holed.validate("test").unwrap_err().to_string();
+        assert!(m.contains("supply.holes[0]") && m.contains("flooded"), "{m}");
+        // The layer needs its supply; a dent in units of a supply that is not there is refused.
+        let m = refused(&text.replace("\"supply\": { \"thickness_m\": 2.5e-08 },", ""));
+        assert!(m.contains("`supply`") && m.contains("required by the layer model"), "{m}");
     }
 
     #[test]
@@ -1352,8 +1468,13 @@ mod tests {
         // The depth in metres is the factor times l0 (25 nm): 1.25 l0 = 31.25 nm.
         let metres = text.replace("\"amplitude\": 1.25", "\"depth_m\": 3.125e-8");
         let s = Scene::from_json(&metres, "test").unwrap();
-        let ehl_layer::Feature::Dent(d) = s.run.as_ref().unwrap().features[0] else { panic!() };
-        assert!((d.resolved(2.5e-8).amplitude.unwrap() - 1.25).abs() < 1e-12);
+        let Feature::Dent(d) = s.run.as_ref().unwrap().features[0] else { panic!() };
+        assert_eq!(d.resolved(None).unwrap().depth_m, 3.125e-8);
+        let Feature::Dent(a) = builtin("dent-shallow").unwrap().run.unwrap().features[0] else {
+            panic!()
+        };
+        assert!(a.resolved(None).is_none(), "an amplitude needs the supply");
+        assert!((a.resolved(Some(2.5e-8)).unwrap().depth_m - 3.125e-8).abs() < 1e-22);
         let both = text.replace("\"amplitude\": 1.25", "\"amplitude\": 1.25, \"depth_m\": 3.1e-8");
         let m = refused(&both);
         assert!(m.contains("run.features[0].dent.depth_m") && m.contains("exactly one"), "{m}");
@@ -1361,8 +1482,13 @@ mod tests {
         assert!(refused(&none).contains("exactly one"));
         // Snapshots by dent position are the times the dent takes to get there: from -1.25 a
         // at 0.01 m/s on a = 0.13466 mm, -0.75 a is reached at 6.733e-3 s.
-        let r = Scene::from_json(&text, "test").unwrap().run.unwrap();
-        let t = r.snapshot_times(1.3466e-4, &Kinematics::constant(0.01).unwrap());
+        let s = Scene::from_json(&text, "test").unwrap();
+        let first = s.passing().first().copied();
+        let t = s.run.unwrap().snapshot_times(
+            1.3466e-4,
+            &Kinematics::constant(0.01).unwrap(),
+            first.as_ref(),
+        );
         assert_eq!(t.len(), 5);
         assert!((t[0] - 6.733e-3).abs() < 1e-7 && (t[2] - 1.6833e-2).abs() < 1e-6, "{t:?}");
         let before = text.replace("[-0.75, -0.25, 0.0, 0.25, 0.75]", "[-2.0]");
@@ -1372,7 +1498,7 @@ mod tests {
         let ok = rt.replace("\"snapshots_a\": [-1.0, -0.5, 0.0, 0.5]", "\"snapshots_s\": [0.0]");
         let s = Scene::from_json(&ok, "test").unwrap();
         assert_eq!(
-            s.run.unwrap().snapshot_times(1e-4, &Kinematics::constant(0.5).unwrap()),
+            s.run.unwrap().snapshot_times(1e-4, &Kinematics::constant(0.5).unwrap(), None),
             vec![0.0]
         );
     }

@@ -65,7 +65,9 @@ pub enum Parameter {
     RollingVelocity,
     #[serde(rename = "conditions.load_n")]
     Load,
-    #[serde(rename = "layer.supply_thickness_m")]
+    /// The oil supply's thickness (every model that reads a supply; the name it had when only
+    /// the layer model did is still read).
+    #[serde(rename = "supply.thickness_m", alias = "layer.supply_thickness_m")]
     SupplyThickness,
     #[serde(rename = "lubricant.eta0_pa_s")]
     Eta0,
@@ -373,11 +375,8 @@ impl Scene {
                 s.conditions.load_n = v;
             }
             Parameter::SupplyThickness => {
-                let l = s
-                    .layer
-                    .as_mut()
-                    .ok_or("the scene has no layer (supply thickness is the layer model's)")?;
-                l.supply_thickness_m = v;
+                let sup = s.supply.as_mut().ok_or("the scene has no supply to vary")?;
+                sup.thickness_m = v;
             }
             Parameter::Eta0 => {
                 s.lubricant.as_mut().ok_or("the scene has no lubricant")?.eta0_pa_s = v;
@@ -543,10 +542,9 @@ mod tests {
         let m0 = ehl_core::Moes::from_si(&base.conditions.contact(), &l, 0.02);
         // M set, L kept (to rounding of the round trip through load and velocity).
         assert!((m.m / 100.0 - 1.0).abs() < 1e-12 && (m.l / m0.l - 1.0).abs() < 1e-12, "{m:?}");
-        let hertz =
-            sweep(r#"{"parameter": "layer.supply_thickness_m", "values": [1e-8]}"#).unwrap();
+        let hertz = sweep(r#"{"parameter": "supply.thickness_m", "values": [1e-8]}"#).unwrap();
         let e = hertz.points(&crate::builtin("hertz").unwrap()).unwrap_err().to_string();
-        assert!(e.contains("layer.supply_thickness_m") && e.contains("no layer"), "{e}");
+        assert!(e.contains("supply.thickness_m") && e.contains("no supply"), "{e}");
         // A point whose scene fails validation is refused with its values named.
         let g = sweep(r#"{"parameter": "grid.n", "values": [129, 4]}"#);
         assert!(g.is_err());

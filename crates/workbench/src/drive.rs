@@ -5,7 +5,7 @@
 
 use anyhow::{Context, Result, bail};
 use ehl_core::observe::Observables;
-use ehl_core::{Grid, Kinematics};
+use ehl_core::{Grid, Kinematics, Passing};
 use ehl_scene::RunSpec;
 use std::time::Instant;
 
@@ -112,13 +112,15 @@ impl Plan {
         }
     }
 
-    /// The scene's run for a model whose surfaces (and features) move by `motion` on the Hertz
-    /// radius `a` [m] over `grid` [a]. Where the surfaces roll, `n_t` steps per cell at the
+    /// The scene's run, with `passing` what passes through the contact (the scene's
+    /// [`ehl_scene::Scene::passing`]: dents, then holes), for a model whose surfaces (and the
+    /// features) move by `motion` on the Hertz radius `a` [m] over `grid` [a]. Where the surfaces roll, `n_t` steps per cell at the
     /// piece's largest speed (so no step carries the layer more than `1/n_t` of a cell); where
     /// they rest, `run.time.dt_s` or, absent, error control from `controlled` (the model's first
     /// step [s] and order), refused when the model has none.
     pub fn from_run(
         run: &RunSpec,
+        passing: &[Passing],
         grid: &Grid,
         a: f64,
         motion: &Kinematics,
@@ -144,16 +146,16 @@ impl Plan {
         };
         if st.until_features_passed {
             let mut t = 0.0f64;
-            for f in &run.features {
+            for f in passing {
                 t = t.max(reach(
-                    (grid.x_max + f.reach() - f.x_start()) * a,
+                    (grid.x_max + f.reach_a - f.x_start_a) * a,
                     "every feature leaving",
                 )?);
             }
             first(t, "every feature has left the domain".into());
         }
-        if let (Some(x), Some(f)) = (st.until_feature_at_a, run.features.first()) {
-            let t = reach((x - f.x_start()) * a, &format!("the first feature reaching x = {x} a"))?;
+        if let (Some(x), Some(f)) = (st.until_feature_at_a, passing.first()) {
+            let t = reach((x - f.x_start_a) * a, &format!("the first feature reaching x = {x} a"))?;
             first(t, format!("the first feature is at x = {x} a"));
         }
         let t_end = end.as_ref().map_or(f64::INFINITY, |e| e.0);
@@ -202,7 +204,7 @@ impl Plan {
                 settled + if u > 0.0 { (grid.x_max - grid.x_min) * a / u } else { window_s };
             SteadyRule { tolerance: st.steady_tolerance, window_s, min_time_s, window_text }
         });
-        let snapshot_times_s = run.snapshot_times(a, motion);
+        let snapshot_times_s = run.snapshot_times(a, motion, passing.first());
         Ok(Plan { phases, end, steady, max_time_s: st.max_time_s, snapshot_times_s })
     }
 }
@@ -541,7 +543,7 @@ mod tests {
         let g = scene.grid();
         let (a, u) = (1e-4, 0.5);
         let k = Kinematics::constant(u).unwrap();
-        let p = Plan::from_run(run, &g, a, &k, None).unwrap();
+        let p = Plan::from_run(run, &scene.passing(), &g, a, &k, None).unwrap();
         // From x = −2 a to 1 a at u: 3 a / u; one step per cell of 6/128 a: 64 steps exactly.
         let (t_end, why) = p.end.clone().unwrap();
         assert!((t_end - 3.0 * a / u).abs() < 1e-15, "{t_end}");
@@ -559,9 +561,9 @@ mod tests {
         sq.motion = ehl_scene::Motion::Squeeze;
         sq.stop.until_feature_at_a = None;
         let stop = sq.kinematics(u).unwrap();
-        let e = Plan::from_run(&sq, &g, a, &stop, None).unwrap_err();
+        let e = Plan::from_run(&sq, &scene.passing(), &g, a, &stop, None).unwrap_err();
         assert!(e.to_string().contains("run.time.dt_s"), "{e}");
-        let p = Plan::from_run(&sq, &g, a, &stop, Some((1e-3, 3.0))).unwrap();
+        let p = Plan::from_run(&sq, &scene.passing(), &g, a, &stop, Some((1e-3, 3.0))).unwrap();
         assert!(matches!(p.phases[0].steps, Steps::Controlled { dt0_s: 1e-3, order: 3.0, .. }));
         assert!(p.steady.as_ref().is_some_and(|s| s.min_time_s == s.window_s));
     }
@@ -575,7 +577,7 @@ mod tests {
         let g = scene.grid();
         let a = 1.3467e-4;
         let k = run.kinematics(0.01).unwrap();
-        let p = Plan::from_run(&run, &g, a, &k, Some((1e-4, 3.0))).unwrap();
+        let p = Plan::from_run(&run, &scene.passing(), &g, a, &k, Some((1e-4, 3.0))).unwrap();
         // Rolling to the stop: 10 steps a cell at 0.01 m/s, landing on 0.01 s; then at rest.
         let [first, rest] = &p.phases[..] else { panic!("{:?}", p.phases) };
         let Steps::Fixed { dt_s } = first.steps else { panic!("{first:?}") };
@@ -613,7 +615,7 @@ mod tests {
         let ramp = a / u;
         run.motion = ehl_scene::Motion::StartUp { ramp_s: ramp };
         let k = run.kinematics(u).unwrap();
-        let p = Plan::from_run(&run, &g, a, &k, None).unwrap();
+        let p = Plan::from_run(&run, &scene.passing(), &g, a, &k, None).unwrap();
         let (t_end, _) = p.end.clone().unwrap();
         assert!((t_end - (ramp + 2.5 * a / u)).abs() < 1e-15, "{t_end}");
         assert_eq!(p.phases.len(), 2);
@@ -626,12 +628,13 @@ mod tests {
         // Snapshots by position become times along the ramp: x = −1.75 a is 0.25 a of
         // travel, reached at t with ½ (u/T) t² = 0.25 a.
         run.snapshots_a = vec![-1.75];
-        let p = Plan::from_run(&run, &g, a, &k, None).unwrap();
+        let p = Plan::from_run(&run, &scene.passing(), &g, a, &k, None).unwrap();
         let want = (2.0 * 0.25 * a * ramp / u).sqrt();
         assert!((p.snapshot_times_s[0] - want).abs() < 1e-15, "{:?}", p.snapshot_times_s);
         // A motion that stops before the feature gets there: refused, saying how far it goes.
         run.motion = ehl_scene::Motion::StopAt { at_s: a / u };
-        let e = Plan::from_run(&run, &g, a, &run.kinematics(u).unwrap(), None).unwrap_err();
+        let e = Plan::from_run(&run, &scene.passing(), &g, a, &run.kinematics(u).unwrap(), None)
+            .unwrap_err();
         let e = format!("{e:#}");
         assert!(e.contains("run.stop") && e.contains("stops after 1.0000 a"), "{e}");
     }
@@ -641,14 +644,19 @@ mod tests {
         // A dent 1e20 a wide (a fuzzed scene) reaches 1e20 a beyond the outlet: its passage
         // would take ~1e21 steps. The plan says which fields set that, and runs nothing.
         let scene = ehl_scene::builtin("dent-shallow").unwrap();
-        let mut run = scene.run.clone().unwrap();
+        let run = scene.run.clone().unwrap();
         let g = scene.grid();
         let (a, u) = (1.3e-4, 0.01);
         let k = Kinematics::constant(u).unwrap();
-        assert!(Plan::from_run(&run, &g, a, &k, None).is_ok());
-        let ehl_layer::Feature::Dent(d) = &mut run.features[0] else { panic!("a dent scene") };
+        assert!(Plan::from_run(&run, &scene.passing(), &g, a, &k, None).is_ok());
+        let mut wide = scene.clone();
+        let Some(ehl_scene::Feature::Dent(d)) = wide.run.as_mut().map(|r| &mut r.features[0])
+        else {
+            panic!("a dent scene")
+        };
         d.width_a = 1e20;
-        let e = format!("{:#}", Plan::from_run(&run, &g, a, &k, None).unwrap_err());
+        let e =
+            format!("{:#}", Plan::from_run(&run, &wide.passing(), &g, a, &k, None).unwrap_err());
         assert!(e.contains("run.stop") && e.contains("width_a") && e.contains("steps"), "{e}");
     }
 }

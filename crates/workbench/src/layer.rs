@@ -23,6 +23,8 @@ pub struct LayerOutcome {
     pub grid: Grid,
     /// `l0 / (a²/R)`, `Eo / p_h`, for normalising.
     pub l0: f64,
+    /// The supply's thickness `l0` [m].
+    pub supply_thickness_m: f64,
     pub eo: f64,
     pub final_state: LayerState,
     /// Final layer thickness `L` [a²/R] and gap `H` [a²/R].
@@ -68,7 +70,7 @@ impl Transient for LayerMarch<'_> {
     /// Central and minimum layer thickness per `l0`, maximum pressure per `p_h`, contact
     /// diameter per `2a`.
     fn monitors(&self, r: &Monitor) -> Vec<f64> {
-        let (sc, l0) = (&self.m.scales, self.m.spec.supply_thickness_m);
+        let (sc, l0) = (&self.m.scales, self.m.supply_thickness_m());
         vec![
             r.central_thickness / l0,
             r.minimum_thickness / l0,
@@ -106,9 +108,9 @@ impl ContactModel for Layer {
     /// Nothing happens before the layer touches the ball, where the Hertz separation equals the
     /// supply thickness `l0`: the inlet goes where it is `2 l0`.
     fn inlet_distance(&self, scene: &Scene) -> f64 {
-        scene.layer.map_or(0.0, |l| {
+        scene.supply.as_ref().map_or(0.0, |sup| {
             let s = ehl_core::HertzScales::new(&scene.conditions.contact());
-            ehl_core::hertz::separation_radius(2.0 * s.h_dimless(l.supply_thickness_m))
+            ehl_core::hertz::separation_radius(2.0 * s.h_dimless(sup.thickness_m))
         })
     }
 }
@@ -159,13 +161,14 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     let t_all = Instant::now();
     let r = scene.run.as_ref().expect("validated");
     let spec = scene.layer.expect("validated");
+    let supply_m = scene.supply.as_ref().expect("validated").thickness_m;
     let lub = scene.lubricant.expect("validated").lubricant();
     let contact = scene.conditions.contact();
     let u_roll = scene.conditions.rolling_velocity_m_s.unwrap_or(0.0);
     let motion = r.kinematics(u_roll).with_context(|| format!("scene `{}`", scene.name))?;
     let grid = scene.grid();
     let t0 = Instant::now();
-    let mut m = LayerModel::new(&contact, &lub, &spec, motion, grid, scene.solver, vec![]);
+    let mut m = LayerModel::new(&contact, &lub, &spec, supply_m, motion, grid, scene.solver);
     let setup_time_s = t0.elapsed().as_secs_f64();
     let fail = |what: &str| format!("scene `{}`: {what}", scene.name);
 
@@ -194,7 +197,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     };
     // The scene's own motion starts at t = 0.
     state.t = 0.0;
-    m.set_features(r.features.clone());
+    m.set_passing(scene.dents()?, scene.holes());
     let record = match (method, &r.motion) {
         (Method::Steady, _) | (_, Motion::None) => None,
         (Method::March, motion) => {
@@ -203,8 +206,9 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
             // error estimate is third order, Heun's second.
             let order = if stepper.scheme == Scheme::Implicit { 3.0 } else { 2.0 };
             let controlled = Some((m.eta(0.0) / m.eo * 1e-2, order));
-            let plan = Plan::from_run(r, &grid, m.scales.a, m.motion(), controlled)
-                .with_context(|| fail("run"))?;
+            let plan =
+                Plan::from_run(r, &scene.passing(), &grid, m.scales.a, m.motion(), controlled)
+                    .with_context(|| fail("run"))?;
             let mut march = LayerMarch { m: &m, state, stepper };
             let mut rec = drive::drive(&mut march, &plan, &mut |t| {
                 spin.set_message(format!("{label}: t = {t:.4} s"))
@@ -227,6 +231,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
         scales: m.scales,
         grid,
         l0: m.l0,
+        supply_thickness_m: supply_m,
         eo: m.eo,
         l,
         gap,
@@ -297,8 +302,8 @@ impl LayerOutcome {
                 "lateral_wiggle": q(f.lateral_wiggle, "Pa"),
             },
             "normalised": {
-                "central_thickness_over_l0": f.central_thickness / spec.supply_thickness_m,
-                "minimum_thickness_over_l0": f.minimum_thickness / spec.supply_thickness_m,
+                "central_thickness_over_l0": f.central_thickness / self.supply_thickness_m,
+                "minimum_thickness_over_l0": f.minimum_thickness / self.supply_thickness_m,
                 "max_pressure_over_p_h": f.max_pressure / s.p_h,
                 "contact_diameter_over_2a": f.contact_diameter / (2.0 * s.a),
                 "dry_diameter_over_2a": f.dry_diameter / (2.0 * s.a),
@@ -394,7 +399,7 @@ impl LayerOutcome {
             self.scene.name,
             self.scene.conditions.load_n,
             self.scene.conditions.rolling_velocity_m_s.unwrap_or(0.0),
-            spec.supply_thickness_m * 1e9,
+            self.supply_thickness_m * 1e9,
             spec.modulus_law,
             spec.damper_reading,
             spec.law_parameters(self.scales.p_h).map_or(f64::NAN, |l| l.damper_constant),
@@ -438,7 +443,7 @@ impl LayerOutcome {
     pub fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
         let mut out = vec![];
         let (s, g) = (&self.scales, &self.grid);
-        let l0_nm = self.scene.layer.unwrap().supply_thickness_m * 1e9;
+        let l0_nm = self.supply_thickness_m * 1e9;
         let x: Vec<f64> = g.xs();
         let line = |field: &Array2<f64>, scale: f64| -> Vec<(f64, f64)> {
             x.iter().cloned().zip(self.row(field).iter().map(|v| v * scale)).collect()
@@ -544,7 +549,7 @@ fn layer_report(o: &LayerOutcome) -> String {
 
     let f = &o.final_monitor;
     let s = &o.scales;
-    let l0 = o.scene.layer.unwrap().supply_thickness_m;
+    let l0 = o.supply_thickness_m;
     let _ = writeln!(
         out,
         "scene {} ({}x{}): {:.1} s wall",

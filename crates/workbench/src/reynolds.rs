@@ -5,7 +5,7 @@ use crate::model::{Centreline, ContactModel, Outcome, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use anyhow::{Context, Result, bail};
 use ehl_core::observe::Observables;
-use ehl_core::{Grid, HertzScales, Kinematics, hertz};
+use ehl_core::{Dent, Grid, HertzScales, Kinematics, hertz};
 use ehl_reynolds::formulas::{hamrock_dowson_central, nvm_central};
 use ehl_reynolds::{ReynoldsParams, ReynoldsReport, ReynoldsSolver};
 use ehl_scene::Scene;
@@ -154,15 +154,7 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     let t0 = Instant::now();
     let (prm, mut solver) = build_solver(scene);
     let run = scene.run.as_ref().filter(|r| r.method() == ehl_scene::Method::March);
-    let dents: Vec<ehl_layer::Dent> = run.map_or(vec![], |r| {
-        r.features
-            .iter()
-            .filter_map(|f| match f {
-                ehl_layer::Feature::Dent(d) => Some(*d),
-                ehl_layer::Feature::Hole(_) => None,
-            })
-            .collect()
-    });
+    let dents = if run.is_some() { scene.dents()? } else { vec![] };
     // The march starts from the steady solution with the dents at their start.
     if !dents.is_empty() {
         set_dents(&mut solver, &dents, 0.0);
@@ -206,13 +198,11 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
 }
 
 /// Puts the dents (depths in m) into the solver's rigid film with their centres moved by
-/// `travel` [a] from their start: the layer model's dent, its depth in units of `a²/R`.
-fn set_dents(solver: &mut ReynoldsSolver, dents: &[ehl_layer::Dent], travel: f64) {
-    let d: Vec<ehl_layer::Dent> =
-        dents.iter().map(|d| d.resolved(solver.prm.scales.delta)).collect();
-    let d = &d;
+/// `travel` [a] from their start, in units of `a²/R`: the core's dent, the layer model's too.
+fn set_dents(solver: &mut ReynoldsSolver, dents: &[Dent], travel: f64) {
+    let delta = solver.prm.scales.delta;
     solver.set_extra_gap(move |x: f64, y: f64| {
-        d.iter().map(|d| d.depth(x, y, d.x_start_a + travel)).sum()
+        dents.iter().map(|d| d.gap(x, y, d.x_start_a + travel, delta)).sum()
     });
 }
 
@@ -220,7 +210,7 @@ fn set_dents(solver: &mut ReynoldsSolver, dents: &[ehl_layer::Dent], travel: f64
 /// velocity and solves to the scene's tolerances from the last state.
 struct ReynoldsMarch<'a> {
     solver: &'a mut ReynoldsSolver,
-    dents: Vec<ehl_layer::Dent>,
+    dents: Vec<Dent>,
     steps: usize,
     /// The step [s] and the time unit `a/u_m` [s].
     dt_s: f64,
@@ -301,7 +291,7 @@ fn run_transient(
     run: &ehl_scene::RunSpec,
     prm: &ReynoldsParams,
     solver: &mut ReynoldsSolver,
-    dents: Vec<ehl_layer::Dent>,
+    dents: Vec<Dent>,
 ) -> Result<TransientRecord> {
     let s = prm.scales;
     let (_, u_sum) = scene.reynolds_conditions();
@@ -310,7 +300,7 @@ fn run_transient(
     let u_m = 0.5 * u_sum;
     let motion = run.kinematics(u_m).with_context(|| format!("scene `{}`", scene.name))?;
     let g = solver.levels[0].grid;
-    let plan = drive::Plan::from_run(run, &g, s.a, &motion, None)
+    let plan = drive::Plan::from_run(run, &scene.passing(), &g, s.a, &motion, None)
         .with_context(|| format!("scene `{}`: run", scene.name))?;
     // The solver's backward differences take equal steps: one phase of them.
     let dt_s = match plan.phases.as_slice() {
