@@ -1016,10 +1016,10 @@ impl Scene {
             .map_err(|e| ck.err("run.motion", format!("{:?}", r.motion), &e.what))?;
         let a = ehl_core::HertzScales::new(&self.conditions.contact()).a;
         let passing = self.passing();
+        self.validate_features(ck, r)?;
         Self::validate_method(ck, r, &kin, !passing.is_empty())?;
         Self::validate_steps(ck, r)?;
         Self::validate_stop(ck, r, &kin, a, passing.first())?;
-        self.validate_features(ck, r)?;
         Self::validate_snapshots(ck, r, &kin, a, passing.first())
     }
 
@@ -1412,16 +1412,18 @@ mod tests {
         assert!(m.contains("run.time.steps_per_cell"), "{m}");
         let m = refused(&text.replace("[-1.0, -0.5, 0.0, 0.5]", "[-1.0, 4.0]"));
         assert!(m.contains("run.snapshots_a[1]") && m.contains("the run ends there"), "{m}");
-        // What the Reynolds model cannot march: a hole, a dent in units of a layer it has not,
-        // another start or motion; and a run with no end.
+        // What the Reynolds model cannot march: a hole (in the ball: refused for every model),
+        // a dent in units of a supply the scene has not, another start or motion; and a run
+        // with no end.
         let hole = text.replace(
             "{ \"dent\": { \"depth_m\": 2.5e-7, \"width_a\": 0.5, \"x_start_a\": -2.0, \"y_a\": 0.0 } }",
             "{ \"hole\": { \"radius_a\": 0.2, \"x_start_a\": -2.0 } }",
         );
-        assert!(refused(&hole).contains("run.features[0]"));
+        let m = refused(&hole);
+        assert!(m.contains("run.features[0]") && m.contains("supply.holes"), "{m}");
         let amp = text.replace("\"depth_m\": 2.5e-7", "\"amplitude\": 10.0");
         let m = refused(&amp);
-        assert!(m.contains("run.features[0].dent.depth_m") && m.contains("Reynolds"), "{m}");
+        assert!(m.contains("run.features[0].dent.amplitude") && m.contains("supply"), "{m}");
         let m = refused(&text.replace("\"steady-rolling\"", "\"uniform\""));
         assert!(m.contains("run.start") && m.contains("steady-rolling"), "{m}");
         let m = refused(&text.replace("\"stop\": { \"until_feature_at_a\": 1.0 }", "\"stop\": {}"));
