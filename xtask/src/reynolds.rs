@@ -70,8 +70,8 @@ fn map_sweep(
         let mr = &rec.models[0];
         let [hd, _, nvm] = sweep::merge::formulas_at(point).expect("a rolling Reynolds scene");
         let ok = mr.observables.is_some_and(|o| o.minimum_film_m > 0.0);
-        let cycles = mr.indicators.get("cycles").map(|&c| c as u64).unwrap_or(0);
-        let lagged = mr.indicators.get("lagged_laws").is_some_and(|&t| t > 0.0);
+        let cycles = mr.indicators.get("cycles").map(|c| c.value as u64).unwrap_or(0);
+        let lagged = mr.indicators.get("lagged_laws").is_some_and(|t| t.value > 0.0);
         let hc_m = mr.observables.map(|o| o.central_film_m);
         match (ok, hc_m) {
             (true, Some(hc_m)) => println!(

@@ -57,10 +57,22 @@ pub enum LawSet {
     SeedFit,
 }
 
+/// The damper and modulus parameters a model uses, after its law set is applied.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LawParameters {
+    /// κ: the damper's prefactor over `η0` (factor reading).
+    pub damper_constant: f64,
+    /// σ: the scale of the damper's Roelands exponent.
+    pub damper_pressure_scale: f64,
+    /// `p_ref / p_h` of the modulus law (exponent `m = p_ref / Eo`).
+    pub reference_pressure_over_p_h: f64,
+}
+
 /// The `seed-fit` law parameters: read once from `reference/seed-fit.json` (compiled in), the
 /// file `cargo xtask identify` writes, so the code and the recorded fit cannot drift apart.
-pub fn seed_fit() -> crate::model::LawParameters {
-    static FIT: std::sync::OnceLock<crate::model::LawParameters> = std::sync::OnceLock::new();
+pub fn seed_fit() -> LawParameters {
+    static FIT: std::sync::OnceLock<LawParameters> = std::sync::OnceLock::new();
     *FIT.get_or_init(|| {
         let v: serde_json::Value =
             serde_json::from_str(include_str!("../../../reference/seed-fit.json"))

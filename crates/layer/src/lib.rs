@@ -10,10 +10,8 @@ pub mod steady;
 pub mod stepper;
 pub mod transport;
 
-pub use laws::{DamperReading, LawSet, ModulusLaw};
-pub use model::{
-    LawParameters, LayerModel, LayerSpec, LayerState, Monitor, SEED_LAYER, SEED_SUPPLY_THICKNESS_M,
-};
+pub use laws::{DamperReading, LawParameters, LawSet, ModulusLaw};
+pub use model::{LayerModel, LayerSpec, LayerState, Monitor, SEED_LAYER, SEED_SUPPLY_THICKNESS_M};
 pub use run::{Snapshot, SqueezeReport, squeeze_steady, uniform_state};
 pub use steady::{SteadyReport, SteadySettings, rolling_steady, strain_residual};
 pub use stepper::{LayerError, Scheme, Stepper, stability_estimate};

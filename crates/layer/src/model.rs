@@ -4,7 +4,7 @@
 //! `η(p) Dε/Dt + E(p, ε) ε = p`, `Dε/Dt = ∂ε/∂t + u1 ∂ε/∂x`. Pressures in `p_h`, lengths in `a`,
 //! time in seconds (rolling and squeeze share a clock, and squeeze has no velocity scale).
 
-use crate::laws::{Damper, DamperReading, LawSet, ModulusLaw};
+use crate::laws::{Damper, DamperReading, LawParameters, LawSet, ModulusLaw};
 use ehl_core::params::oedometric_modulus;
 use ehl_core::{
     Contact, DryProblem, DryReport, DrySettings, DrySolver, Grid, HertzScales, Kinematics,
@@ -69,18 +69,6 @@ pub const SEED_LAYER: LayerSpec = LayerSpec {
 
 fn one() -> f64 {
     1.0
-}
-
-/// The damper and modulus parameters a model uses, after its law set is applied.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct LawParameters {
-    /// κ: the damper's prefactor over `η0` (factor reading).
-    pub damper_constant: f64,
-    /// σ: the scale of the damper's Roelands exponent.
-    pub damper_pressure_scale: f64,
-    /// `p_ref / p_h` of the modulus law (exponent `m = p_ref / Eo`).
-    pub reference_pressure_over_p_h: f64,
 }
 
 impl LayerSpec {

@@ -7,7 +7,6 @@
 pub mod compare;
 pub mod drive;
 pub mod dry;
-pub mod flow;
 pub mod layer;
 pub mod model;
 pub mod output;

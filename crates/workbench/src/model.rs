@@ -60,10 +60,11 @@ pub trait Outcome: AsAny + Send + 'static {
     fn observables(&self) -> Observables {
         Observables::from_fields(self.grid(), &self.scales(), self.pressure(), &self.film())
     }
-    /// Scalars that say how far the model's own premises hold at this answer (e.g. the Reynolds
-    /// film's pressure-driven share of the flux, the layer model's premise), by name; sweeps
-    /// tabulate and map them.
-    fn indicators(&self) -> Vec<(String, f64)> {
+    /// Scalars that say how far the model's own premises hold at this answer, or what the
+    /// answer cost the solver (e.g. the Reynolds film's pressure-driven share of the flux, the
+    /// layer model's premise), by name, each saying what it is: sweeps tabulate and chart every
+    /// one without knowing any.
+    fn indicators(&self) -> Vec<(String, Indicator)> {
         vec![]
     }
     /// Wall time of the whole run [s].
@@ -102,6 +103,27 @@ impl dyn Outcome {
             ndarray::Array1::from_shape_fn(g.nx, |i| g.x(i) * a),
             ndarray::Array1::from_shape_fn(g.ny, |j| g.y(j) * a),
         )
+    }
+}
+
+/// A scalar a model reports about its own answer, describing itself for the tables and charts
+/// that show it.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Indicator {
+    /// The value.
+    pub value: f64,
+    /// Its unit (`"1"` for a ratio or a count).
+    pub unit: String,
+    /// What it says, as a chart title.
+    pub description: String,
+    /// Whether it spans decades (charted on a log scale).
+    pub log_scale: bool,
+}
+
+impl Indicator {
+    /// An indicator of `value` in `unit`, described by `description`.
+    pub fn new(value: f64, unit: &str, description: &str, log_scale: bool) -> Self {
+        Self { value, unit: unit.into(), description: description.into(), log_scale }
     }
 }
 

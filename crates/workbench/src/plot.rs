@@ -263,14 +263,22 @@ pub fn history_chart(
     )
 }
 
+/// Rows and columns for `n` panels: one row up to three, then rows of three.
+fn layout(n: usize) -> (usize, usize) {
+    let cols = n.clamp(1, 3);
+    (n.div_ceil(cols).max(1), cols)
+}
+
+/// Line charts, side by side (rows of three beyond three), with a footnote.
 pub fn charts(path: &Path, panels: &[Panel], footnote: &str) -> Result<()> {
     register_font();
-    let width = 640 * panels.len() as u32;
-    let root = BitMapBackend::new(path, (width, 520)).into_drawing_area();
+    let (rows, cols) = layout(panels.len());
+    let (width, height) = (640 * cols as u32, 490 * rows as u32);
+    let root = BitMapBackend::new(path, (width, height + 30)).into_drawing_area();
     root.fill(&WHITE)?;
-    let (main, foot) = root.split_vertically(490);
+    let (main, foot) = root.split_vertically(height);
     foot.draw(&Text::new(footnote.to_string(), (12, 6), (FONT, 14).into_font().color(&BLACK)))?;
-    for (area, panel) in main.split_evenly((1, panels.len())).iter().zip(panels) {
+    for (area, panel) in main.split_evenly((rows, cols)).iter().zip(panels) {
         draw_panel(area, panel)?;
     }
     root.present().with_context(|| format!("writing {}", path.display()))?;
@@ -413,12 +421,13 @@ pub fn cell_maps(
     footnote: &str,
 ) -> Result<()> {
     register_font();
-    let width = 700 * panels.len() as u32;
-    let root = BitMapBackend::new(path, (width, 600)).into_drawing_area();
+    let (rows, cols) = layout(panels.len());
+    let (width, height) = (700 * cols as u32, 570 * rows as u32);
+    let root = BitMapBackend::new(path, (width, height + 30)).into_drawing_area();
     root.fill(&WHITE)?;
-    let (main, foot) = root.split_vertically(570);
+    let (main, foot) = root.split_vertically(height);
     foot.draw(&Text::new(footnote.to_string(), (12, 6), (FONT, 14).into_font().color(&BLACK)))?;
-    for (area, panel) in main.split_evenly((1, panels.len())).iter().zip(panels) {
+    for (area, panel) in main.split_evenly((rows, cols)).iter().zip(panels) {
         let (nx, ny) = (x_ticks.len(), y_ticks.len());
         let key = |v: f64| if panel.log_colour { v.max(1e-300).ln() } else { v };
         let vals: Vec<f64> = panel.values.iter().flatten().flatten().map(|&v| key(v)).collect();

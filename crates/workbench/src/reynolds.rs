@@ -1,7 +1,8 @@
 //! Reynolds-model scenes: the steady EHL solve and what it writes.
 
+pub mod flow;
 use crate::drive::{self, Step, Transient};
-use crate::model::{Centreline, ContactModel, Outcome, q};
+use crate::model::{Centreline, ContactModel, Indicator, Outcome, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use anyhow::{Context, Result, bail};
 use ehl_core::observe::Observables;
@@ -101,12 +102,35 @@ impl Outcome for ReynoldsOutcome {
     fn film(&self) -> Array2<f64> {
         self.film.clone()
     }
-    fn indicators(&self) -> Vec<(String, f64)> {
+    fn indicators(&self) -> Vec<(String, Indicator)> {
         vec![
-            (crate::flow::FLUX_INDICATOR.into(), self.flux_ratio_contact_mean()),
-            ("cycles".into(), self.report.cycles as f64),
-            // The laws' lag the answer was relaxed with (0: none; > 0: a second attempt).
-            ("lagged_laws".into(), self.report.lagged_laws),
+            (
+                flow::FLUX_INDICATOR.into(),
+                Indicator::new(
+                    self.flux_ratio_contact_mean(),
+                    "1",
+                    "pressure- / boundary-driven flux, contact mean (0: a solid layer)",
+                    true,
+                ),
+            ),
+            (
+                "cycles".into(),
+                Indicator::new(
+                    self.report.cycles as f64,
+                    "1",
+                    "multigrid cycles of the steady solve",
+                    false,
+                ),
+            ),
+            (
+                "lagged_laws".into(),
+                Indicator::new(
+                    self.report.lagged_laws,
+                    "1",
+                    "the laws' lag of the answer (0: none; > 0: a second attempt)",
+                    false,
+                ),
+            ),
         ]
     }
     fn wall_time_s(&self) -> f64 {

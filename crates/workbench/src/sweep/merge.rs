@@ -5,7 +5,6 @@
 
 use super::{ModelRecord, Plan, PointRecord, records, write_atomic};
 use crate::compare::model_name;
-use crate::flow::FLUX_INDICATOR;
 use crate::plot::{self, CellPanel, Mark, Panel, Series};
 use anyhow::Result;
 use ehl_core::Observables;
@@ -88,7 +87,7 @@ pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
                 num(d[1]),
                 num(d[2]),
             ];
-            cols.extend(names.iter().map(|n| num(m.indicators.get(*n).copied())));
+            cols.extend(names.iter().map(|n| num(m.indicators.get(*n).map(|i| i.value))));
             cols.push(m.flag.as_deref().map(text).unwrap_or_default());
             cols.push(m.diagnosis.as_deref().map(text).unwrap_or_default());
             s += &format!(",{}\n", cols.join(","));
@@ -266,6 +265,40 @@ fn film_pair(models: &[Model], recs: &[PointRecord]) -> Option<((usize, String),
     }
 }
 
+/// An indicator some model reported: its name, what it says (from the first record that has
+/// it), and which models (by column) report it.
+struct IndicatorColumn {
+    name: String,
+    description: String,
+    unit: String,
+    log_scale: bool,
+    models: Vec<usize>,
+}
+
+/// Every indicator reported at any point, in name order.
+fn indicators(models: &[Model], recs: &[PointRecord]) -> Vec<IndicatorColumn> {
+    let mut out: Vec<IndicatorColumn> = vec![];
+    for k in 0..models.len() {
+        for r in recs {
+            for (name, i) in &r.models[k].indicators {
+                match out.iter_mut().find(|c| &c.name == name) {
+                    Some(c) if !c.models.contains(&k) => c.models.push(k),
+                    Some(_) => {}
+                    None => out.push(IndicatorColumn {
+                        name: name.clone(),
+                        description: i.description.clone(),
+                        unit: i.unit.clone(),
+                        log_scale: i.log_scale,
+                        models: vec![k],
+                    }),
+                }
+            }
+        }
+    }
+    out.sort_by(|a, b| a.name.cmp(&b.name));
+    out
+}
+
 /// A model's name as a chart title starts it.
 fn title_case(name: &str) -> String {
     let mut c = name.chars();
@@ -399,6 +432,9 @@ fn one_parameter(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
             note,
         )
     })?;
+    // The layer/Reynolds agreement, then every indicator any model reported: a panel each, a
+    // series per model that reports it (named and described by the models, not here).
+    let mut panels = vec![];
     if let Some(((kl, name_l), (kr, name_r))) = film_pair(models, recs) {
         let ratio: Vec<(f64, f64)> = recs
             .iter()
@@ -409,35 +445,41 @@ fn one_parameter(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
             .collect();
         let xs: Vec<f64> = recs.iter().map(|r| r.values[0]).collect();
         let band = |v: f64| xs.iter().map(|&x| (x, v)).collect::<Vec<_>>();
-        let flux: Vec<(f64, f64)> = recs
+        let mut a = Panel::new(
+            &format!("{} h_c / {} h_c", title_case(&name_l), title_case(&name_r)),
+            &x_label,
+            "ratio",
+            vec![
+                Series::new(format!("{name_l} / {name_r}"), ratio, Mark::LinePoints),
+                Series::new("+10 %", band(1.1), Mark::Line),
+                Series::new("-10 %", band(0.9), Mark::Line),
+            ],
+        );
+        a.log_x = log;
+        panels.push(a);
+    }
+    for ind in indicators(models, recs) {
+        let series = ind
+            .models
             .iter()
-            .filter_map(|r| r.models[kr].indicators.get(FLUX_INDICATOR).map(|&v| (r.values[0], v)))
+            .map(|&k| {
+                let pts = recs
+                    .iter()
+                    .filter_map(|r| {
+                        r.models[k].indicators.get(&ind.name).map(|i| (r.values[0], i.value))
+                    })
+                    .collect();
+                Series::new(model_name(models[k]), pts, Mark::LinePoints)
+            })
             .collect();
-        put(files, ctx.dir, "sweep_agreement.png", &|f| {
-            let mut a = Panel::new(
-                &format!("{} h_c / {} h_c", title_case(&name_l), title_case(&name_r)),
-                &x_label,
-                "ratio",
-                vec![
-                    Series::new(format!("{name_l} / {name_r}"), ratio.clone(), Mark::LinePoints),
-                    Series::new("+10 %", band(1.1), Mark::Line),
-                    Series::new("-10 %", band(0.9), Mark::Line),
-                ],
-            );
-            a.log_x = log;
-            let mut b = Panel::new(
-                &format!(
-                    "{}: pressure- / boundary-driven flux (contact mean)",
-                    title_case(&name_r)
-                ),
-                &x_label,
-                "mean |r| over p >= 0.01 p_h",
-                vec![Series::new(name_r.clone(), flux.clone(), Mark::LinePoints)],
-            );
-            b.log_x = log;
-            b.log_y = true;
-            plot::charts(f, &[a, b], note)
-        })?;
+        let mut p =
+            Panel::new(&ind.description, &x_label, &format!("{} [{}]", ind.name, ind.unit), series);
+        p.log_x = log;
+        p.log_y = ind.log_scale;
+        panels.push(p);
+    }
+    if !panels.is_empty() {
+        put(files, ctx.dir, "sweep_agreement.png", &|f| plot::charts(f, &panels, note))?;
     }
     put(files, ctx.dir, "sweep_cost.png", &|f| {
         let mut p =
@@ -462,9 +504,9 @@ fn two_parameters(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
     };
     let at = |i0: usize, i1: usize| &recs[i0 * n1 + i1];
     let mut panels = vec![];
+    let mut agree = vec![vec![false; n0]; n1];
     if let Some(((kl, name_l), (kr, name_r))) = film_pair(models, recs) {
         let mut ratio = vec![vec![None; n0]; n1];
-        let mut agree = vec![vec![false; n0]; n1];
         for i0 in 0..n0 {
             for i1 in 0..n1 {
                 let r = at(i0, i1);
@@ -473,14 +515,6 @@ fn two_parameters(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
                     ratio[i1][i0] = Some(q);
                     agree[i1][i0] = (q - 1.0).abs() <= 0.1;
                 }
-            }
-        }
-        // The flow's verdict beside it: the Reynolds film's pressure-driven share of the
-        // flux in the contact (the layer model assumes none), with the same outline.
-        let mut flux = vec![vec![None; n0]; n1];
-        for i0 in 0..n0 {
-            for i1 in 0..n1 {
-                flux[i1][i0] = at(i0, i1).models[kr].indicators.get(FLUX_INDICATOR).copied();
             }
         }
         panels.push(CellPanel {
@@ -494,16 +528,24 @@ fn two_parameters(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
             log_colour: false,
             digits: 3,
         });
-        panels.push(CellPanel {
-            title: format!(
-                "{}: pressure- / boundary-driven flux, contact mean",
-                title_case(&name_r)
-            ),
-            values: flux,
-            outline: agree,
-            log_colour: true,
-            digits: 3,
-        });
+    }
+    // Every indicator of every model beside it, with the same outline.
+    for ind in indicators(models, recs) {
+        for &k in &ind.models {
+            let mut v = vec![vec![None; n0]; n1];
+            for i0 in 0..n0 {
+                for i1 in 0..n1 {
+                    v[i1][i0] = at(i0, i1).models[k].indicators.get(&ind.name).map(|i| i.value);
+                }
+            }
+            panels.push(CellPanel {
+                title: format!("{}: {}", title_case(&model_name(models[k])), ind.description),
+                values: v,
+                outline: agree.clone(),
+                log_colour: ind.log_scale,
+                digits: 3,
+            });
+        }
     }
     let mut cost_panels = vec![];
     for (k, &m) in models.iter().enumerate() {

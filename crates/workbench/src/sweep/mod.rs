@@ -54,7 +54,7 @@ pub struct ModelRecord {
     pub diagnosis: Option<String>,
     /// The model's premise indicators ([`crate::model::Outcome::indicators`]).
     #[serde(default)]
-    pub indicators: std::collections::BTreeMap<String, f64>,
+    pub indicators: std::collections::BTreeMap<String, crate::model::Indicator>,
     /// Wall time of the model's run at this point [s], single thread.
     pub wall_time_s: f64,
     pub grid_check: Option<CheckRecord>,
@@ -287,7 +287,7 @@ fn point_line(sweep: &Sweep, r: &PointRecord) -> String {
 }
 
 /// Runs one model on one scene in the current (single-thread) pool; a panic is a failure too.
-type Answer = (Observables, bool, std::collections::BTreeMap<String, f64>);
+type Answer = (Observables, bool, std::collections::BTreeMap<String, crate::model::Indicator>);
 
 fn run_model(scene: &Scene) -> (Result<Answer, String>, f64) {
     let t0 = Instant::now();

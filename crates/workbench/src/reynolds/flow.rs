@@ -7,8 +7,8 @@
 //! `r = H² ∇P / (η̄ λ̄)`, the same ratio as `ε̄ |∇P| / (ρ̄ H)` of its equation. Where `|r| ≪ 1`
 //! the oil moves as a solid layer with the surfaces: the layer model's premise.
 
+use super::ReynoldsOutcome;
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
-use crate::reynolds::ReynoldsOutcome;
 use anyhow::Result;
 use ndarray::Array2;
 use std::path::{Path, PathBuf};
