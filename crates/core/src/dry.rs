@@ -283,6 +283,8 @@ fn pcg(
     let mut r = vec![0.0; n];
     let mut g_old = 0.0;
     let mut restart = true;
+    // The last residual measured: what a solve that ends on a confirmation reports.
+    let mut last_residual = f64::NAN;
 
     for it in 0..=max_iter {
         let p = p_arr.as_slice().unwrap();
@@ -307,6 +309,7 @@ fn pcg(
             }
         }
         let residual = (ss / nc.max(1) as f64).sqrt();
+        last_residual = residual;
         if !residual.is_finite() {
             check_finite("pressure", &*p_arr, it)?;
             check_finite("deformation", &*w_arr, it)?;
@@ -419,7 +422,15 @@ fn pcg(
             drift += 1;
         }
     }
-    unreachable!()
+    // Reached only when the last iteration met the tolerance on the incrementally updated
+    // deformation and its confirmation on the exact one had no iteration left to run.
+    Err(NumericError::NotConverged {
+        residual: last_residual,
+        tolerance: tol,
+        iterations: max_iter,
+        nx: grid.nx,
+        ny: grid.ny,
+    })
 }
 
 #[cfg(test)]

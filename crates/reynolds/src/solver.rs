@@ -211,13 +211,17 @@ pub enum ReynoldsError {
         film: f64,
         load: f64,
     },
+    /// A time step asked of a solver with no steady state to step from.
+    #[error("a time step needs a steady solve to start from: call solve() first")]
+    NoSteadyStart,
 }
 
 impl ReynoldsError {
-    /// The cycle the solve stopped at.
+    /// The cycle the solve stopped at (0: before any).
     pub fn cycle(&self) -> usize {
         match self {
             ReynoldsError::Diverged { cycle, .. } => *cycle,
+            ReynoldsError::NoSteadyStart => 0,
         }
     }
 }
@@ -227,7 +231,11 @@ pub struct ReynoldsSolver {
     pub levels: Vec<Level>,
     pub prm: ReynoldsParams,
     pub h00: f64,
+    /// The settings as given: each solve starts from them.
     pub settings: ReynoldsSettings,
+    /// The settings in force for the solve or step under way: `settings`, with the laws lagged
+    /// after a failed first attempt, or the time step's cycle and gain. Never written back.
+    active: ReynoldsSettings,
     /// `ρ̄H` of the last two time levels, newest first (transient runs).
     rho_h: Vec<Array2<f64>>,
 }
@@ -260,7 +268,7 @@ impl ReynoldsSolver {
             grids.push(c);
         }
         let levels: Vec<Level> = grids.into_iter().map(Level::new).collect();
-        let mut s = Self { levels, prm, h00: 0.0, settings, rho_h: vec![] };
+        let mut s = Self { levels, prm, h00: 0.0, settings, active: settings, rho_h: vec![] };
         s.start();
         s
     }
@@ -274,7 +282,7 @@ impl ReynoldsSolver {
         }
         let hc = moes_to_hertz_film(nvm_central_moes(&self.prm.moes), &self.prm.moes);
         self.h00 = hc - 1.0;
-        let top = if self.settings.fmg_cycles > 0 { self.levels.len() - 1 } else { 0 };
+        let top = if self.active.fmg_cycles > 0 { self.levels.len() - 1 } else { 0 };
         let g = self.levels[top].grid;
         self.levels[top].p = g.field(hertz::pressure);
         let h00 = self.h00;
@@ -313,22 +321,21 @@ impl ReynoldsSolver {
         let (a0, history) = match self.rho_h.as_slice() {
             [n] => (1.0 / dt, n.mapv(|v| -v / dt)),
             [n, nm1, ..] => (1.5 / dt, (n * -2.0 + nm1 * 0.5) / dt),
-            [] => panic!("a transient run starts from a steady solve"),
+            [] => return Err(ReynoldsError::NoSteadyStart),
         };
         for l in &mut self.levels {
             l.time_a0 = a0;
         }
         self.levels[0].history = history;
-        let fmg = std::mem::replace(&mut self.settings.fmg_cycles, 0);
-        let gamma = std::mem::replace(&mut self.settings.gamma, self.settings.step_gamma);
-        let gain = std::mem::replace(&mut self.settings.h00_gain, self.settings.step_h00_gain);
+        // A step's cycles: from the last state (no full-multigrid start), the step's cycle
+        // and force-balance gain; the laws as the steady solve left them (lagged or not).
+        let a = self.active;
+        self.active =
+            ReynoldsSettings { fmg_cycles: 0, gamma: a.step_gamma, h00_gain: a.step_h00_gain, ..a };
         let rep = self.cycles(log, 0, 0.0);
-        self.settings.fmg_cycles = fmg;
-        self.settings.gamma = gamma;
-        self.settings.h00_gain = gain;
         let rho_h = self.levels[0].rho_film(&self.prm);
         self.rho_h.insert(0, rho_h);
-        self.rho_h.truncate(match self.settings.time_scheme {
+        self.rho_h.truncate(match self.active.time_scheme {
             TimeScheme::Bdf1 => 1,
             TimeScheme::Bdf2 => 2,
         });
@@ -342,7 +349,7 @@ impl ReynoldsSolver {
     /// (`target + load_c(Î P) − load(P)`), so that the load converges at the multigrid rate
     /// instead of at the rate of a per-cycle update.
     fn cycle(&mut self, l: usize, target: f64) {
-        let (prm, s) = (self.prm, self.settings);
+        let (prm, s) = (self.prm, self.active);
         let last = self.levels.len() - 1;
         if l == last {
             for _ in 0..s.coarse_sweeps {
@@ -445,7 +452,7 @@ impl ReynoldsSolver {
             "after {} cycles: force balance off by {:.2e} (tolerance {:.0e}), residual {:.2e}, central film {:.5e} a²/R; {how}",
             last.cycle,
             last.load_error,
-            self.settings.load_tolerance,
+            self.active.load_tolerance,
             last.residual,
             last.central_film
         );
@@ -558,8 +565,9 @@ impl ReynoldsSolver {
             l.history.fill(0.0);
         }
         let t0 = Instant::now();
+        self.active = self.settings;
         let first = self.cycles(log, 0, 0.0);
-        let theta = self.settings.fallback_lag;
+        let theta = self.active.fallback_lag;
         let given_up = match &first {
             Err(e) => Some((e.to_string(), e.cycle())),
             Ok(r) => r
@@ -569,10 +577,10 @@ impl ReynoldsSolver {
                 .map(|d| (d.text.clone(), r.cycles)),
         };
         let rep = match given_up {
-            Some((why, cycles)) if theta > 0.0 && self.settings.relax.coefficient_lag == 0.0 => {
+            Some((why, cycles)) if theta > 0.0 && self.active.relax.coefficient_lag == 0.0 => {
                 // The relaxation failed with the laws following at once: start again with them
                 // lagged (they stay lagged for any time steps that follow).
-                self.settings.relax.coefficient_lag = theta;
+                self.active.relax.coefficient_lag = theta;
                 self.start();
                 let spent = t0.elapsed().as_secs_f64();
                 let said = format!("first attempt, laws following at once: {why}");
@@ -588,6 +596,7 @@ impl ReynoldsSolver {
                         let what = format!("with lagged laws (θ = {theta}): {what}; {said}");
                         Err(ReynoldsError::Diverged { cycle, kind, at, what, film, load })
                     }
+                    Err(e) => Err(e),
                 }
             }
             _ => first,
@@ -609,10 +618,10 @@ impl ReynoldsSolver {
             .unwrap_or_else(Instant::now);
         let mut history = vec![];
         let mut cycle = cycles_before;
-        if self.settings.fmg_cycles > 0 {
+        if self.active.fmg_cycles > 0 {
             for l in (1..self.levels.len()).rev() {
                 self.levels[l].rhs.fill(0.0);
-                for _ in 0..self.settings.fmg_cycles {
+                for _ in 0..self.active.fmg_cycles {
                     cycle += 1;
                     let rec = self.logged_cycle(l, cycle, t0)?;
                     log(&rec);
@@ -630,15 +639,15 @@ impl ReynoldsSolver {
         let coarse_hc = history.last().map(|c: &CycleLog| c.central_film);
         let mut prev_hc = f64::NAN;
         let mut stalled = false;
-        for _ in 0..self.settings.max_cycles {
+        for _ in 0..self.active.max_cycles {
             cycle += 1;
             let rec = self.logged_cycle(0, cycle, t0)?;
             log(&rec);
             history.push(rec);
             let hc = rec.central_film;
-            let settled = ((hc - prev_hc) / hc).abs() < self.settings.film_tolerance;
-            let strict = settled && rec.load_error.abs() < self.settings.load_tolerance;
-            let discretisation = match (self.settings.stop, coarse_hc) {
+            let settled = ((hc - prev_hc) / hc).abs() < self.active.film_tolerance;
+            let strict = settled && rec.load_error.abs() < self.active.load_tolerance;
+            let discretisation = match (self.active.stop, coarse_hc) {
                 (StopRule::Discretisation, Some(h2)) => {
                     let e_d = (hc - h2).abs() / 3.0;
                     (hc - prev_hc).abs() < 0.1 * e_d && rec.load_error.abs() < 0.1 * e_d / hc
@@ -652,7 +661,7 @@ impl ReynoldsSolver {
                     cycles: cycle,
                     history,
                     wall_time_s: t0.elapsed().as_secs_f64(),
-                    lagged_laws: self.settings.relax.coefficient_lag,
+                    lagged_laws: self.active.relax.coefficient_lag,
                     first_attempt: None,
                 });
             }
@@ -660,7 +669,7 @@ impl ReynoldsSolver {
             // A stall or a limit cycle: the residual not even halved over the last window.
             let fine: Vec<f64> =
                 history.iter().filter(|c| c.points == rec.points).map(|c| c.residual).collect();
-            let w = self.settings.stall_cycles;
+            let w = self.active.stall_cycles;
             if w > 0 && fine.len() > 2 * w {
                 let (before, last) = fine.split_at(fine.len() - w);
                 let best = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -676,7 +685,7 @@ impl ReynoldsSolver {
             cycles: cycle,
             history,
             wall_time_s: t0.elapsed().as_secs_f64(),
-            lagged_laws: self.settings.relax.coefficient_lag,
+            lagged_laws: self.active.relax.coefficient_lag,
             first_attempt: None,
         })
     }

@@ -107,6 +107,7 @@ fn divergence(
             "expected a divergence, got converged = {} after {} cycles",
             r.converged, r.cycles
         ),
+        Err(e) => panic!("expected a divergence, got {e}"),
     }
 }
 

@@ -109,3 +109,18 @@ fn steps_in_the_seeds_regime_hold_its_steady_state() {
     assert!((hc / hc0 - 1.0).abs() < 1e-4, "{hc} vs {hc0}");
     assert!((hmin / hmin0 - 1.0).abs() < 1e-3, "{hmin} vs {hmin0}");
 }
+
+#[test]
+fn a_step_before_any_steady_solve_is_refused_and_a_step_leaves_the_settings_as_given() {
+    // Stepping needs a steady state to step from: refused by name, not a panic.
+    let prm = common::m20();
+    let grid = ehl_core::Grid::new(33, 33, (-4.5, 1.5), (-3.0, 3.0));
+    let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
+    let e = s.step(0.1, &mut |_| {}).unwrap_err();
+    assert!(matches!(e, ReynoldsError::NoSteadyStart), "{e}");
+    // A step runs with its own cycle and gain; the settings a caller gave are not touched.
+    let given = s.settings;
+    s.solve(&mut |_| {}).unwrap();
+    s.step(0.1, &mut |_| {}).unwrap();
+    assert_eq!(s.settings, given);
+}
