@@ -177,3 +177,58 @@ fn a_dent_passage_runs_both_models_on_one_plan() {
     assert!(csv.lines().filter(|l| l.starts_with("layer,")).count() == layer.len());
     assert!(csv.lines().filter(|l| l.starts_with("reynolds,")).count() == rey.len());
 }
+
+/// Every JSON path of `v` with the kind of value there (`number`, `string`, …), arrays by
+/// their element's shape: the shape a reader relies on, not the values.
+fn shape(v: &serde_json::Value, path: &str, out: &mut std::collections::BTreeSet<String>) {
+    use serde_json::Value::*;
+    match v {
+        Object(m) => {
+            for (k, x) in m {
+                shape(x, &format!("{path}.{k}"), out);
+            }
+        }
+        Array(a) => match a.first() {
+            Some(x) => shape(x, &format!("{path}[]"), out),
+            None => {
+                out.insert(format!("{path}[]"));
+            }
+        },
+        Number(_) => drop(out.insert(format!("{path}: number"))),
+        String(_) => drop(out.insert(format!("{path}: string"))),
+        Bool(_) => drop(out.insert(format!("{path}: bool"))),
+        Null => drop(out.insert(format!("{path}: null"))),
+    }
+}
+
+#[test]
+fn the_three_models_summaries_share_one_schema_for_what_they_share() {
+    // A reader of summary.json takes scene, conditions, scales, grid, observables and timings
+    // from any model's file the same way: the shared part has the same paths and kinds for
+    // the layer, Reynolds and dry models (indicators and details are each model's own).
+    let mut scene = user_scene();
+    scene.outputs.figures = false;
+    let c = compare::run(&scene);
+    let mut shapes = vec![];
+    for e in &c.entries {
+        let o = e.outcome.as_ref().unwrap_or_else(|d| panic!("{:?}: {d}", e.model));
+        let s = ehl_workbench::output::summary(o.as_ref());
+        assert_eq!(s["schema"], ehl_workbench::output::SUMMARY_SCHEMA);
+        let keys: Vec<&str> = s.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+        assert_eq!(keys, ehl_workbench::output::SHARED_KEYS, "{:?}", e.model);
+        let mut set = std::collections::BTreeSet::new();
+        for k in ["schema", "scene", "conditions", "scales", "grid", "observables", "timings"] {
+            shape(&s[k], k, &mut set);
+        }
+        assert_eq!(s["model"], serde_json::to_value(e.model).unwrap());
+        shapes.push((e.model, set));
+    }
+    assert_eq!(shapes.len(), 3);
+    for (m, set) in &shapes[1..] {
+        assert_eq!(set, &shapes[0].1, "{m:?} against {:?}", shapes[0].0);
+    }
+    // The one conditions block holds what the model ran: the scene's load and speed.
+    let s = ehl_workbench::output::summary(c.entries[1].outcome.as_ref().unwrap().as_ref());
+    assert_eq!(s["conditions"]["load"]["value"], 10.0);
+    assert_eq!(s["conditions"]["rolling_velocity"]["value"], 0.02);
+}

@@ -174,7 +174,7 @@ fn figures(out: &std::path::Path) -> Result<()> {
         written.extend(outcome.figures(out, &format!("{}_", scene.name))?);
         // The numbers behind the figures, for the validation table.
         let f = out.join(format!("{}_summary.json", scene.name));
-        let summary = ehl_workbench::output::summary_with_observables(outcome.as_ref());
+        let summary = ehl_workbench::output::summary(outcome.as_ref());
         std::fs::write(&f, serde_json::to_string_pretty(&summary)? + "\n")?;
         written.push(f);
         if let Some(csv) = outcome.time_series_csv() {

@@ -243,7 +243,7 @@ fn solve_scene_report(
 ) -> Result<(Solve, Option<ehl_reynolds::Diagnosis>)> {
     let mut scene = ehl_scene::builtin(name)?.with_points(n)?;
     scene.reynolds.as_mut().expect("a Reynolds scene").solver.stop = stop;
-    let (prm, mut s) = ehl_workbench::reynolds::build_solver(&scene);
+    let (prm, mut s) = ehl_workbench::reynolds::build_solver(&scene)?;
     let nm = prm.scales.delta * 1e9;
     let rep = s.solve(&mut |_| {})?;
     let (hc, hmin) = s.films();

@@ -30,11 +30,11 @@ fn run_writes_every_output_in_si() {
     assert!(!out.join(".partial").exists());
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
-    let p_max = &summary["results"]["max_pressure"];
+    let p_max = &summary["details"]["results"]["max_pressure"];
     assert_eq!(p_max["unit"], "Pa");
     // 33² is coarse: Hertz's 0.5265 GPa to within 1e-3 (measured error 2e-4 there).
     assert!((p_max["value"].as_f64().unwrap() / 0.5265e9 - 1.0).abs() < 1e-3);
-    assert_eq!(summary["results"]["load"]["unit"], "N");
+    assert_eq!(summary["details"]["results"]["load"]["unit"], "N");
     let csv = std::fs::read_to_string(out.join("centreline.csv")).unwrap();
     assert!(csv.starts_with("x_m,pressure_pa,gap_m,"));
     assert_eq!(csv.lines().count(), 34);
@@ -185,8 +185,8 @@ fn thread_count_does_not_change_results() {
             .unwrap();
         assert!(o.status.success());
         let s = read_json(&out.join("summary.json"));
-        assert_eq!(s["solver"]["threads"].as_u64().unwrap().to_string(), t);
-        p.push(s["results"]["max_pressure"]["value"].as_f64().unwrap());
+        assert_eq!(s["timings"]["threads"].as_u64().unwrap().to_string(), t);
+        p.push(s["details"]["results"]["max_pressure"]["value"].as_f64().unwrap());
     }
     assert!((p[0] / p[1] - 1.0).abs() < 1e-12, "{p:?}");
     let o = ehl().args(["run", "hertz", "--threads", "0"]).output().unwrap();

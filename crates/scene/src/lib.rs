@@ -12,7 +12,9 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 pub mod sweep;
+pub mod views;
 pub use sweep::{Axis, Parameter, Sweep, builtin_sweep_names, load_sweep};
+pub use views::{LayerView, ReynoldsView};
 
 /// A scene. Unknown fields are refused, so a typo never silently falls back to a default.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -68,6 +70,34 @@ pub enum Model {
     Reynolds,
 }
 
+/// A block of a scene beyond the conditions, domain, grid, contact solver and outputs that
+/// every model reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Block {
+    /// `lubricant`.
+    Lubricant,
+    /// `supply`.
+    Supply,
+    /// `layer`.
+    Layer,
+    /// `run`.
+    Run,
+    /// `reynolds`.
+    Reynolds,
+}
+
+impl Model {
+    /// The blocks this model reads: a comparison hands each model these and no others (one
+    /// line per model, not a rule per pair).
+    pub fn blocks(self) -> &'static [Block] {
+        match self {
+            Model::Dry => &[],
+            Model::Layer => &[Block::Lubricant, Block::Supply, Block::Layer, Block::Run],
+            Model::Reynolds => &[Block::Lubricant, Block::Supply, Block::Run, Block::Reynolds],
+        }
+    }
+}
+
 /// The Reynolds model's block.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -93,12 +123,10 @@ impl Scene {
         }
     }
 
-    /// The one model of a one-model scene.
-    ///
-    /// # Panics
-    /// On a comparison scene: take [`Scene::for_model`] first.
-    pub fn model(&self) -> Model {
-        self.model.expect("a one-model scene (use Scene::for_model on a comparison scene)")
+    /// The one model of a one-model scene; `None` for a comparison (take [`Scene::for_model`]
+    /// first).
+    pub fn model(&self) -> Option<Model> {
+        self.model
     }
 
     /// This scene as `m` alone runs it: the same conditions, domain and grid, `m`'s blocks.
@@ -107,17 +135,21 @@ impl Scene {
         let mut s = self.clone();
         s.model = Some(m);
         s.models.clear();
-        match m {
-            Model::Dry => {
-                s.layer = None;
-                s.run = None;
-                s.reynolds = None;
-                s.supply = None;
-            }
-            Model::Layer => s.reynolds = None,
-            // The scenario and the supply stay (a dent's depth in units of the supply is
-            // resolved from the supply, the same for every model).
-            Model::Reynolds => s.layer = None,
+        let keeps = |b: Block| m.blocks().contains(&b);
+        if !keeps(Block::Lubricant) {
+            s.lubricant = None;
+        }
+        if !keeps(Block::Supply) {
+            s.supply = None;
+        }
+        if !keeps(Block::Layer) {
+            s.layer = None;
+        }
+        if !keeps(Block::Run) {
+            s.run = None;
+        }
+        if !keeps(Block::Reynolds) {
+            s.reynolds = None;
         }
         s
     }

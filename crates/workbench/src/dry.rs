@@ -121,20 +121,6 @@ fn run_dry(scene: &Scene) -> Result<DryOutcome> {
     })
 }
 
-fn grid_json(o: &DryOutcome) -> Value {
-    let (g, a) = (&o.grid, o.scales.a);
-    json!({
-        "nx": g.nx, "ny": g.ny,
-        "x_range": q_pair(g.x_min * a, g.x_max * a),
-        "y_range": q_pair(g.y_min * a, g.y_max * a),
-        "dx": q(g.dx() * a, "m"), "dy": q(g.dy() * a, "m"),
-    })
-}
-
-fn q_pair(lo: f64, hi: f64) -> Value {
-    json!({ "value": [lo, hi], "unit": "m" })
-}
-
 fn dry_summary(o: &DryOutcome) -> Value {
     let s = &o.scales;
     let h = &o.hertz;
@@ -157,11 +143,6 @@ fn dry_summary(o: &DryOutcome) -> Value {
         "pressure_l2": q(h.pressure_l2_error, "1 (relative L2 over the grid)"),
     });
     json!({
-        "scene": o.scene.name,
-        "model": "dry",
-        "description": o.scene.description,
-        "conditions": o.scene.conditions,
-        "grid": grid_json(o),
         "results": results,
         "hertz": hertz_ref,
         "relative_error_vs_hertz": errors,
@@ -176,7 +157,6 @@ fn dry_summary(o: &DryOutcome) -> Value {
             "contact_points": o.report.contact_points,
             "setup_time": q(o.setup_time_s, "s"),
             "solve_time": q(o.solve_time_s, "s"),
-            "threads": rayon::current_num_threads(),
         },
     })
 }

@@ -10,7 +10,7 @@ use ehl_layer::{
     LayerModel, LayerState, Monitor, Scheme, Snapshot, SqueezeReport, SteadyReport, Stepper,
     rolling_steady, squeeze_steady, stability_estimate, uniform_state,
 };
-use ehl_scene::{Method, Motion, Scene, StartState};
+use ehl_scene::{LayerView, Method, Motion, Scene, StartState};
 use ndarray::Array2;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -25,6 +25,8 @@ pub struct LayerOutcome {
     pub l0: f64,
     /// The supply's thickness `l0` [m].
     pub supply_thickness_m: f64,
+    /// What the model read of the scene.
+    pub view: LayerView,
     pub eo: f64,
     pub final_state: LayerState,
     /// Final layer thickness `L` [a²/R] and gap `H` [a²/R].
@@ -159,16 +161,22 @@ impl Outcome for LayerOutcome {
 
 pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     let t_all = Instant::now();
-    let r = scene.run.as_ref().expect("validated");
-    let spec = scene.layer.expect("validated");
-    let supply_m = scene.supply.as_ref().expect("validated").thickness_m;
-    let lub = scene.lubricant.expect("validated").lubricant();
-    let contact = scene.conditions.contact();
-    let u_roll = scene.conditions.rolling_velocity_m_s.unwrap_or(0.0);
-    let motion = r.kinematics(u_roll).with_context(|| format!("scene `{}`", scene.name))?;
+    let view = scene.layer_view()?;
+    let (r, spec, supply_m) = (&view.run, view.layer, view.supply.thickness_m);
+    let motion = r
+        .kinematics(view.rolling_velocity_m_s)
+        .with_context(|| format!("scene `{}`", scene.name))?;
     let grid = scene.grid();
     let t0 = Instant::now();
-    let mut m = LayerModel::new(&contact, &lub, &spec, supply_m, motion, grid, scene.solver);
+    let mut m = LayerModel::new(
+        &view.contact,
+        &view.lubricant,
+        &spec,
+        supply_m,
+        motion,
+        grid,
+        scene.solver,
+    );
     let setup_time_s = t0.elapsed().as_secs_f64();
     let fail = |what: &str| format!("scene `{}`: {what}", scene.name);
 
@@ -232,6 +240,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
         grid,
         l0: m.l0,
         supply_thickness_m: supply_m,
+        view: view.clone(),
         eo: m.eo,
         l,
         gap,
@@ -249,8 +258,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
 impl LayerOutcome {
     pub fn summary(&self) -> Value {
         let (s, f) = (&self.scales, &self.final_monitor);
-        let spec = self.scene.layer.unwrap();
-        let r = self.scene.run.as_ref().unwrap();
+        let (spec, r) = (&self.view.layer, &self.view.run);
         let mut run_json = json!({
             "start": r.start, "motion": r.motion, "features": r.features,
             "scheme": r.time.scheme, "time": r.time, "stop": r.stop,
@@ -271,25 +279,14 @@ impl LayerOutcome {
             run_json["stop_reason"] = json!(rec.stop_reason);
         }
         json!({
-            "scene": self.scene.name,
-            "model": "layer",
-            "description": self.scene.description,
-            "conditions": self.scene.conditions,
             "lubricant": self.scene.lubricant,
+            "supply": self.view.supply,
             "layer": spec,
             "laws": {
                 "modulus": spec.modulus_law,
                 "damper_reading": spec.damper_reading,
                 "coefficient_smoothing": q(spec.coefficient_smoothing_a * s.a, "m"),
-            },
-            "scales": {
-                "a": q(s.a, "m"), "p_h": q(s.p_h, "Pa"), "a2_over_r": q(s.delta, "m"),
                 "oedometric_modulus": q(self.eo * s.p_h, "Pa"),
-                "note": "a and p_h from Table 1 (a = 0.13467 mm); the seed's time step implies a = 0.13697 mm: compare in Hertz-normalised form",
-            },
-            "grid": {
-                "nx": self.grid.nx, "ny": self.grid.ny,
-                "dx": q(self.grid.dx() * s.a, "m"), "dy": q(self.grid.dy() * s.a, "m"),
             },
             "results": {
                 "central_thickness": q(f.central_thickness, "m"),
@@ -309,13 +306,11 @@ impl LayerOutcome {
                 "dry_diameter_over_2a": f.dry_diameter / (2.0 * s.a),
             },
             "run": run_json,
-            "method": format!("{:?}", self.scene.run.as_ref().unwrap().method()).to_lowercase(),
+            "method": format!("{:?}", r.method()).to_lowercase(),
             "steady_solve": self.steady,
             "steady_squeeze_solve": self.squeeze,
             "explicit_stability_estimate": q(self.stability_estimate_s, "s"),
             "setup_time": q(self.setup_time_s, "s"),
-            "total_wall_time": q(self.total_time_s, "s"),
-            "threads": rayon::current_num_threads(),
         })
     }
 
@@ -392,8 +387,7 @@ impl LayerOutcome {
 
     /// Conditions and laws, for figure footnotes.
     pub fn note(&self) -> String {
-        let spec = self.scene.layer.unwrap();
-        let r = self.scene.run.as_ref().unwrap();
+        let (spec, r) = (&self.view.layer, &self.view.run);
         format!(
             "{}: F = {} N, u1 = {} m/s, l0 = {} nm, E law {:?}, damper {:?} (κ = {:e}, {:?} laws){}, {:?} n_t = {}; grid {}x{}; a = {:.4} mm",
             self.scene.name,

@@ -67,9 +67,17 @@ pub trait Outcome: AsAny + Send + 'static {
     fn indicators(&self) -> Vec<(String, Indicator)> {
         vec![]
     }
+    /// The contact and the rolling speed [m/s] the model ran (the scene's; the Reynolds
+    /// model's Moes input resolves them).
+    fn conditions_used(&self) -> (ehl_core::Contact, f64) {
+        let c = &self.scene().conditions;
+        (c.contact(), c.rolling_velocity_m_s.unwrap_or(0.0))
+    }
     /// Wall time of the whole run [s].
     fn wall_time_s(&self) -> f64;
-    /// Every scalar the model reports, with units (the observables are added by the writer).
+    /// What only this model reports, with units: the writer puts it after the part of
+    /// `summary.json` every model shares ([`crate::output::summary`]: scene, model,
+    /// conditions, scales, grid, observables, indicators, timings), whose keys it must not use.
     fn summary(&self) -> Value;
     fn centreline(&self) -> Centreline;
     /// Fields to write as `.npy`, SI, with their file stems.

@@ -77,12 +77,9 @@ pub fn replace_dir(
 pub fn write_into(outcome: &dyn Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
     let outputs = outcome.scene().outputs;
     let mut files = vec![];
-    let summary = dir.join("summary.json");
-    std::fs::write(
-        &summary,
-        serde_json::to_string_pretty(&summary_with_observables(outcome))? + "\n",
-    )?;
-    files.push(summary);
+    let file = dir.join("summary.json");
+    std::fs::write(&file, serde_json::to_string_pretty(&summary(outcome))? + "\n")?;
+    files.push(file);
     if let Some(csv) = outcome.time_series_csv() {
         let f = dir.join("timeseries.csv");
         std::fs::write(&f, csv)?;
@@ -113,14 +110,60 @@ pub fn write_into(outcome: &dyn Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(files)
 }
 
-/// The model's summary with the standard observables (SI) added under `observables`.
-pub fn summary_with_observables(outcome: &dyn Outcome) -> Value {
-    let mut s = outcome.summary();
-    if let Value::Object(m) = &mut s {
-        m.insert(
-            "observables".into(),
-            serde_json::to_value(outcome.observables()).unwrap_or(Value::Null),
-        );
-    }
-    s
+/// The version of the shared part of `summary.json`: a reader checks it before reading.
+pub const SUMMARY_SCHEMA: &str = "ehl-summary/1";
+
+/// The keys of `summary.json` every model writes, in the same shape: what a reader can take
+/// from any model's summary without knowing which model wrote it.
+pub const SHARED_KEYS: [&str; 11] = [
+    "schema",
+    "scene",
+    "model",
+    "description",
+    "conditions",
+    "scales",
+    "grid",
+    "observables",
+    "indicators",
+    "timings",
+    "details",
+];
+
+/// `summary.json`: the shared part (SI, units beside every number), then the model's own
+/// summary under `details`.
+pub fn summary(outcome: &dyn Outcome) -> Value {
+    let (scene, sc, g) = (outcome.scene(), outcome.scales(), outcome.grid());
+    let (c, u) = outcome.conditions_used();
+    let a = sc.a;
+    let indicators: serde_json::Map<String, Value> = outcome
+        .indicators()
+        .into_iter()
+        .map(|(k, i)| (k, serde_json::to_value(i).unwrap_or(Value::Null)))
+        .collect();
+    serde_json::json!({
+        "schema": SUMMARY_SCHEMA,
+        "scene": scene.name,
+        "model": scene.model(),
+        "description": scene.description,
+        "conditions": {
+            "ball_radius": q(c.ball_radius, "m"),
+            "load": q(c.load, "N"),
+            "reduced_modulus": q(c.reduced_modulus, "Pa"),
+            "rolling_velocity": q(u, "m/s"),
+        },
+        "scales": { "a": q(a, "m"), "p_h": q(sc.p_h, "Pa"), "a2_over_r": q(sc.delta, "m") },
+        "grid": {
+            "nx": g.nx, "ny": g.ny,
+            "x_range": { "value": [g.x_min * a, g.x_max * a], "unit": "m" },
+            "y_range": { "value": [g.y_min * a, g.y_max * a], "unit": "m" },
+            "dx": q(g.dx() * a, "m"), "dy": q(g.dy() * a, "m"),
+        },
+        "observables": serde_json::to_value(outcome.observables()).unwrap_or(Value::Null),
+        "indicators": indicators,
+        "timings": {
+            "total_wall_time": q(outcome.wall_time_s(), "s"),
+            "threads": rayon::current_num_threads(),
+        },
+        "details": outcome.summary(),
+    })
 }

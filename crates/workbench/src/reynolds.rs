@@ -9,7 +9,7 @@ use ehl_core::observe::Observables;
 use ehl_core::{Dent, Grid, HertzScales, Kinematics, hertz};
 use ehl_reynolds::formulas::{hamrock_dowson_central, nvm_central};
 use ehl_reynolds::{ReynoldsParams, ReynoldsReport, ReynoldsSolver};
-use ehl_scene::Scene;
+use ehl_scene::{ReynoldsView, Scene};
 use ndarray::Array2;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -17,6 +17,8 @@ use std::time::Instant;
 
 pub struct ReynoldsOutcome {
     pub scene: Scene,
+    /// What the model read of the scene.
+    pub view: ReynoldsView,
     pub prm: ReynoldsParams,
     pub grid: Grid,
     /// Pressure `P` [p_h] and film `H` [a²/R].
@@ -133,6 +135,9 @@ impl Outcome for ReynoldsOutcome {
             ),
         ]
     }
+    fn conditions_used(&self) -> (ehl_core::Contact, f64) {
+        (self.view.contact, 0.5 * self.view.sum_velocity_m_s)
+    }
     fn wall_time_s(&self) -> f64 {
         self.setup_time_s
             + self.report.wall_time_s
@@ -163,21 +168,22 @@ impl Outcome for ReynoldsOutcome {
 
 /// The dimensionless parameters and a solver (hierarchy built, Hertz start) for a Reynolds
 /// scene.
-pub fn build_solver(scene: &Scene) -> (ReynoldsParams, ReynoldsSolver) {
-    let spec = scene.reynolds.clone().expect("validated");
-    let lub = scene.lubricant.expect("validated").lubricant();
-    let (contact, u_sum) = scene.reynolds_conditions();
-    let prm = ReynoldsParams::from_si(&contact, &lub, u_sum, spec.viscosity, spec.density);
-    (prm, ReynoldsSolver::new(scene.grid(), prm, spec.solver))
+pub fn build_solver(scene: &Scene) -> Result<(ReynoldsParams, ReynoldsSolver)> {
+    let v = scene.reynolds_view()?;
+    let (spec, lub) = (&v.spec, &v.lubricant);
+    let prm =
+        ReynoldsParams::from_si(&v.contact, lub, v.sum_velocity_m_s, spec.viscosity, spec.density);
+    Ok((prm, ReynoldsSolver::new(scene.grid(), prm, spec.solver)))
 }
 
+/// Solves a Reynolds scene: steady, then the march it asks for.
 pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
-    let lub = scene.lubricant.expect("validated").lubricant();
-    let (contact, u_sum) = scene.reynolds_conditions();
+    let view = scene.reynolds_view()?;
+    let (contact, u_sum, lub) = (view.contact, view.sum_velocity_m_s, view.lubricant);
     let grid = scene.grid();
     let t0 = Instant::now();
-    let (prm, mut solver) = build_solver(scene);
-    let run = scene.run.as_ref().filter(|r| r.method() == ehl_scene::Method::March);
+    let (prm, mut solver) = build_solver(scene)?;
+    let run = view.march.as_ref();
     let dents = if run.is_some() { scene.dents()? } else { vec![] };
     // The march starts from the steady solution with the dents at their start.
     if !dents.is_empty() {
@@ -209,6 +215,7 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     let f = &solver.levels[0];
     Ok(ReynoldsOutcome {
         scene: scene.clone(),
+        view: view.clone(),
         prm,
         grid,
         p: f.p.clone(),
@@ -375,21 +382,20 @@ impl ReynoldsOutcome {
     pub fn summary(&self) -> Value {
         let s = &self.prm.scales;
         let (hc, hmin, pmax) = self.films();
-        let (contact, u_sum) = self.scene.reynolds_conditions();
+        let u_sum = self.view.sum_velocity_m_s;
         let last = self.report.history.last().unwrap();
         json!({
-            "scene": self.scene.name,
-            "model": "reynolds",
-            "description": self.scene.description,
-            "conditions_used": {
-                "ball_radius": q(contact.ball_radius, "m"), "load": q(contact.load, "N"),
-                "reduced_modulus": q(contact.reduced_modulus, "Pa"), "sum_velocity": q(u_sum, "m/s"),
-                "moes_m": self.prm.moes.m, "moes_l": self.prm.moes.l, "lambda_bar": self.prm.lambda_bar,
+            "moes": {
+                "sum_velocity": q(u_sum, "m/s"),
+                "m": self.prm.moes.m, "l": self.prm.moes.l, "lambda_bar": self.prm.lambda_bar,
             },
             "lubricant": self.scene.lubricant,
-            "laws": { "viscosity": self.scene.reynolds.as_ref().unwrap().viscosity, "density": self.scene.reynolds.as_ref().unwrap().density },
-            "scales": { "a": q(s.a, "m"), "p_h": q(s.p_h, "Pa"), "a2_over_r": q(s.delta, "m") },
-            "grid": { "nx": self.grid.nx, "ny": self.grid.ny, "dx": q(self.grid.dx() * s.a, "m") },
+            "supply": self.view.supply.as_ref().map(|sup| json!({
+                "thickness": q(sup.thickness_m, "m"),
+                "applied": false,
+                "note": "this Reynolds solver is fully flooded: it does not read the supply yet",
+            })),
+            "laws": { "viscosity": self.view.spec.viscosity, "density": self.view.spec.density },
             "results": {
                 "central_film": q(s.h_si(hc), "m"),
                 "minimum_film": q(s.h_si(hmin), "m"),
@@ -406,7 +412,7 @@ impl ReynoldsOutcome {
                 "nijenbanning_venner_moes_1994": q(self.formulas.1, "m"),
             },
             "solver": {
-                "settings": self.scene.reynolds.as_ref().unwrap().solver,
+                "settings": self.view.spec.solver,
                 "cycles": self.report.cycles,
                 "lagged_laws": self.report.lagged_laws,
                 "first_attempt": self.report.first_attempt,
@@ -492,8 +498,8 @@ impl ReynoldsOutcome {
             self.prm.moes.l,
             c.load,
             u,
-            self.scene.reynolds.as_ref().unwrap().viscosity,
-            self.scene.reynolds.as_ref().unwrap().density,
+            self.view.spec.viscosity,
+            self.view.spec.density,
             self.grid.nx,
             self.grid.ny
         )

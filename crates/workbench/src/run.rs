@@ -20,5 +20,12 @@ pub fn model(kind: ehl_scene::Model) -> Result<&'static dyn ContactModel> {
 /// Runs a one-model `scene` (already validated) and returns its outcome; fails with a diagnosis
 /// if the solver diverges or does not converge.
 pub fn run_scene(scene: &Scene) -> Result<Box<dyn Outcome>> {
-    model(scene.model())?.run(scene)
+    let Some(kind) = scene.model() else {
+        bail!(
+            "scene `{}` is a comparison of {:?}: run it with `ehl compare`, or one model of it (Scene::for_model)",
+            scene.name,
+            scene.models()
+        );
+    };
+    model(kind)?.run(scene)
 }
