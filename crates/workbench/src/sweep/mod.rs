@@ -286,23 +286,17 @@ fn point_line(sweep: &Sweep, r: &PointRecord) -> String {
     format!("point {} ({}; {}x{}): {}", r.index, vals.join(", "), r.nx, r.ny, models.join("; "))
 }
 
-/// Runs one model on one scene in the current (single-thread) pool; a panic is a failure too.
+/// What a point keeps of a model's answer: its observables, whether it is lubricated, its
+/// indicators.
 type Answer = (Observables, bool, std::collections::BTreeMap<String, crate::model::Indicator>);
 
+/// Runs one model on one scene in the current (single-thread) pool; a failure is its
+/// diagnosis (the models report failures as errors: nothing on their paths panics).
 fn run_model(scene: &Scene) -> (Result<Answer, String>, f64) {
     let t0 = Instant::now();
-    let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| crate::run::run_scene(scene)));
-    let out = match r {
-        Ok(Ok(o)) => Ok((o.observables(), o.lubricated(), o.indicators().into_iter().collect())),
-        Ok(Err(e)) => Err(format!("{e:#}")),
-        Err(p) => Err(format!(
-            "panicked: {}",
-            p.downcast_ref::<String>()
-                .cloned()
-                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_default()
-        )),
-    };
+    let out = crate::run::run_scene(scene)
+        .map(|o| (o.observables(), o.lubricated(), o.indicators().into_iter().collect()))
+        .map_err(|e| format!("{e:#}"));
     (out, t0.elapsed().as_secs_f64())
 }
 
