@@ -1,6 +1,6 @@
 //! `cargo xtask identify`: the seed's lost laws (its Eqs. 10–11) identified from its own numbers.
 //!
-//! Free parameters, all of the reconstruction's families (model notes §2): the damper's prefactor
+//! Free parameters, all of the reconstruction's families (docs/model.md §3.3): the damper's prefactor
 //! `κ`, the scale `σ` of its Roelands pressure dependence (`η = κ η0 exp(σ s (−1 + (1 + p/p0)^z))`)
 //! and the modulus law's reference pressure `p_ref` (exponent `m = p_ref / Eo`). Targets
 //! (`reference/seed.json`): steady rolling `h_c`, the time to steady rolling from the squeezed
@@ -40,7 +40,7 @@ type Theta = [f64; 3];
 struct Target {
     id: &'static str,
     what: &'static str,
-    /// Acceptance band (relative): the "done when".
+    /// Acceptance band (relative): the identification's acceptance band.
     band: f64,
 }
 

@@ -492,7 +492,7 @@ pub fn convergence(out: &Path, max_points: usize) -> Result<Vec<PathBuf>> {
 /// finest-grid W-cycle, on one thread and on two (the speed-up printed; the answers must agree
 /// to the last digit: the sweep order does not depend on the thread count).
 pub fn bench(max: usize) -> Result<Value> {
-    println!("Reynolds solves (from Hertz, full-multigrid start, to the issue's criteria):");
+    println!("Reynolds solves (from Hertz, full-multigrid start, to the strict stop rule):");
     let mut rows = vec![];
     for name in ["reynolds-m20-l10", "reynolds-seed"] {
         for n in crate::grid_sizes(max).into_iter().filter(|&n| name != "reynolds-seed" || n >= 257)

@@ -1,6 +1,6 @@
 //! The layer's material laws: the modulus `E(p, ε)` (paper Eq. 10) and the damper viscosity
 //! `η(p)` (paper Eq. 11). Both equations were lost from the paper's text; what is here is the
-//! reconstruction of `shared/docs/model-notes.md` §2, with its alternatives as named variants.
+//! reconstruction of docs/model.md §3.3, with its alternatives as named variants.
 //! All pressures and moduli in units of `p_h`; viscosities as `η / p_h` [s].
 
 use serde::{Deserialize, Serialize};
@@ -48,7 +48,7 @@ impl ModulusLaw {
 #[serde(rename_all = "kebab-case")]
 pub enum LawSet {
     /// The scene's own `damper_constant`, `damper_pressure_scale` and `reference_pressure_pa`
-    /// (defaults: model notes §2's reconstruction).
+    /// (defaults: docs/model.md §3.3).
     #[default]
     Reconstruction,
     /// The damper prefactor, its pressure scale and the modulus law's reference pressure
@@ -82,7 +82,7 @@ pub fn seed_fit() -> LawParameters {
     })
 }
 
-/// How Table 1's damper constant "5.5e5 Pa s" is read (model notes §2).
+/// How Table 1's damper constant "5.5e5 Pa s" is read (docs/model.md §3.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum DamperReading {

@@ -88,7 +88,7 @@ pub struct Stepper {
     pub estimate_error: bool,
 }
 
-/// Estimated explicit stability limit [s] (model notes §2): a strain perturbation feeds back
+/// Estimated explicit stability limit [s] (docs/model.md §3.5): a strain perturbation feeds back
 /// through the contact with stiffness `E + k l0`, `k = 1 / K(0,0)` the stiffness of one cell,
 /// so Heun (like Euler on the real axis) needs `Δt < 2 η / (E + k l0)`, tightest where η is
 /// smallest (unloaded inlet, `p → 0`).

@@ -309,10 +309,10 @@ impl ReynoldsSolver {
         }
     }
 
-    /// One time step of `dt` [a/u_m] (the dent, if any, already moved by the caller): the
-    /// time derivative by backward differences ([`TimeScheme`]), solved by W-cycles from the
-    /// last state. The steady solve before the first step is
-    /// `T = 0`; steps must be of equal size.
+    /// One time step of `dt` [a/u_ref] (the dent, if any, already moved by the caller): the
+    /// time derivative by backward differences ([`TimeScheme`]), solved from the last state by
+    /// cycles of `step_gamma` (1, V-cycles, by default). The steady solve before the first step
+    /// is `T = 0`; steps must be of equal size.
     pub fn step(
         &mut self,
         dt: f64,

@@ -54,17 +54,18 @@ fn square(scene: &Scene) -> bool {
 pub fn multigrid_count(n: usize) -> usize {
     let mut best = usize::MAX;
     for base in [1usize, 3, 5, 7, 9] {
+        // Intervals `c·2^k` with at least 16 of them (17 points) on the coarsest level …
         let mut m = base;
         while m < 16 {
             m *= 2;
         }
-        let mut m = base;
+        // … doubled until the count reaches `n`.
         while m + 1 < n {
             m *= 2;
         }
         best = best.min(m + 1);
     }
-    best.max(5)
+    best
 }
 
 /// The point's scene with the domain and grid the rule asks for, and what changed (`None` when
@@ -140,6 +141,13 @@ mod tests {
             (450, 513),
             (129, 129),
             (130, 145),
+            // Small counts: never below the coarsest level's 17, never even (the old loop
+            // returned 2 for 2 and 4 for 3).
+            (2, 17),
+            (5, 17),
+            (17, 17),
+            (18, 19),
+            (20, 21),
         ] {
             assert_eq!(multigrid_count(n), m, "{n}");
         }
