@@ -91,6 +91,13 @@ impl Panel {
 
 /// Tick label: plain where that is short, else one significant digit in `e` notation.
 fn tick(v: &f64) -> String {
+    tick_on(*v, 0.0)
+}
+
+/// A tick label on an axis spanning `span`: a value within 1e-9 of the span from 0 is 0 (a
+/// tick placed at `lo + k·step` lands at −2e-16 rather than at 0).
+fn tick_on(v: f64, span: f64) -> String {
+    let v = if v.abs() <= 1e-9 * span.abs() { 0.0 } else { v };
     let a = v.abs();
     if a == 0.0 || (1e-2..1e4).contains(&a) {
         let s = format!("{v:.3}");
@@ -139,6 +146,8 @@ where
     let ys = panel.y_range.unwrap_or_else(|| {
         range(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)), panel.log_y)
     });
+    let x_tick = |v: &f64| tick_on(*v, xs.1 - xs.0);
+    let y_tick = |v: &f64| tick_on(*v, ys.1 - ys.0);
     let mut builder = ChartBuilder::on(area);
     builder
         .caption(&panel.title, (FONT, 20))
@@ -153,8 +162,8 @@ where
                 .y_desc(panel.y_label.as_str())
                 .label_style((FONT, 14))
                 .axis_desc_style((FONT, 16))
-                .x_label_formatter(&tick)
-                .y_label_formatter(&tick);
+                .x_label_formatter(&x_tick)
+                .y_label_formatter(&y_tick);
             if panel.log_x || panel.log_y {
                 // On log axes the minor lines crowd into a dense band per decade.
                 mesh.light_line_style(TRANSPARENT);
@@ -372,9 +381,14 @@ where
         )
     }))?;
     // Tick labels to the right of the bar, left-aligned from its edge: drawn on the left they
-    // were right-aligned by an estimated text width and ran into the bar.
+    // were right-aligned by an estimated text width and ran into the bar. The bar's title is
+    // its caption, above it, in the map's caption font (so the bar's top lines up with the
+    // map's): as a rotated axis description on the right it was drawn at the next panel's edge,
+    // and mirrored on the last.
+    let bar_tick = |v: &f64| tick_on(*v, span);
     let mut bar = ChartBuilder::on(&right)
-        .margin_top(44)
+        .caption(&panel.bar_label, (FONT, 20))
+        .margin_top(12)
         .margin_bottom(57)
         .margin_right(4)
         .margin_left(8)
@@ -383,8 +397,7 @@ where
     bar.configure_mesh()
         .disable_mesh()
         .disable_x_axis()
-        .y_desc(panel.bar_label.as_str())
-        .y_label_formatter(&tick)
+        .y_label_formatter(&bar_tick)
         .label_style((FONT, 13))
         .axis_desc_style((FONT, 14))
         .draw()?;
@@ -507,4 +520,17 @@ pub fn cell_maps(
     }
     root.present().with_context(|| format!("writing {}", path.display()))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_tick_at_zero_by_rounding_reads_zero() {
+        assert_eq!(tick_on(-2.2e-16, 2.5), "0");
+        assert_eq!(tick_on(0.25, 2.5), "0.25");
+        // On an axis of nanometres a tick of 1e-12 is a tick, not rounding.
+        assert_eq!(tick_on(1e-12, 1e-11), "1e-12");
+    }
 }
