@@ -89,9 +89,9 @@ impl Panel {
     }
 }
 
-/// Tick label: plain where that is short, else one significant digit in `e` notation.
-/// A tick label on an axis spanning `span`: a value within 1e-9 of the span from 0 is 0 (a
-/// tick placed at `lo + k·step` lands at −2e-16 rather than at 0).
+/// A tick label on an axis spanning `span`: plain where that is short, else one significant
+/// digit in `e` notation; a value within 1e-9 of the span from 0 is 0 (a tick placed at
+/// `lo + k·step` lands at −2e-16 rather than at 0).
 fn tick_on(v: f64, span: f64) -> String {
     let v = if v.abs() <= 1e-9 * span.abs() { 0.0 } else { v };
     let a = v.abs();
