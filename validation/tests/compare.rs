@@ -38,7 +38,7 @@ fn seed_comparison_matches_the_seed_and_hertz_on_257() {
     let rey = observables(&c, Model::Reynolds);
     let dry = observables(&c, Model::Dry);
     // The seed's 11.6 nm (layer) and 12.3 nm (Reynolds), both on 257 points. Ours: 11.08 nm
-    // (−4.5 %: the reconstructed laws and the coefficient smoothing, README) and 11.79 nm (−4.1 %:
+    // (−4.5 %: the reconstructed laws and the coefficient smoothing, docs/layer.md) and 11.79 nm (−4.1 %:
     // the 257² discretisation error, 12.31 nm on 513²). 5 % covers both (the seed's
     // own solver and laws are not ours: the bound is the agreement claimed, not a tolerance).
     assert!((layer.central_film_m / 11.6e-9 - 1.0).abs() < 0.05, "{}", c.table());
@@ -142,7 +142,7 @@ fn comparison_scenes_are_checked_per_model() {
 #[test]
 fn a_dent_passage_runs_both_models_on_one_plan() {
     // One scene, a dent rolling from the inlet to x = 0.5 a, both models on 129² (the Reynolds
-    // steady start stalls on 65² at these conditions: README).
+    // steady start stalls on 65² at these conditions: docs/comparison.md).
     let mut scene =
         Scene::from_json(include_str!("data/user-10n-dent.json"), "user-10n-dent.json").unwrap();
     scene.outputs.figures = false;

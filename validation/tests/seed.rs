@@ -38,7 +38,7 @@ fn steady_squeeze_matches_the_seed() {
 #[test]
 fn steady_rolling_central_thickness_matches_the_seed() {
     // 129², n_t = 5 (time error < 0.05 nm). Our converged value sits 4.3% below the seed's
-    // 11.6 nm (11.10 nm on 257²; the lost laws and the coefficient smoothing, see README); the
+    // 11.6 nm (11.10 nm on 257²; the lost laws and the coefficient smoothing, see docs/layer.md); the
     // grid adds +1.2% at 129² (11.23 nm). 6% bounds that deviation, not more.
     let o = layer("rolling-from-uniform", 129, |s| {
         s.run.as_mut().unwrap().time.steps_per_cell = 5.0;

@@ -152,7 +152,7 @@ fn reynolds_text(o: &ReynoldsOutcome, every: usize) -> String {
 #[test]
 fn reynolds_pressure_spike_on_257() {
     // The outlet spike of M = 20, L = 10 needs fine cells: 1.10 p_h on 65², 1.31 on 257²
-    // (README); every 4th point, and the peak with its place in the header.
+    // (docs/studies.md); every 4th point, and the peak with its place in the header.
     let o = run(quiet("reynolds-m20-l10", 257));
     let o = o.downcast_ref::<ReynoldsOutcome>().unwrap();
     insta::assert_snapshot!("reynolds-m20-l10_spike_257", reynolds_text(o, 4));
@@ -190,7 +190,7 @@ fn hole_centred_on_129() {
 #[test]
 fn squeeze_after_stop_at_its_pressure_peak() {
     // Its end state is the steady squeeze's (tested in seed.rs); the snapshot is the transient:
-    // t = 0.09 s, the pressure peak (README's seed table), 33².
+    // t = 0.09 s, the pressure peak (docs/studies.md's seed table), 33².
     let mut scene = quiet("squeeze-after-stop", 33);
     scene.run.as_mut().unwrap().stop.max_time_s = Some(0.09);
     let o = run(scene).downcast::<LayerOutcome>().unwrap();

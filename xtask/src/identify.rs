@@ -142,7 +142,7 @@ fn peak_time(series: &[Monitor]) -> f64 {
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct Grids {
     /// The steady solve (`h_c`) and the rolling march (time to steady: set by transport, see
-    /// the README, and insensitive to the grid: 1.87 a on 65², 1.90 a on 129²).
+    /// docs/layer.md, and insensitive to the grid: 1.87 a on 65², 1.90 a on 129²).
     pub rolling: usize,
     /// The squeeze after a stop: its times need the loaded zone resolved (the fit's peak time
     /// 0.41 s on 65², 0.511 on 129², 0.509 on 257²).
@@ -421,7 +421,7 @@ pub fn run(out: &Path, n: usize, squeeze_n: usize, check_n: usize) -> Result<()>
 
     // 1. κ and σ against all four targets; p_ref stays p_h (the paper names p_h as the
     //    reference pressure, and no target moves with it: see its sensitivity column). No law
-    //    of the family meets all four (README): this is the compromise, reported beside.
+    //    of the family meets all four (docs/layer.md): this is the compromise, reported beside.
     println!("Fit: κ and σ against all four targets (p_ref = p_h)");
     let compromise = fit(recon, &[true, true, false], grids, &want, &all, 10)?;
     // 2. The law set: κ and σ against the two targets the family can meet together, steady

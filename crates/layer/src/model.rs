@@ -45,7 +45,7 @@ pub struct LayerSpec {
     /// evaluated at the pressure smoothed by a Gaussian of this standard deviation [a]. The
     /// published model is ill-posed where `α_eff (p − E ε) > 1 − ε ∂E/∂p` (higher pressure,
     /// slower compression): grid-scale streaks grow there; smoothing over a length removes the
-    /// feedback for shorter waves. See the README's validation notes.
+    /// feedback for shorter waves. See docs/model.md §3.4 and docs/layer.md.
     #[serde(default)]
     pub coefficient_smoothing_a: f64,
 }

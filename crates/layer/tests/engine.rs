@@ -140,7 +140,7 @@ fn steady_squeeze_is_where_the_time_model_comes_to_rest() {
 
 #[test]
 fn published_model_is_laterally_unstable_at_the_inlet() {
-    // The finding behind the README's note: with the Roelands-type damper, a higher pressure
+    // The finding behind docs/layer.md's note: with the Roelands-type damper, a higher pressure
     // slows the compression where alpha_eff (p - E eps) > 1 - eps dE/dp. Fresh layer entering a
     // loaded contact (eps ~ 0, p ~ 0.3 p_h) is in that regime; a layer at rest (eps = p/Eo, no
     // compression going on) or lightly loaded is not. (Near eps = 1 above Eo the power law makes

@@ -595,7 +595,7 @@ fn layer_report(o: &LayerOutcome) -> String {
     if f.lateral_wiggle > 0.05 * s.p_h {
         let _ = writeln!(
             out,
-            "  note: row-to-row pressure wiggle {:.3} p_h: the lateral short-wave instability of the layer model (see README)",
+            "  note: row-to-row pressure wiggle {:.3} p_h: the lateral short-wave instability of the layer model (see docs/layer.md)",
             f.lateral_wiggle / s.p_h
         );
     }
