@@ -247,7 +247,7 @@ fn solve_scene_report(
     let nm = prm.scales.delta * 1e9;
     let rep = s.solve(&mut |_| {})?;
     let (hc, hmin) = s.films();
-    let pmax = s.levels[0].p.iter().cloned().fold(0.0, f64::max);
+    let pmax = s.pressure().iter().cloned().fold(0.0, f64::max);
     let per_cycle = rep
         .history
         .iter()

@@ -14,7 +14,7 @@ use ehl_core::Grid;
 use ehl_reynolds::*;
 /// The `n` points where `|f|` is largest on the finest grid: value, place, `P` and `H` there.
 fn largest(s: &ReynoldsSolver, f: &ndarray::Array2<f64>, n: usize) -> Vec<String> {
-    let (l, g) = (&s.levels[0], s.levels[0].grid);
+    let (l, g) = (s.finest(), s.grid());
     let mut v: Vec<((usize, usize), f64)> = f.indexed_iter().map(|(ix, v)| (ix, *v)).collect();
     v.sort_by(|a, b| b.1.abs().partial_cmp(&a.1.abs()).unwrap());
     v.iter()
@@ -88,7 +88,7 @@ fn main() {
         settings.coarsest_points = v;
     }
     let mut s = ReynoldsSolver::new(grid, prm, settings);
-    println!("levels {}", s.levels.len());
+    println!("levels {}", s.depth());
     if std::env::args().nth(2).as_deref() == Some("freeze") {
         s.settings.max_cycles = 30;
         let _ = s.solve(&mut |_| {});
@@ -102,7 +102,7 @@ fn main() {
                     c.residual, c.load_error, c.central_film, c.minimum_film
                 )
             });
-            let r = s.levels[0].residual(&s.prm);
+            let r = s.finest().residual(&prm);
             for line in largest(&s, &r, 3) {
                 print!(" | {line}");
             }
@@ -114,7 +114,7 @@ fn main() {
         let _ = s.solve(&mut |_| {});
         println!("steady {:?}", s.films());
         if std::env::var("PROFILE").is_ok() {
-            let l = &s.levels[0];
+            let l = s.finest();
             let g = l.grid;
             let r = l.residual(&s.prm);
             for line in largest(&s, &r, 5) {
@@ -134,7 +134,7 @@ fn main() {
                 }
             }
         }
-        let dt = s.levels[0].h
+        let dt = s.finest().h
             * std::env::var("COURANT").ok().and_then(|v| v.parse().ok()).unwrap_or(1.0);
         for k in 1..=std::env::var("STEPS").ok().and_then(|v| v.parse().ok()).unwrap_or(6) {
             let r = s.step(dt, &mut |c| {
@@ -145,7 +145,7 @@ fn main() {
             });
             println!("step {k}: {:?} films {:?}", r.map(|r| (r.converged, r.cycles)), s.films());
             if std::env::var("PROFILE").is_ok() {
-                let l = &s.levels[0];
+                let l = s.finest();
                 for line in largest(&s, &l.residual(&s.prm), 5) {
                     println!("   res {line}");
                 }
@@ -159,10 +159,10 @@ fn main() {
         s.settings.max_cycles = 1;
         s.settings.fmg_cycles = 0;
         for _ in 0..3 {
-            let before = s.levels[0].p.clone();
+            let before = s.finest().p.clone();
             let _ = s.solve(&mut |c| print!("load {:+.4e}", c.load_error));
-            let d = &s.levels[0].p - &before;
-            println!(" sum dP h^2 {:.3e}", d.sum() * s.levels[0].h * s.levels[0].h);
+            let d = &s.finest().p - &before;
+            println!(" sum dP h^2 {:.3e}", d.sum() * s.finest().h * s.finest().h);
             for line in largest(&s, &d, 6) {
                 println!("   dP {line}");
             }
@@ -180,10 +180,10 @@ fn main() {
         let rs = s.settings.relax;
         for k in 0..=400 {
             if k % 40 == 0 {
-                let r = s.levels[0].residual(&s.prm);
+                let r = s.finest().residual(&prm);
                 let pos: Vec<f64> = r
                     .iter()
-                    .zip(s.levels[0].p.iter())
+                    .zip(s.finest().p.iter())
                     .filter(|(_, p)| **p > 0.0)
                     .map(|(r, _)| *r)
                     .collect();
@@ -193,12 +193,13 @@ fn main() {
                 });
                 println!(
                     "sweep {k:>4} rms(P>0) {rms:.3e} max {mx:.3e} at x={:.3} y={:.3} P={:.4}",
-                    s.levels[0].grid.x(i),
-                    s.levels[0].grid.y(j),
-                    s.levels[0].p[[j, i]]
+                    s.finest().grid.x(i),
+                    s.finest().grid.y(j),
+                    s.finest().p[[j, i]]
                 );
             }
-            s.levels[0].relax(&s.prm, h00, &rs);
+            let prm = s.prm;
+            s.finest_mut().relax(&prm, h00, &rs);
         }
         return;
     }
@@ -210,5 +211,5 @@ fn main() {
     });
     println!("{:?}", rep.map(|r| (r.converged, r.cycles, r.wall_time_s)));
     let (hc, hmin) = s.films();
-    println!("films {hc:.17e} {hmin:.17e} p_sum {:.17e}", s.levels[0].p.sum());
+    println!("films {hc:.17e} {hmin:.17e} p_sum {:.17e}", s.finest().p.sum());
 }

@@ -227,8 +227,9 @@ impl ReynoldsError {
 }
 
 pub struct ReynoldsSolver {
-    /// Finest first.
-    pub levels: Vec<Level>,
+    /// Finest first. Callers read the answer through [`ReynoldsSolver::pressure`],
+    /// [`ReynoldsSolver::film`] and [`ReynoldsSolver::grid`].
+    pub(crate) levels: Vec<Level>,
     pub prm: ReynoldsParams,
     pub h00: f64,
     /// The settings as given: each solve starts from them.
@@ -297,6 +298,37 @@ impl ReynoldsSolver {
         }
         let h00 = self.h00;
         self.levels[0].update_film(h00);
+    }
+
+    /// The finest grid.
+    pub fn grid(&self) -> Grid {
+        self.levels[0].grid
+    }
+
+    /// Pressure `P` [p_h] on the finest grid.
+    pub fn pressure(&self) -> &Array2<f64> {
+        &self.levels[0].p
+    }
+
+    /// Film `H` [a²/R] on the finest grid.
+    pub fn film(&self) -> &Array2<f64> {
+        &self.levels[0].film
+    }
+
+    /// How many grids the hierarchy has.
+    pub fn depth(&self) -> usize {
+        self.levels.len()
+    }
+
+    /// The finest level itself, for probes that inspect it sweep by sweep (`examples/m20.rs`);
+    /// a solve needs none of this.
+    pub fn finest(&self) -> &Level {
+        &self.levels[0]
+    }
+
+    /// The finest level to relax by hand, for the same probes.
+    pub fn finest_mut(&mut self) -> &mut Level {
+        &mut self.levels[0]
     }
 
     /// Sets the surfaces' speed as a factor of the reference speed the scales are built on

@@ -100,7 +100,7 @@ fn steps_in_the_seeds_regime_hold_its_steady_state() {
     let mut s = ReynoldsSolver::new(grid, common::seed(), ReynoldsSettings::default());
     assert!(s.solve(&mut |_| {}).unwrap().converged);
     let (hc0, hmin0) = s.films();
-    let dt = s.levels[0].h;
+    let dt = s.grid().dx();
     for k in 1..=5 {
         let r = s.step(dt, &mut |_| {}).unwrap_or_else(|e| panic!("step {k}: {e}"));
         assert!(r.converged, "step {k}: {:?}", r.diagnosis);

@@ -212,14 +212,14 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
         Some(r) => Some(run_transient(scene, r, &prm, &mut solver, dents)?),
         None => None,
     };
-    let f = &solver.levels[0];
+    let (fp, ff) = (solver.pressure(), solver.film());
     Ok(ReynoldsOutcome {
         scene: scene.clone(),
         view: view.clone(),
         prm,
         grid,
-        p: f.p.clone(),
-        film: f.film.clone(),
+        p: fp.clone(),
+        film: ff.clone(),
         h00: solver.h00,
         report,
         formulas,
@@ -285,7 +285,7 @@ impl Transient for ReynoldsMarch<'_> {
         Ok(Step { solves: 1, iterations: rep.cycles, error_estimate: None })
     }
     fn row(&self, step: &Step, ob: &Observables) -> TransientRow {
-        let (f, s) = (&self.solver.levels[0], self.solver.prm.scales);
+        let (p, s) = (self.solver.pressure(), self.solver.prm.scales);
         let (jc, ic) = self.centre;
         let t_s = self.time();
         TransientRow {
@@ -294,7 +294,7 @@ impl Transient for ReynoldsMarch<'_> {
             central_film_m: ob.central_film_m,
             minimum_film_m: ob.minimum_film_m,
             max_pressure_pa: ob.max_pressure_pa,
-            central_pressure_pa: s.p_si(f.p[[jc, ic]]),
+            central_pressure_pa: s.p_si(p[[jc, ic]]),
             h00_m: s.h_si(self.solver.h00),
             cycles: step.iterations,
         }
@@ -305,12 +305,11 @@ impl Transient for ReynoldsMarch<'_> {
         vec![r.central_film_m / h, r.minimum_film_m / h, r.max_pressure_pa / p_h]
     }
     fn snapshot(&self) -> Self::Snapshot {
-        let f = &self.solver.levels[0];
-        (f.p.clone(), f.film.clone())
+        (self.solver.pressure().clone(), self.solver.film().clone())
     }
     fn observables(&self) -> Observables {
-        let f = &self.solver.levels[0];
-        Observables::from_fields(&f.grid, &self.solver.prm.scales, &f.p, &f.film)
+        let s = &self.solver;
+        Observables::from_fields(&s.grid(), &s.prm.scales, s.pressure(), s.film())
     }
 }
 
@@ -330,7 +329,7 @@ fn run_transient(
     // the solver's scales (`λ̄`, the time unit `a/u_m`).
     let u_m = 0.5 * u_sum;
     let motion = run.kinematics(u_m).with_context(|| format!("scene `{}`", scene.name))?;
-    let g = solver.levels[0].grid;
+    let g = solver.grid();
     let plan = drive::Plan::from_run(run, &scene.passing(), &g, s.a, &motion, None)
         .with_context(|| format!("scene `{}`: run", scene.name))?;
     // The solver's backward differences take equal steps: one phase of them.
