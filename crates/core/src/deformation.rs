@@ -111,6 +111,7 @@ pub struct Deformation {
 type SpectraPair = (Vec<Complex<f64>>, Vec<Complex<f64>>);
 
 impl Deformation {
+    /// The operator of `grid`: influence coefficients, their spectrum and the FFT plans, built once.
     pub fn new(grid: Grid) -> Self {
         let mx = fast_length(2 * (grid.nx - 1)).max(2);
         let my = fast_length(2 * (grid.ny - 1)).max(2);
@@ -138,6 +139,7 @@ impl Deformation {
         op
     }
 
+    /// The grid the operator is built on.
     pub fn grid(&self) -> &Grid {
         &self.grid
     }

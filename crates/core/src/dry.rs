@@ -84,6 +84,7 @@ pub struct DryReport {
 pub struct DrySolver {
     /// Finest first.
     levels: Vec<Deformation>,
+    /// Tolerance, iteration limit, preconditioning and nested start.
     pub settings: DrySettings,
 }
 
@@ -91,6 +92,7 @@ pub struct DrySolver {
 const MIN_NESTED_POINTS: usize = 17;
 
 impl DrySolver {
+    /// A solver for `grid` with `settings` (the deformation operator built once).
     pub fn new(grid: Grid, settings: DrySettings) -> Self {
         let mut levels = vec![Deformation::new(grid)];
         if settings.nested {
@@ -101,6 +103,7 @@ impl DrySolver {
         Self { levels, settings }
     }
 
+    /// The grid it solves on.
     pub fn grid(&self) -> &Grid {
         self.levels[0].grid()
     }

@@ -8,15 +8,22 @@ use serde::{Deserialize, Serialize};
 /// so that lines along `x` (the rolling direction) are contiguous.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Grid {
+    /// Points along `x`.
     pub nx: usize,
+    /// Points along `y`.
     pub ny: usize,
+    /// Smallest `x` [a].
     pub x_min: f64,
+    /// Largest `x` [a].
     pub x_max: f64,
+    /// Smallest `y` [a].
     pub y_min: f64,
+    /// Largest `y` [a].
     pub y_max: f64,
 }
 
 impl Grid {
+    /// A grid of `nx × ny` points over `x = (min, max)`, `y = (min, max)` [a].
     pub fn new(nx: usize, ny: usize, x: (f64, f64), y: (f64, f64)) -> Self {
         assert!(nx >= 2 && ny >= 2 && x.1 > x.0 && y.1 > y.0, "degenerate grid");
         Self { nx, ny, x_min: x.0, x_max: x.1, y_min: y.0, y_max: y.1 }
@@ -37,21 +44,27 @@ impl Grid {
     pub fn cell_area(&self) -> f64 {
         self.dx() * self.dy()
     }
+    /// `x` of column `i` [a].
     pub fn x(&self, i: usize) -> f64 {
         self.x_min + i as f64 * self.dx()
     }
+    /// `y` of row `j` [a].
     pub fn y(&self, j: usize) -> f64 {
         self.y_min + j as f64 * self.dy()
     }
+    /// Every column's `x` [a].
     pub fn xs(&self) -> Vec<f64> {
         (0..self.nx).map(|i| self.x(i)).collect()
     }
+    /// Every row's `y` [a].
     pub fn ys(&self) -> Vec<f64> {
         (0..self.ny).map(|j| self.y(j)).collect()
     }
+    /// `(ny, nx)`: the shape of a field on this grid.
     pub fn shape(&self) -> (usize, usize) {
         (self.ny, self.nx)
     }
+    /// A field of zeros on this grid.
     pub fn zeros(&self) -> Array2<f64> {
         Array2::zeros(self.shape())
     }

@@ -10,9 +10,19 @@ use serde::{Deserialize, Serialize};
 pub enum Viscosity {
     /// Roelands: `η̄ = exp((ln η0 + 9.67)(−1 + (1 + P p_h/p0)^z))`; `s = ln η0 + 9.67`,
     /// `p0` in units of `p_h`.
-    Roelands { s: f64, z: f64, p0: f64 },
+    Roelands {
+        /// `ln η0 + 9.67` (η0 in Pa s).
+        s: f64,
+        /// The Roelands index `z`.
+        z: f64,
+        /// The Roelands pressure `p0` [p_h].
+        p0: f64,
+    },
     /// Barus: `η̄ = exp(ᾱ P)`, `ᾱ = α p_h`.
-    Barus { alpha_bar: f64 },
+    Barus {
+        /// `ᾱ = α p_h`.
+        alpha_bar: f64,
+    },
     /// Constant viscosity.
     Isoviscous,
 }
@@ -58,13 +68,16 @@ impl Viscosity {
 pub enum Density {
     /// Dowson–Higginson: `ρ̄ = (5.9e8 + 1.34 p) / (5.9e8 + p)`, `p = P p_h` in Pa.
     DowsonHigginson {
+        /// The Hertz pressure [Pa] that `P` is in units of.
         p_h: f64,
     },
+    /// Constant density.
     Incompressible,
 }
 
 impl Density {
     #[inline]
+    /// `ρ̄` at pressure `p` [p_h].
     pub fn rho(&self, p: f64) -> f64 {
         match *self {
             Density::DowsonHigginson { p_h } => {

@@ -44,12 +44,37 @@ pub enum NumericError {
     #[error(
         "{quantity} became non-finite ({value}) at grid point (i={i}, j={j}) in iteration {iteration}"
     )]
-    NonFinite { quantity: &'static str, value: f64, i: usize, j: usize, iteration: usize },
+    /// A field became NaN or infinite.
+    NonFinite {
+        /// Which field (pressure, gap, deformation, strain).
+        quantity: &'static str,
+        /// The value found.
+        value: f64,
+        /// Column.
+        i: usize,
+        /// Row.
+        j: usize,
+        /// The iteration (or step) it was found in.
+        iteration: usize,
+    },
     #[error(
         "dry contact solve did not converge: residual {residual:.3e} > tolerance {tolerance:.1e} after {iterations} iterations on {nx}x{ny}"
     )]
-    NotConverged { residual: f64, tolerance: f64, iterations: usize, nx: usize, ny: usize },
+    /// The iteration limit came before the tolerance.
+    NotConverged {
+        /// The last residual [a²/R].
+        residual: f64,
+        /// The tolerance asked for [a²/R].
+        tolerance: f64,
+        /// Iterations run.
+        iterations: usize,
+        /// Grid points along `x`.
+        nx: usize,
+        /// Grid points along `y`.
+        ny: usize,
+    },
     #[error("{0}")]
+    /// Input refused before any work, with what was wrong.
     Invalid(String),
 }
 

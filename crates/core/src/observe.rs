@@ -18,13 +18,16 @@ pub struct Observables {
     pub central_film_m: f64,
     /// Smallest film over the domain [m] and where, `(x, y)` [m].
     pub minimum_film_m: f64,
+    /// Where the minimum film is: `(x, y)` [m].
     pub minimum_film_at_m: (f64, f64),
     /// Largest pressure [Pa] and where, `(x, y)` [m].
     pub max_pressure_pa: f64,
+    /// Where the maximum pressure is: `(x, y)` [m].
     pub max_pressure_at_m: (f64, f64),
     /// Extent of `p ≥ 0.01 p_h` along `y = 0` and along `x = 0` [m], the crossings linearly
     /// interpolated between nodes.
     pub contact_extent_x_m: f64,
+    /// Contact extent along `x = 0` [m] (where `p ≥ 1 %` of `p_h`).
     pub contact_extent_y_m: f64,
     /// `∬p / F − 1`.
     pub load_error: f64,

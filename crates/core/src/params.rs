@@ -64,6 +64,7 @@ pub struct HertzScales {
 }
 
 impl HertzScales {
+    /// The scales of `c`: `a`, `p_h`, `a²/R`.
     pub fn new(c: &Contact) -> Self {
         let a = (3.0 * c.load * c.ball_radius / (2.0 * c.reduced_modulus)).cbrt();
         let p_h = 3.0 * c.load / (2.0 * PI * a * a);
@@ -105,7 +106,9 @@ impl HertzScales {
 /// `M = F / (E' R²) U^(−3/4)`, `L = α E' U^(1/4)`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Moes {
+    /// Moes' dimensionless load `M`.
     pub m: f64,
+    /// Moes' material parameter `L`.
     pub l: f64,
 }
 

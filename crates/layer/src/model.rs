@@ -35,8 +35,10 @@ pub struct LayerSpec {
     #[serde(default)]
     pub laws: LawSet,
     #[serde(default)]
+    /// How the damper constant is read: a factor of `η0`, or Pa s (docs/model.md §3.3).
     pub damper_reading: DamperReading,
     #[serde(default)]
+    /// The modulus law `E(p, ε)` (docs/model.md §3.3).
     pub modulus_law: ModulusLaw,
     /// Reference pressure `p_ref` [Pa] of the modulus law; `None`: `p_h` (the paper's choice).
     #[serde(default)]
@@ -88,7 +90,9 @@ impl LayerSpec {
 
 /// Everything the layer model needs, in Hertz units, with the contact solver of its grid.
 pub struct LayerModel {
+    /// Hertz scales of the contact.
     pub scales: HertzScales,
+    /// The grid [a].
     pub grid: Grid,
     /// The supplied layer's thickness `l0 / (a²/R)` …
     pub l0: f64,
@@ -98,8 +102,11 @@ pub struct LayerModel {
     pub eo: f64,
     /// `p_ref / p_h`.
     pub p_ref: f64,
+    /// The modulus law.
     pub law: ModulusLaw,
+    /// The damper `η(p)` [p_h s].
     pub damper: Damper,
+    /// The layer as the scene gave it.
     pub spec: LayerSpec,
     /// How the surfaces move: the speed `u1(t)` [m/s] and the travel that carries the layer,
     /// its supply and the features.
@@ -108,6 +115,7 @@ pub struct LayerModel {
     dents: Vec<Dent>,
     /// Holes in the supply passing, likewise.
     holes: Vec<Hole>,
+    /// The dry contact solver of the grid.
     pub solver: DrySolver,
     /// `(X² + Y²)/2`.
     shape: Array2<f64>,
@@ -209,6 +217,7 @@ impl LayerModel {
     pub fn rate(&self, p: f64, pc: f64, eps: f64) -> f64 {
         (p - self.modulus(pc, eps) * eps) / self.eta(pc)
     }
+    /// The strain rate at every point [1/s] (coefficients smoothed when asked).
     pub fn rate_field(&self, p: &Array2<f64>, eps: &Array2<f64>) -> Array2<f64> {
         let smoothed;
         let pc = if self.spec.coefficient_smoothing_a > 0.0 {
@@ -381,9 +390,11 @@ pub fn gaussian_smooth(f: &Array2<f64>, grid: &Grid, sigma_x: f64, sigma_y: f64)
 pub struct AffineLayerSolve {
     /// Strain `ε = min(A + B p, 1)`, 1 where no layer is left.
     pub eps: Array2<f64>,
+    /// Approach `H0` [a²/R].
     pub h0: f64,
     /// Contact solves (one, plus one per growth of the no-layer set) and their iterations.
     pub solves: usize,
+    /// Contact iterations of the step.
     pub iterations: usize,
 }
 
@@ -528,6 +539,7 @@ pub fn lateral_wiggle(p: &Array2<f64>) -> f64 {
 }
 
 impl Monitor {
+    /// The monitor of state `s` (SI), with the step's contact iterations.
     pub fn of(model: &LayerModel, s: &LayerState, iterations: usize) -> Self {
         let g = &model.grid;
         let sc = &model.scales;

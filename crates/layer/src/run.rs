@@ -28,6 +28,7 @@ pub struct SqueezeReport {
     pub passes: usize,
     /// Contact-solver iterations, all passes.
     pub iterations: usize,
+    /// Wall time of the solve [s].
     pub wall_time_s: f64,
 }
 
@@ -84,13 +85,16 @@ pub fn squeeze_steady(m: &LayerModel) -> Result<(LayerState, SqueezeReport), Lay
 /// A field snapshot, in Hertz units.
 #[derive(Clone, Debug)]
 pub struct Snapshot {
+    /// Strain.
     pub eps: Array2<f64>,
+    /// Pressure [p_h].
     pub p: Array2<f64>,
     /// Layer thickness [a²/R].
     pub l: Array2<f64>,
 }
 
 impl Snapshot {
+    /// The snapshot of state `s`.
     pub fn of(m: &LayerModel, s: &LayerState) -> Self {
         Snapshot { eps: s.eps.clone(), p: s.p.clone(), l: s.thickness(m) }
     }

@@ -93,6 +93,7 @@ pub struct SteadyReport {
     pub strain_residual: f64,
     /// Largest strain mismatch after each finest-grid iteration.
     pub history: Vec<f64>,
+    /// Wall time of the solve [s].
     pub wall_time_s: f64,
 }
 

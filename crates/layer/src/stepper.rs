@@ -31,32 +31,66 @@ pub enum Scheme {
 #[derive(Debug, Clone, thiserror::Error, PartialEq)]
 pub enum LayerError {
     #[error("at step {step} (t = {t:.6e} s): {source}")]
-    Contact { step: usize, t: f64, source: NumericError },
+    /// A contact solve failed inside a step.
+    Contact {
+        /// The step it failed in (1 the first).
+        step: usize,
+        /// Time at the end of that step [s].
+        t: f64,
+        /// The contact solver's diagnosis.
+        source: NumericError,
+    },
     #[error(
         "explicit stepping is unstable at step {step} (t = {t:.6e} s): the strain at (x = {x:.4} a, y = {y:.4} a) oscillates with growing amplitude ({amplitude:.3e}) for {count} steps; Δt = {dt:.3e} s exceeds the stability limit (estimate {limit:.3e} s). Use a smaller step (more steps per cell) or the implicit scheme."
     )]
+    /// The explicit scheme's strain oscillates with growing amplitude: its step is too long.
     Unstable {
+        /// The step it was seen at.
         step: usize,
+        /// Time [s].
         t: f64,
+        /// Where: `x` [a].
         x: f64,
+        /// Where: `y` [a].
         y: f64,
+        /// The last strain change there.
         amplitude: f64,
+        /// Growing sign flips in a row.
         count: usize,
+        /// The step [s].
         dt: f64,
+        /// The estimated stability limit [s].
         limit: f64,
     },
     #[error(
         "steady solve did not converge at iteration {iteration}: the strain the contact carried and the strain marched from its pressure differ by {residual:.3e} (tolerance {tolerance:.1e}) at (x = {x:.4} a, y = {y:.4} a); {trend}"
     )]
-    Steady { iteration: usize, residual: f64, tolerance: f64, x: f64, y: f64, trend: String },
+    /// The direct steady solve did not converge.
+    Steady {
+        /// The iteration it stopped at.
+        iteration: usize,
+        /// The largest strain difference.
+        residual: f64,
+        /// The tolerance asked for.
+        tolerance: f64,
+        /// Where: `x` [a].
+        x: f64,
+        /// Where: `y` [a].
+        y: f64,
+        /// What the recent iterations did (stall, slow, cycle).
+        trend: String,
+    },
     #[error("{0}")]
+    /// A model that cannot be run as asked (no rolling, a feature in a steady solve).
     Setup(String),
 }
 
 /// What one step cost, and its error estimate where the scheme gives one.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StepInfo {
+    /// Contact solves.
     pub solves: usize,
+    /// Contact iterations, summed over the solves.
     pub iterations: usize,
     /// Estimated local strain error of the step (RMS over the layer's active points).
     pub error_estimate: Option<f64>,
@@ -76,6 +110,7 @@ struct Level {
 /// Steps a [`LayerState`]; holds the history the multistep scheme needs.
 #[derive(Clone)]
 pub struct Stepper {
+    /// Explicit or implicit.
     pub scheme: Scheme,
     /// Extra passes re-evaluating `E`, `η` at the new state (implicit scheme).
     pub picard: usize,
@@ -83,6 +118,7 @@ pub struct Stepper {
     history: Vec<Level>,
     /// Explicit-instability watch: per point, consecutive growing sign flips of the strain change.
     flips: Option<(Array2<f64>, Array2<u32>)>,
+    /// Steps taken.
     pub steps: usize,
     /// Compute the local error estimate (error control); off for fixed steps, it costs shifts.
     pub estimate_error: bool,
@@ -98,6 +134,7 @@ pub fn stability_estimate(m: &LayerModel) -> f64 {
 }
 
 impl Stepper {
+    /// A stepper with no history yet.
     pub fn new(scheme: Scheme, picard: usize) -> Self {
         Self { scheme, picard, history: vec![], flips: None, steps: 0, estimate_error: false }
     }

@@ -55,8 +55,11 @@ impl Default for RelaxSettings {
     }
 }
 
+/// One grid of the hierarchy: pressure, film, right-hand side, the kernel and the laws' cache; the discrete operator and its relaxation.
 pub struct Level {
+    /// The grid [a].
     pub grid: Grid,
+    /// The deformation operator of this grid.
     pub op: Deformation,
     /// Spacing (equal in X and Y) [a].
     pub h: f64,
@@ -228,6 +231,7 @@ struct LineWork {
 }
 
 impl Level {
+    /// A level on `grid` (square cells), empty.
     pub fn new(grid: Grid) -> Self {
         assert!((grid.dx() - grid.dy()).abs() < 1e-12 * grid.dx(), "square cells required");
         let kernel: [Vec<f64>; 3] = [0, 1, 2].map(|dj| {

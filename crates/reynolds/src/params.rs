@@ -9,27 +9,37 @@ use serde::Serialize;
 #[serde(rename_all = "kebab-case")]
 pub enum ViscosityLaw {
     #[default]
+    /// Roelands' law.
     Roelands,
+    /// Barus' law, with Roelands' slope at ambient pressure.
     Barus,
+    /// Constant viscosity.
     Isoviscous,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, Serialize, Default)]
 #[serde(rename_all = "kebab-case")]
+/// Which pressure–density law the fluid follows.
 pub enum DensityLaw {
     #[default]
+    /// Dowson–Higginson.
     DowsonHigginson,
+    /// Constant density.
     Incompressible,
 }
 
 /// Everything the dimensionless Reynolds equation needs.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ReynoldsParams {
+    /// Hertz scales of the contact.
     pub scales: HertzScales,
+    /// Moes' `M`, `L`.
     pub moes: Moes,
     /// `λ̄ = 12 η0 u_m R² / (a³ p_h)`, `u_m` the mean velocity.
     pub lambda_bar: f64,
+    /// The viscosity law in Hertz units.
     pub viscosity: Viscosity,
+    /// The density law in Hertz units.
     pub density: Density,
 }
 

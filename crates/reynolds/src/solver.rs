@@ -35,6 +35,7 @@ pub struct ReynoldsSettings {
     pub max_cycles: usize,
     /// Sweeps before and after the coarse-grid correction.
     pub pre_sweeps: usize,
+    /// Relaxation sweeps after each coarse-grid correction.
     pub post_sweeps: usize,
     /// Sweeps on the coarsest grid.
     pub coarse_sweeps: usize,
@@ -74,6 +75,7 @@ pub struct ReynoldsSettings {
     pub fallback_lag: f64,
     /// Time discretisation of transient runs.
     pub time_scheme: TimeScheme,
+    /// The line relaxation's settings.
     pub relax: RelaxSettings,
     /// When a steady solve stops.
     pub stop: StopRule,
@@ -120,6 +122,7 @@ impl Default for ReynoldsSettings {
 /// One cycle's record.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct CycleLog {
+    /// The cycle (1 the first).
     pub cycle: usize,
     /// Points per side of the grid cycled (coarser than the finest during the full-multigrid
     /// start).
@@ -128,6 +131,7 @@ pub struct CycleLog {
     pub residual: f64,
     /// `∬P / (2π/3) − 1`.
     pub load_error: f64,
+    /// `H00` after the cycle [a²/R].
     pub h00: f64,
     /// Central film `H(0, 0)` [a²/R].
     pub central_film: f64,
@@ -155,10 +159,13 @@ pub enum FailureKind {
 /// sentence a user reads.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Diagnosis {
+    /// What kind of failure.
     pub kind: FailureKind,
+    /// The cycle it was given up at.
     pub cycle: usize,
     /// `(x, y)` [a] of the closed film.
     pub at: Option<(f64, f64)>,
+    /// The diagnosis in words.
     pub text: String,
 }
 
@@ -171,11 +178,15 @@ impl std::fmt::Display for Diagnosis {
 /// A solve's outcome.
 #[derive(Clone, Debug, Serialize)]
 pub struct ReynoldsReport {
+    /// Whether the stop rule was met.
     pub converged: bool,
     /// Why not converged: what, where, at which cycle.
     pub diagnosis: Option<Diagnosis>,
+    /// Cycles run (both attempts).
     pub cycles: usize,
+    /// Every cycle's record.
     pub history: Vec<CycleLog>,
+    /// Wall time [s].
     pub wall_time_s: f64,
     /// The laws' lag this answer was relaxed with (`relax.coefficient_lag`; 0: none).
     pub lagged_laws: f64,
@@ -189,8 +200,11 @@ pub struct ReynoldsReport {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Divergence {
+    /// The pressure.
     NonFinitePressure,
+    /// The film.
     NonFiniteFilm,
+    /// The residual.
     NonFiniteResidual,
     /// The load error past 1e3: growth by orders of magnitude before it reaches infinity.
     Runaway,
@@ -202,13 +216,19 @@ pub enum ReynoldsError {
     #[error(
         "Reynolds solve diverged at cycle {cycle}: {what} (last central film {film:e}, load error {load:e})"
     )]
+    /// The solve ran away: a non-finite value, or the load error past 1e3.
     Diverged {
+        /// The cycle.
         cycle: usize,
+        /// Which quantity.
         kind: Divergence,
         /// `(x, y)` [a] of the first non-finite value, or of the pressure peak.
         at: (f64, f64),
+        /// What happened, in words.
         what: String,
+        /// The last central film [a²/R].
         film: f64,
+        /// The last load error.
         load: f64,
     },
     /// A time step asked of a solver with no steady state to step from.
@@ -226,11 +246,14 @@ impl ReynoldsError {
     }
 }
 
+/// The Reynolds EHL solver: FAS multigrid over a hierarchy of levels, steady solves and time steps.
 pub struct ReynoldsSolver {
     /// Finest first. Callers read the answer through [`ReynoldsSolver::pressure`],
     /// [`ReynoldsSolver::film`] and [`ReynoldsSolver::grid`].
     pub(crate) levels: Vec<Level>,
+    /// The dimensionless parameters.
     pub prm: ReynoldsParams,
+    /// The film constant `H00` [a²/R] the force balance sets.
     pub h00: f64,
     /// The settings as given: each solve starts from them.
     pub settings: ReynoldsSettings,

@@ -32,6 +32,7 @@ pub struct Scene {
     /// scene, for `ehl compare`). Exactly one of `model` and `models` is given.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub models: Vec<Model>,
+    /// Ball, load, modulus and rolling speed (SI).
     pub conditions: Conditions,
     /// Lubricant (the layer's damper, the Reynolds fluid); required by those models.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -50,11 +51,15 @@ pub struct Scene {
     /// The Reynolds model's laws, optional Moes input and solver settings.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reynolds: Option<ReynoldsSpec>,
+    /// The computational rectangle [a].
     pub domain: Domain,
+    /// Points per side.
     pub grid: GridSpec,
     #[serde(default)]
+    /// The dry contact solver's settings (every model's contact).
     pub solver: DrySettings,
     #[serde(default)]
+    /// Which files a run writes.
     pub outputs: Outputs,
 }
 
@@ -103,14 +108,17 @@ impl Model {
 #[serde(deny_unknown_fields)]
 pub struct ReynoldsSpec {
     #[serde(default)]
+    /// The viscosity law.
     pub viscosity: ViscosityLaw,
     #[serde(default)]
+    /// The density law.
     pub density: DensityLaw,
     /// Moes' `M`, `L`: when given, they set the load and the (pure-rolling) velocity, with `R`,
     /// `E'`, `η0` and `α` kept; `conditions.load_n` and `rolling_velocity_m_s` are then ignored.
     #[serde(default)]
     pub moes: Option<ehl_core::Moes>,
     #[serde(default)]
+    /// The multigrid solver's settings.
     pub solver: ReynoldsSettings,
 }
 
@@ -343,6 +351,7 @@ pub struct LubricantSpec {
 }
 
 impl LubricantSpec {
+    /// The lubricant in the core's terms.
     pub fn lubricant(&self) -> Lubricant {
         Lubricant {
             eta0: self.eta0_pa_s,
@@ -524,12 +533,16 @@ pub struct RunSpec {
     /// Where the march starts (required by `march`; `steady` has no start).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub start: Option<StartState>,
+    /// How the surfaces move (docs/scenes.md, Motion).
     pub motion: Motion,
     #[serde(default)]
+    /// Dents in the ball passing.
     pub features: Vec<Feature>,
     #[serde(default)]
+    /// Steps: scheme, steps per cell, fixed step or error control.
     pub time: TimeSettings,
     #[serde(default)]
+    /// When the march stops.
     pub stop: StopSettings,
     /// Times [s, from the start of the motion] at which fields are written …
     #[serde(default)]
@@ -594,6 +607,7 @@ impl RunSpec {
     }
 }
 impl Conditions {
+    /// The contact in the core's terms.
     pub fn contact(&self) -> Contact {
         Contact {
             ball_radius: self.ball_radius_m,
@@ -617,7 +631,9 @@ pub struct Domain {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GridSpec {
+    /// Points along `x`.
     pub nx: usize,
+    /// Points along `y`.
     pub ny: usize,
 }
 
@@ -643,13 +659,38 @@ impl Default for Outputs {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SceneError {
     #[error("scene {origin}: {path}: {message}")]
-    Parse { origin: String, path: String, message: String },
+    /// The JSON does not parse, or a field is missing or unknown.
+    Parse {
+        /// Which scene.
+        origin: String,
+        /// The field's path.
+        path: String,
+        /// The parser's words.
+        message: String,
+    },
     #[error("scene {origin}: field `{field}` = {value} is out of range: {allowed}")]
-    Range { origin: String, field: String, value: String, allowed: String },
+    /// A value out of its range.
+    Range {
+        /// Which scene.
+        origin: String,
+        /// The field's path.
+        field: String,
+        /// What it holds.
+        value: String,
+        /// What is allowed.
+        allowed: String,
+    },
     #[error("no built-in scene or file named `{0}` (built-ins: {list})", list = builtin_names().join(", "))]
+    /// No built-in scene or file of that name.
     Unknown(String),
     #[error("scene file {path}: {message}")]
-    Io { path: String, message: String },
+    /// The scene file cannot be read.
+    Io {
+        /// The file.
+        path: String,
+        /// The system's words.
+        message: String,
+    },
 }
 
 macro_rules! builtin_scenes {
@@ -729,6 +770,7 @@ impl Scene {
         Ok(scene)
     }
 
+    /// The scene as JSON, every default filled in.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap()
     }
@@ -741,6 +783,7 @@ impl Scene {
         Ok(s)
     }
 
+    /// The scene's grid [a].
     pub fn grid(&self) -> Grid {
         Grid::new(
             self.grid.nx,

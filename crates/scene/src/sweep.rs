@@ -13,6 +13,7 @@ pub struct Sweep {
     /// Short name, used for the output folder.
     pub name: String,
     #[serde(default)]
+    /// One line on what the sweep asks.
     pub description: String,
     /// The scene: a built-in name or a path (relative to the sweep file's folder).
     pub scene: String,
@@ -43,6 +44,7 @@ fn default_flag() -> f64 {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Axis {
+    /// The field varied.
     pub parameter: Parameter,
     /// Explicit values …
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -62,16 +64,20 @@ pub struct Axis {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Parameter {
     #[serde(rename = "conditions.rolling_velocity_m_s")]
+    /// The rolling speed [m/s].
     RollingVelocity,
     #[serde(rename = "conditions.load_n")]
+    /// The load [N].
     Load,
     /// The oil supply's thickness (every model that reads a supply; the name it had when only
     /// the layer model did is still read).
     #[serde(rename = "supply.thickness_m", alias = "layer.supply_thickness_m")]
     SupplyThickness,
     #[serde(rename = "lubricant.eta0_pa_s")]
+    /// The oil's viscosity at ambient pressure [Pa s].
     Eta0,
     #[serde(rename = "lubricant.alpha_per_pa")]
+    /// The pressure–viscosity coefficient [1/Pa].
     Alpha,
     /// Moes' load parameter: sets the load and the velocity with `L`, `R`, `E'`, `η0`, `α` kept.
     #[serde(rename = "moes.m")]
@@ -144,6 +150,7 @@ impl Sweep {
         Ok(sweep)
     }
 
+    /// The sweep as JSON.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap()
     }

@@ -16,13 +16,16 @@ use std::time::Instant;
 
 /// One model's part of a comparison.
 pub struct Entry {
+    /// Which model.
     pub model: Model,
     /// The outcome, or the diagnosis of why there is none.
     pub outcome: Result<Box<dyn Outcome>, String>,
+    /// Wall time of its run [s].
     pub wall_time_s: f64,
 }
 
 impl Entry {
+    /// The model's name as scenes spell it.
     pub fn name(&self) -> String {
         model_name(self.model)
     }
@@ -35,7 +38,9 @@ pub fn model_name(m: Model) -> String {
 
 /// Every model's run of one scene.
 pub struct Comparison {
+    /// The comparison scene.
     pub scene: Scene,
+    /// One entry per listed model, in the scene's order.
     pub entries: Vec<Entry>,
 }
 
@@ -56,10 +61,12 @@ pub fn run(scene: &Scene) -> Comparison {
 }
 
 impl Comparison {
+    /// Whether every model gave an answer.
     pub fn all_converged(&self) -> bool {
         self.entries.iter().all(|e| e.outcome.is_ok())
     }
 
+    /// The Hertz scales of the scene's contact.
     pub fn scales(&self) -> HertzScales {
         HertzScales::new(&self.scene.conditions.contact())
     }

@@ -26,6 +26,7 @@ pub trait Transient {
     fn row(&self, step: &Step, observed: &Observables) -> Self::Row;
     /// The quantities of `row` the steady rule watches, each divided by its scale.
     fn monitors(&self, row: &Self::Row) -> Vec<f64>;
+    /// The fields kept at a snapshot time.
     fn snapshot(&self) -> Self::Snapshot;
     /// The standard observables of the current state (one definition for every model: what a
     /// comparison of histories overlays).
@@ -34,6 +35,7 @@ pub trait Transient {
     fn save(&self) -> Option<Self::Saved> {
         None
     }
+    /// Returns to a state [`Transient::save`] took.
     fn restore(&mut self, _saved: Self::Saved) {}
 }
 
@@ -41,8 +43,11 @@ pub trait Transient {
 /// has none for its first steps).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Step {
+    /// Contact (or multigrid) solves in the step.
     pub solves: usize,
+    /// Their iterations (or cycles), summed.
     pub iterations: usize,
+    /// The local error estimate, where asked and available.
     pub error_estimate: Option<f64>,
 }
 
@@ -50,18 +55,31 @@ pub struct Step {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Steps {
     /// Equal steps [s].
-    Fixed { dt_s: f64 },
+    Fixed {
+        /// The step [s].
+        dt_s: f64,
+    },
     /// Error control: the local error estimate kept below `tolerance`, a method of `order`
     /// (the error scales as `dt^order`), starting from `dt0_s`.
-    Controlled { dt0_s: f64, tolerance: f64, order: f64 },
+    Controlled {
+        /// The first step [s].
+        dt0_s: f64,
+        /// The local error to stay below.
+        tolerance: f64,
+        /// The order of the error estimate in the step.
+        order: f64,
+    },
 }
 
 /// Steady when every monitor changes less than `tolerance` over `window_s`, once `min_time_s`
 /// has passed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SteadyRule {
+    /// Largest change of a monitor over the window that counts as steady.
     pub tolerance: f64,
+    /// The window [s].
     pub window_s: f64,
+    /// No verdict before this time [s].
     pub min_time_s: f64,
     /// The window as the scene states it, for the stop reason.
     pub window_text: String,
@@ -218,13 +236,19 @@ pub struct Record<R, S> {
     pub observed: Vec<(f64, Observables)>,
     /// At the snapshot times: the time it was taken [s] and the fields.
     pub snapshots: Vec<(f64, S)>,
+    /// Steps taken.
     pub steps: usize,
+    /// Steps rejected by error control.
     pub rejected_steps: usize,
+    /// Solves, summed over the steps.
     pub solves: usize,
+    /// Iterations, summed over the steps.
     pub iterations: usize,
+    /// Wall time of the march [s].
     pub wall_time_s: f64,
     /// Ended by its rule (steady, or a feature's end), not by the time limit.
     pub finished: bool,
+    /// Why it stopped, in words.
     pub stop_reason: String,
     /// Step sizes used [s]: (smallest, largest).
     pub dt_range: (f64, f64),

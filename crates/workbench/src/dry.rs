@@ -25,8 +25,11 @@ impl ContactModel for Dry {
 
 /// A dry contact solution, in Hertz units, with its comparison against Hertz.
 pub struct DryOutcome {
+    /// The scene run.
     pub scene: Scene,
+    /// Hertz scales.
     pub scales: HertzScales,
+    /// The grid [a].
     pub grid: Grid,
     /// Pressure `P` [p_h].
     pub p: Array2<f64>,
@@ -34,7 +37,9 @@ pub struct DryOutcome {
     pub w: Array2<f64>,
     /// Gap `H` [a²/R].
     pub gap: Array2<f64>,
+    /// The solver's report.
     pub report: DryReport,
+    /// The answer against Hertz's.
     pub hertz: Comparison,
     /// Building the operators (kernel spectra, FFT plans) [s].
     pub setup_time_s: f64,

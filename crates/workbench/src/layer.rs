@@ -18,8 +18,11 @@ use std::time::Instant;
 
 /// What a layer scene produced.
 pub struct LayerOutcome {
+    /// The scene run.
     pub scene: Scene,
+    /// Hertz scales.
     pub scales: HertzScales,
+    /// The grid [a].
     pub grid: Grid,
     /// `l0 / (a²/R)`, `Eo / p_h`, for normalising.
     pub l0: f64,
@@ -27,20 +30,27 @@ pub struct LayerOutcome {
     pub supply_thickness_m: f64,
     /// What the model read of the scene.
     pub view: LayerView,
+    /// `Eo / p_h`.
     pub eo: f64,
+    /// The state at the end (steady, or where the march stopped).
     pub final_state: LayerState,
     /// Final layer thickness `L` [a²/R] and gap `H` [a²/R].
     pub l: Array2<f64>,
+    /// Final gap above the layer [a²/R].
     pub gap: Array2<f64>,
     /// The scene's own motion (absent for `motion: none`).
     pub record: Option<LayerRecord>,
     /// The direct steady-rolling solve (method `steady`, or a `steady-rolling` start).
     pub steady: Option<SteadyReport>,
+    /// The direct steady-squeeze solve (a `squeezed` start).
     pub squeeze: Option<SqueezeReport>,
+    /// The monitor of the final state (SI).
     pub final_monitor: Monitor,
     /// Explicit stability estimate [s] at the scene's grid.
     pub stability_estimate_s: f64,
+    /// Building the model [s].
     pub setup_time_s: f64,
+    /// The whole run [s].
     pub total_time_s: f64,
 }
 
@@ -159,6 +169,7 @@ impl Outcome for LayerOutcome {
     }
 }
 
+/// Runs a layer scene: its start state, then the march or the steady solve it asks for.
 pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     let t_all = Instant::now();
     let view = scene.layer_view()?;
@@ -256,6 +267,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
 }
 
 impl LayerOutcome {
+    /// What only the layer model reports (`summary.json`'s `details`).
     pub fn summary(&self) -> Value {
         let (s, f) = (&self.scales, &self.final_monitor);
         let (spec, r) = (&self.view.layer, &self.view.run);
@@ -318,6 +330,7 @@ impl LayerOutcome {
         field.row(self.grid.row_nearest(0.0)).to_vec()
     }
 
+    /// Pressure, layer, strain and gap along `y = 0`, with Hertz's pressure (SI).
     pub fn centreline(&self) -> Centreline {
         let (g, s) = (&self.grid, &self.scales);
         let xs = g.xs();
@@ -343,6 +356,7 @@ impl LayerOutcome {
         }
     }
 
+    /// The final fields (SI).
     pub fn fields(&self) -> Vec<(String, Array2<f64>)> {
         let s = &self.scales;
         let mut v = vec![
@@ -434,6 +448,7 @@ impl LayerOutcome {
         )
     }
 
+    /// The maps, the centrelines, the history and the snapshots as PNG.
     pub fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
         let mut out = vec![];
         let (s, g) = (&self.scales, &self.grid);

@@ -27,7 +27,9 @@ pub trait ContactModel: Sync {
 
 /// Any outcome as `Any`, so a caller that needs one model's own fields can downcast.
 pub trait AsAny {
+    /// As `&dyn Any`.
     fn as_any(&self) -> &dyn Any;
+    /// As `Box<dyn Any>`.
     fn into_any(self: Box<Self>) -> Box<dyn Any>;
 }
 
@@ -43,8 +45,11 @@ impl<T: Any> AsAny for T {
 /// What a run produced. Hertz units inside (`P` in `p_h`, films in `a²/R`, lengths in `a`); the
 /// writers turn them into SI.
 pub trait Outcome: AsAny + Send + 'static {
+    /// The scene it ran.
     fn scene(&self) -> &Scene;
+    /// Hertz scales of its contact.
     fn scales(&self) -> HertzScales;
+    /// Its grid [a].
     fn grid(&self) -> &Grid;
     /// Pressure `P` [p_h].
     fn pressure(&self) -> &Array2<f64>;
@@ -79,6 +84,7 @@ pub trait Outcome: AsAny + Send + 'static {
     /// `summary.json` every model shares ([`crate::output::summary`]: scene, model,
     /// conditions, scales, grid, observables, indicators, timings), whose keys it must not use.
     fn summary(&self) -> Value;
+    /// Its fields along `y = 0` (SI), as CSV columns.
     fn centreline(&self) -> Centreline;
     /// Fields to write as `.npy`, SI, with their file stems.
     fn fields(&self) -> Vec<(String, Array2<f64>)>;
@@ -91,6 +97,7 @@ pub trait Outcome: AsAny + Send + 'static {
     fn history(&self) -> Option<&[(f64, Observables)]> {
         None
     }
+    /// Its own figures, written into `dir` with `prefix`; the files written.
     fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>;
     /// The terminal report.
     fn report(&self) -> String;
@@ -101,6 +108,7 @@ impl dyn Outcome {
     pub fn downcast_ref<T: Outcome>(&self) -> Option<&T> {
         self.as_any().downcast_ref()
     }
+    /// The model's own outcome type, owned.
     pub fn downcast<T: Outcome>(self: Box<Self>) -> Option<Box<T>> {
         self.into_any().downcast().ok()
     }
@@ -142,10 +150,12 @@ pub fn q(value: f64, unit: &str) -> Value {
 
 /// Columns of the centreline table: header (with unit) and values.
 pub struct Centreline {
+    /// `(header with unit, values)` per column.
     pub columns: Vec<(String, Vec<f64>)>,
 }
 
 impl Centreline {
+    /// The table as CSV.
     pub fn to_csv(&self) -> String {
         let mut s = self.columns.iter().map(|c| c.0.as_str()).collect::<Vec<_>>().join(",");
         s.push('\n');

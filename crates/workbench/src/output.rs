@@ -74,6 +74,7 @@ pub fn replace_dir(
     Ok(files.into_iter().map(|f| dir.join(f.strip_prefix(&stage).unwrap_or(&f))).collect())
 }
 
+/// Writes an outcome's files into `dir` (no staging: [`write`] stages).
 pub fn write_into(outcome: &dyn Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
     let outputs = outcome.scene().outputs;
     let mut files = vec![];

@@ -21,8 +21,11 @@ fn register_font() {
 /// How a series is drawn.
 #[derive(Clone, Copy, Debug)]
 pub enum Mark {
+    /// A line through the points.
     Line,
+    /// Markers only.
     Points,
+    /// A line with markers.
     LinePoints,
     /// Consecutive pairs of points as separate segments (arrows, ticks).
     Segments,
@@ -31,12 +34,16 @@ pub enum Mark {
 /// One named curve.
 #[derive(Clone, Debug)]
 pub struct Series {
+    /// The legend's text.
     pub label: String,
+    /// `(x, y)` pairs.
     pub points: Vec<(f64, f64)>,
+    /// How it is drawn.
     pub mark: Mark,
 }
 
 impl Series {
+    /// A series named `label`.
     pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, mark: Mark) -> Self {
         Self { label: label.into(), points, mark }
     }
@@ -44,11 +51,17 @@ impl Series {
 
 /// One panel of an x–y chart.
 pub struct Panel {
+    /// Title above the panel.
     pub title: String,
+    /// `x` axis label.
     pub x_label: String,
+    /// `y` axis label.
     pub y_label: String,
+    /// The curves.
     pub series: Vec<Series>,
+    /// Logarithmic `x` axis.
     pub log_x: bool,
+    /// Logarithmic `y` axis.
     pub log_y: bool,
     /// Where the legend goes (pick the corner the data leaves empty).
     pub legend: SeriesLabelPosition,
@@ -70,19 +83,23 @@ impl Panel {
             y_range: None,
         }
     }
+    /// The same panel with its `y` axis from `lo` to `hi`.
     pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
         self.y_range = Some((lo, hi));
         self
     }
+    /// The same panel on log–log axes.
     pub fn log_log(mut self) -> Self {
         self.log_x = true;
         self.log_y = true;
         self
     }
+    /// The same panel with a logarithmic `y` axis.
     pub fn log_y(mut self) -> Self {
         self.log_y = true;
         self
     }
+    /// The same panel with its legend at `at`.
     pub fn legend(mut self, at: SeriesLabelPosition) -> Self {
         self.legend = at;
         self
@@ -304,8 +321,11 @@ fn ramp(t: f64) -> RGBColor {
 
 /// One heat-map panel.
 pub struct MapPanel<'a> {
+    /// The field `[[j, i]]` on the grid.
     pub field: &'a Array2<f64>,
+    /// Title above the map.
     pub title: String,
+    /// Title of the colour bar (the quantity and its unit).
     pub bar_label: String,
 }
 
@@ -409,7 +429,9 @@ where
 /// One panel of a map over two sweep parameters: `values[row][col]` (`row` the second
 /// parameter, `col` the first); `None` is drawn blank (a failed point).
 pub struct CellPanel {
+    /// Title above the map.
     pub title: String,
+    /// `values[row][col]`: `None` where there is no value (a failed point).
     pub values: Vec<Vec<Option<f64>>>,
     /// Cells drawn with a heavy border (e.g. where two models agree).
     pub outline: Vec<Vec<bool>>,

@@ -15,19 +15,27 @@ use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// A Reynolds solution: steady, or the final state of a march, with the march's record.
 pub struct ReynoldsOutcome {
+    /// The scene run.
     pub scene: Scene,
     /// What the model read of the scene.
     pub view: ReynoldsView,
+    /// The dimensionless parameters.
     pub prm: ReynoldsParams,
+    /// The finest grid [a].
     pub grid: Grid,
     /// Pressure `P` [p_h] and film `H` [a²/R].
     pub p: Array2<f64>,
+    /// Film `H` [a²/R].
     pub film: Array2<f64>,
+    /// `H00` [a²/R].
     pub h00: f64,
+    /// The steady solve's report.
     pub report: ReynoldsReport,
     /// Central film from the formulas [m]: Hamrock–Dowson, NVM.
     pub formulas: (f64, f64),
+    /// Building the solver [s].
     pub setup_time_s: f64,
     /// The dent's passage, for a transient scene (`p`, `film` are then its final state).
     pub transient: Option<TransientRecord>,
@@ -36,30 +44,42 @@ pub struct ReynoldsOutcome {
 /// One time step of a transient run, SI.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct TransientRow {
+    /// Time from the start of the march [s].
     pub t_s: f64,
     /// Dent centre [a].
     pub dent_x_a: f64,
+    /// Central film [m].
     pub central_film_m: f64,
+    /// Minimum film [m].
     pub minimum_film_m: f64,
+    /// Maximum pressure [Pa].
     pub max_pressure_pa: f64,
+    /// Central pressure [Pa].
     pub central_pressure_pa: f64,
+    /// `H00` [m].
     pub h00_m: f64,
+    /// Multigrid cycles of the step.
     pub cycles: usize,
 }
 
 /// A transient run: rows per step, fields at the requested dent positions, cost.
 pub struct TransientRecord {
+    /// The start, then one row per step.
     pub rows: Vec<TransientRow>,
     /// Dent position [a], pressure [p_h], film [a²/R].
     pub snapshots: Vec<(f64, Array2<f64>, Array2<f64>)>,
     /// Time step [s] and in units of `a/u_m`.
     /// The standard observables after every step (time [s]).
     pub observed: Vec<(f64, Observables)>,
+    /// The step [s].
     pub dt_s: f64,
+    /// The step in the time unit `a/u_ref`.
     pub dt_a: f64,
+    /// Wall time of the march [s].
     pub wall_time_s: f64,
     /// Ended by its rule, not the time limit; and why it stopped.
     pub finished: bool,
+    /// Why it stopped, in words.
     pub stop_reason: String,
 }
 
@@ -378,6 +398,7 @@ impl ReynoldsOutcome {
         h * (1.5 * self.prm.moes.m).powf(2.0 / 3.0)
     }
 
+    /// What only the Reynolds model reports (`summary.json`'s `details`).
     pub fn summary(&self) -> Value {
         let s = &self.prm.scales;
         let (hc, hmin, pmax) = self.films();
@@ -464,6 +485,7 @@ impl ReynoldsOutcome {
         f.row(self.grid.row_nearest(0.0)).to_vec()
     }
 
+    /// Pressure and film along `y = 0` (SI).
     pub fn centreline(&self) -> Centreline {
         let s = &self.prm.scales;
         let xs = self.grid.xs();
@@ -480,6 +502,7 @@ impl ReynoldsOutcome {
         }
     }
 
+    /// The final fields (SI), and the flux ratio.
     pub fn fields(&self) -> Vec<(String, Array2<f64>)> {
         let s = &self.prm.scales;
         vec![
@@ -504,6 +527,7 @@ impl ReynoldsOutcome {
         )
     }
 
+    /// The maps, the centreline and, for a march, the history and snapshots as PNG.
     pub fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
         let g = &self.grid;
         let nm = self.prm.scales.delta * 1e9;

@@ -28,15 +28,20 @@ use std::time::Instant;
 /// Every point of a sweep, ready to run.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Plan {
+    /// The sweep as given.
     pub sweep: Sweep,
+    /// Every point, in order.
     pub points: Vec<PlannedPoint>,
 }
 
 /// One point: the parameters' values and the scene that runs them.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PlannedPoint {
+    /// Its place in the plan.
     pub index: usize,
+    /// The parameters' values, in the sweep's order.
     pub values: Vec<f64>,
+    /// The scene that runs it (domain and grid adapted).
     pub scene: Scene,
     /// What the domain-and-grid rule changed from the base scene, if anything.
     pub adapted: Option<String>,
@@ -45,19 +50,23 @@ pub struct PlannedPoint {
 /// One model's answer at a point.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ModelRecord {
+    /// Which model.
     pub model: Model,
     /// Whether a film separates the surfaces, as the outcome says (false for the dry contact,
     /// and for a model that failed: there is no outcome to say).
     pub lubricated: bool,
     /// The standard observables (SI); `None` when the model failed.
     pub observables: Option<Observables>,
+    /// Why it failed, when it did.
     pub diagnosis: Option<String>,
     /// The model's premise indicators ([`crate::model::Outcome::indicators`]).
     #[serde(default)]
     pub indicators: std::collections::BTreeMap<String, crate::model::Indicator>,
     /// Wall time of the model's run at this point [s], single thread.
     pub wall_time_s: f64,
+    /// The same point on a finer grid, when the sweep asks for it.
     pub grid_check: Option<CheckRecord>,
+    /// The same point with a longer inlet, when the sweep asks for it.
     pub domain_check: Option<CheckRecord>,
     /// Wall time of both checks [s].
     pub check_wall_time_s: f64,
@@ -69,11 +78,17 @@ pub struct ModelRecord {
 /// A check run: its grid and domain, its observables, and the relative changes it measures.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CheckRecord {
+    /// Points along `x`.
     pub nx: usize,
+    /// Points along `y`.
     pub ny: usize,
+    /// Domain along `x` [a].
     pub x_a: [f64; 2],
+    /// Domain along `y` [a].
     pub y_a: [f64; 2],
+    /// Its observables, `None` when it failed.
     pub observables: Option<Observables>,
+    /// Why it failed, when it did.
     pub diagnosis: Option<String>,
     /// Relative changes of `h_c`, `h_min`, `p_max` (grid: point − coarse over point; domain:
     /// larger − coarse over coarse); films only for lubricated models, `None` where undefined.
@@ -83,12 +98,19 @@ pub struct CheckRecord {
 /// A finished point.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PointRecord {
+    /// Its place in the plan.
     pub index: usize,
+    /// The parameters' values.
     pub values: Vec<f64>,
+    /// Points along `x`.
     pub nx: usize,
+    /// Points along `y`.
     pub ny: usize,
+    /// Domain along `x` [a].
     pub x_a: [f64; 2],
+    /// Domain along `y` [a].
     pub y_a: [f64; 2],
+    /// Every model's answer.
     pub models: Vec<ModelRecord>,
 }
 
@@ -130,6 +152,7 @@ impl Plan {
         write_atomic(&f, &(serde_json::to_string_pretty(self)? + "\n"))
     }
 
+    /// Reads the plan a sweep folder holds (`plan.json`).
     pub fn load(dir: &Path) -> Result<Plan> {
         let f = dir.join("plan.json");
         let text = std::fs::read_to_string(&f).with_context(|| {
@@ -165,7 +188,9 @@ pub fn write_atomic(path: &Path, text: &str) -> Result<()> {
 /// which cost alike, go to different shards).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Shard {
+    /// Which shard (from 0).
     pub index: usize,
+    /// Of how many.
     pub count: usize,
 }
 
@@ -184,9 +209,11 @@ impl std::str::FromStr for Shard {
 }
 
 impl Shard {
+    /// Every point in one shard.
     pub fn all() -> Shard {
         Shard { index: 0, count: 1 }
     }
+    /// Whether point `point` is this shard's.
     pub fn holds(&self, point: usize) -> bool {
         point % self.count == self.index
     }
@@ -199,8 +226,11 @@ pub fn default_jobs() -> usize {
 
 /// What a run did.
 pub struct RunSummary {
+    /// Points run now.
     pub ran: usize,
+    /// Points found finished and skipped.
     pub skipped: usize,
+    /// Wall time [s].
     pub wall_time_s: f64,
 }
 
