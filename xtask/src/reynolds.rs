@@ -245,7 +245,11 @@ fn solve_scene_report(
     scene.reynolds.as_mut().expect("a Reynolds scene").solver.stop = stop;
     let (prm, mut s) = ehl_workbench::reynolds::build_solver(&scene)?;
     let nm = prm.scales.delta * 1e9;
-    let rep = s.solve(&mut |_| {})?;
+    // A solve that ran to its end unconverged is still a row of the table (marked NOT).
+    let rep = match s.solve(&mut |_| {}) {
+        Err(ehl_reynolds::ReynoldsError::NotConverged(rep)) => *rep,
+        other => other?,
+    };
     let (hc, hmin) = s.films();
     let pmax = s.pressure().iter().cloned().fold(0.0, f64::max);
     let per_cycle = rep

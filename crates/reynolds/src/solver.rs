@@ -176,7 +176,7 @@ impl std::fmt::Display for Diagnosis {
 }
 
 /// A solve's outcome.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ReynoldsReport {
     /// Whether the stop rule was met.
     pub converged: bool,
@@ -234,6 +234,23 @@ pub enum ReynoldsError {
     /// A time step asked of a solver with no steady state to step from.
     #[error("a time step needs a steady solve to start from: call solve() first")]
     NoSteadyStart,
+    /// The solve ran to its end without meeting its stop rule (it stalled, cycled, the film
+    /// closed, or the cycle limit came): the report, with its diagnosis (what, where, when).
+    #[error("the Reynolds solve did not converge: {}", diagnosis_text(.0))]
+    NotConverged(Box<ReynoldsReport>),
+}
+
+/// The diagnosis of a report in words (empty when it has none).
+fn diagnosis_text(r: &ReynoldsReport) -> &str {
+    r.diagnosis.as_ref().map_or("", |d| d.text.as_str())
+}
+
+/// A solve's or step's one failure channel: a report that did not converge becomes an error.
+fn converged(r: Result<ReynoldsReport, ReynoldsError>) -> Result<ReynoldsReport, ReynoldsError> {
+    match r {
+        Ok(rep) if !rep.converged => Err(ReynoldsError::NotConverged(Box::new(rep))),
+        other => other,
+    }
 }
 
 impl ReynoldsError {
@@ -242,6 +259,7 @@ impl ReynoldsError {
         match self {
             ReynoldsError::Diverged { cycle, .. } => *cycle,
             ReynoldsError::NoSteadyStart => 0,
+            ReynoldsError::NotConverged(r) => r.cycles,
         }
     }
 }
@@ -387,7 +405,7 @@ impl ReynoldsSolver {
         let a = self.active;
         self.active =
             ReynoldsSettings { fmg_cycles: 0, gamma: a.step_gamma, h00_gain: a.step_h00_gain, ..a };
-        let rep = self.cycles(log, 0, 0.0);
+        let rep = converged(self.cycles(log, 0, 0.0));
         let rho_h = self.levels[0].rho_film(&self.prm);
         self.rho_h.insert(0, rho_h);
         self.rho_h.truncate(match self.active.time_scheme {
@@ -610,7 +628,9 @@ impl ReynoldsSolver {
 
     /// Steady solve: full-multigrid start (when set), then cycles on the finest grid until the
     /// central film and the load settle; `log` sees every cycle. The result is time `T = 0` of
-    /// any transient run that follows.
+    /// any transient run that follows. `Ok` only when converged: a divergence, and a solve that
+    /// ran to its end without converging ([`ReynoldsError::NotConverged`], with its report and
+    /// diagnosis), are errors.
     pub fn solve(
         &mut self,
         log: &mut dyn FnMut(&CycleLog),
@@ -657,7 +677,7 @@ impl ReynoldsSolver {
             _ => first,
         };
         self.rho_h = vec![self.levels[0].rho_film(&self.prm)];
-        rep
+        converged(rep)
     }
 
     /// Cycles until converged or given up; cycle numbers and wall times continue from

@@ -91,9 +91,15 @@ fn solve(
 }
 
 fn failure(prm: ReynoldsParams, n: usize, settings: ReynoldsSettings) -> Diagnosis {
-    let rep = solve(prm, n, settings).expect("runs to its end");
-    assert!(!rep.converged);
-    rep.diagnosis.expect("a non-converged solve says why")
+    // One failure channel: a solve that ran to its end unconverged is an error carrying its
+    // report and diagnosis.
+    match solve(prm, n, settings) {
+        Err(ReynoldsError::NotConverged(rep)) => {
+            assert!(!rep.converged);
+            rep.diagnosis.expect("a non-converged solve says why")
+        }
+        other => panic!("expected a solve that runs to its end unconverged, got {other:?}"),
+    }
 }
 
 fn divergence(
