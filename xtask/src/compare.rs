@@ -25,7 +25,7 @@ fn comparison(out: &Path, scene: &str, dir: &str) -> Result<Vec<PathBuf>> {
     if !c.all_converged() {
         bail!("the {} comparison did not converge for every model", scene.name);
     }
-    c.write(&out.join(dir))
+    Ok(c.write(&out.join(dir))?)
 }
 
 /// The seed's Fig. 1: the flow in the Reynolds film under Table 1 on 1025² (the seed's grid for
@@ -37,5 +37,5 @@ pub fn fig1(out: &Path) -> Result<Vec<PathBuf>> {
         "Fig. 1 (reynolds-seed, 1025²): mean |pressure-driven / boundary-driven flux| over the loaded zone {:.4}",
         o.flux_ratio_contact_mean()
     );
-    o.flow_figures(out, "fig1_")
+    Ok(o.flow_figures(out, "fig1_")?)
 }

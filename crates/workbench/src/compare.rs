@@ -3,10 +3,10 @@
 //! terminal table), with overlaid centrelines and the film difference map. A model that fails is
 //! listed with its diagnosis; the others still write their results.
 
+use crate::error::{Result, create_dir, output, write_file};
 use crate::model::Outcome;
 use crate::output::{self, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
-use anyhow::Result;
 use ehl_core::HertzScales;
 use ehl_scene::{Model, Scene};
 use plotters::prelude::SeriesLabelPosition;
@@ -19,7 +19,7 @@ pub struct Entry {
     /// Which model.
     pub model: Model,
     /// The outcome, or the diagnosis of why there is none.
-    pub outcome: Result<Box<dyn Outcome>, String>,
+    pub outcome: Result<Box<dyn Outcome>, crate::Error>,
     /// Wall time of its run [s].
     pub wall_time_s: f64,
 }
@@ -53,7 +53,7 @@ pub fn run(scene: &Scene) -> Comparison {
         .map(|m| {
             let t0 = Instant::now();
             let one = scene.for_model(m);
-            let outcome = crate::run::run_scene(&one).map_err(|e| format!("{e:#}"));
+            let outcome = crate::run::run_scene(&one);
             Entry { model: m, outcome, wall_time_s: t0.elapsed().as_secs_f64() }
         })
         .collect();
@@ -94,7 +94,7 @@ impl Comparison {
                     })
                 }
                 Err(d) => json!({
-                    "model": e.name(), "converged": false, "diagnosis": d,
+                    "model": e.name(), "converged": false, "diagnosis": d.to_string(),
                     "wall_time_s": e.wall_time_s,
                 }),
             })
@@ -144,7 +144,7 @@ impl Comparison {
                         "{},false,,,,,,,{:.3},\"{}\"\n",
                         e.name(),
                         e.wall_time_s,
-                        d.replace('"', "'").replace('\n', " ")
+                        d.to_string().replace('"', "'").replace('\n', " ")
                     )
                 }
             }
@@ -213,14 +213,16 @@ impl Comparison {
     fn write_into(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         let mut files = vec![];
         let f = dir.join("comparison.json");
-        std::fs::write(&f, serde_json::to_string_pretty(&self.to_json())? + "\n")?;
+        let text =
+            serde_json::to_string_pretty(&self.to_json()).map_err(output("comparison.json"))?;
+        write_file(&f, text + "\n")?;
         files.push(f);
         let f = dir.join("comparison.csv");
-        std::fs::write(&f, self.to_csv())?;
+        write_file(&f, self.to_csv())?;
         files.push(f);
         if let Some(csv) = self.history_csv() {
             let f = dir.join("comparison_history.csv");
-            std::fs::write(&f, csv)?;
+            write_file(&f, csv)?;
             files.push(f);
         }
         if self.scene.outputs.figures {
@@ -229,7 +231,7 @@ impl Comparison {
         for e in &self.entries {
             if let Ok(o) = &e.outcome {
                 let sub = dir.join(e.name());
-                std::fs::create_dir_all(&sub)?;
+                create_dir(&sub)?;
                 files.extend(output::write_into(o.as_ref(), &sub)?);
             }
         }

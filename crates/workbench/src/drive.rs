@@ -3,7 +3,7 @@
 //! stop rules and the snapshots: a model only says how to take one step ([`Transient`]), and
 //! the scene's `run` block becomes a [`Plan`] the same way for every model.
 
-use anyhow::{Context, Result, bail};
+use crate::error::{Diagnosis, Error, Result, Within};
 use ehl_core::observe::Observables;
 use ehl_core::{Grid, Kinematics, Passing};
 use ehl_scene::RunSpec;
@@ -146,13 +146,13 @@ impl Plan {
     ) -> Result<Plan> {
         let st = &run.stop;
         let reach = |s_m: f64, what: &str| {
-            motion.time_at_travel(s_m).with_context(|| {
-                format!(
+            motion.time_at_travel(s_m).ok_or_else(|| {
+                Diagnosis::Plan(format!(
                     "run.stop: {what} needs {:.4} a of travel, but run.motion `{}` stops after {:.4} a",
                     s_m / a,
                     run.motion.label(),
                     motion.travel_limit().unwrap_or(f64::INFINITY) / a
-                )
+                ))
             })
         };
         // Where a feature ends the run: the first of the two rules.
@@ -185,11 +185,12 @@ impl Plan {
                 if span.is_finite() {
                     let n = span / dt;
                     if !(n <= MAX_STEPS) {
-                        bail!(
+                        return Err(Diagnosis::Plan(format!(
                             "run.stop: the phase from {:.4e} s to {:.4e} s takes {n:.3e} steps of {dt:.3e} s (at most {MAX_STEPS:e}): check run.features (a dent's `width_a` sets how far beyond the domain it reaches), run.stop.until_feature_at_a and run.motion",
                             piece.t0,
                             piece.t1
-                        );
+                        ))
+                        .into());
                     }
                     // The last step lands on the phase's end: equal steps a little shorter.
                     Steps::Fixed { dt_s: span / (n - 1e-9).ceil().max(1.0) }
@@ -202,9 +203,9 @@ impl Plan {
                     (None, Some((dt0, order))) => {
                         Steps::Controlled { dt0_s: dt0, tolerance: run.time.error_tolerance, order }
                     }
-                    (None, None) => bail!(
-                        "run.time.dt_s: required (s) while the surfaces rest: this model has no error control to choose the step"
-                    ),
+                    (None, None) => return Err(Diagnosis::Plan(
+                        "run.time.dt_s: required (s) while the surfaces rest: this model has no error control to choose the step".into()
+                    ).into()),
                 }
             };
             phases.push(Phase { t0_s: piece.t0, t1_s: piece.t1, steps });
@@ -272,7 +273,7 @@ pub fn drive<T: Transient>(
     let (mut steps, mut rejected, mut solves, mut iterations) = (0, 0, 0, 0);
     let mut dt_range = (f64::INFINITY, 0.0f64);
     if plan.phases.is_empty() {
-        bail!("the march has no phase to run (an empty plan)");
+        return Err(Error::Refused("the march has no phase to run (an empty plan)".into()));
     }
     // The phase the march is in, and the steps taken in it.
     let (mut phase, mut phase_steps) = (0usize, 0usize);
@@ -314,7 +315,7 @@ pub fn drive<T: Transient>(
         let step = match ph.steps {
             Steps::Fixed { dt_s } => {
                 dt_range = (dt_range.0.min(dt_s), dt_range.1.max(dt_s));
-                model.step(dt_s, false).with_context(|| when(steps + 1, t))?
+                model.step(dt_s, false).within(|| when(steps + 1, t))?
             }
             Steps::Controlled { tolerance, order, .. } => loop {
                 // Land on the next snapshot time and on the phase's end rather than pass them.
@@ -325,10 +326,13 @@ pub fn drive<T: Transient>(
                 if t + dt > ph.t1_s {
                     dt = ph.t1_s - t;
                 }
-                let saved = model.save().context(
-                    "error-controlled steps need a model that can return to its last state",
-                )?;
-                let s = model.step(dt, true).with_context(|| when(steps + 1, t))?;
+                let saved = model.save().ok_or_else(|| {
+                    Diagnosis::Plan(
+                        "error-controlled steps need a model that can return to its last state"
+                            .into(),
+                    )
+                })?;
+                let s = model.step(dt, true).within(|| when(steps + 1, t))?;
                 // No estimate (a multistep scheme's first steps): accepted, growth capped below.
                 let err = s.error_estimate.unwrap_or(0.0);
                 let factor =
@@ -343,10 +347,11 @@ pub fn drive<T: Transient>(
                 model.restore(saved);
                 dt_next = dt * factor.clamp(0.1, 0.9);
                 if dt_next < 1e-12 {
-                    bail!(
+                    return Err(Diagnosis::Plan(format!(
                         "error control: the step size fell below 1e-12 s at t = {t:.6e} s (step {}, estimate {err:.3e} against {tolerance:.1e})",
                         steps + 1
-                    );
+                    ))
+                    .into());
                 }
             },
         };

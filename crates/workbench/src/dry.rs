@@ -1,8 +1,8 @@
 //! The dry contact as a workbench model: the contact core alone, checked against Hertz.
 
+use crate::error::{Result, Within};
 use crate::model::{Centreline, ContactModel, Outcome, q};
 use crate::plot::{self, Mark, Panel, Series};
-use anyhow::{Context, Result};
 use ehl_core::hertz::{self, Comparison};
 use ehl_core::{DryProblem, DryReport, DrySolver, Grid, HertzScales, Start};
 use ehl_scene::Scene;
@@ -107,7 +107,7 @@ fn run_dry(scene: &Scene) -> Result<DryOutcome> {
     let t1 = Instant::now();
     let report = solver
         .solve(&problem, &mut p, &mut w, Start::Flat)
-        .with_context(|| format!("scene `{}`: dry contact solve failed", scene.name))?;
+        .within(|| format!("scene `{}`: dry contact solve failed", scene.name))?;
     let solve_time_s = t1.elapsed().as_secs_f64();
     spin.finish_and_clear();
     let gap = DrySolver::gap(&problem, report.h0, &p, &w);

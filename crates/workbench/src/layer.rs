@@ -1,9 +1,9 @@
 //! Layer-model scenes: the run (start state, motion, stop rule) and what it writes.
 
 use crate::drive::{self, Plan, Step, Transient};
+use crate::error::{Result, Within};
 use crate::model::{Centreline, ContactModel, Outcome, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
-use anyhow::{Context, Result};
 use ehl_core::observe::Observables;
 use ehl_core::{Grid, HertzScales, hertz};
 use ehl_layer::{
@@ -174,9 +174,8 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     let t_all = Instant::now();
     let view = scene.layer_view()?;
     let (r, spec, supply_m) = (&view.run, view.layer, view.supply.thickness_m);
-    let motion = r
-        .kinematics(view.rolling_velocity_m_s)
-        .with_context(|| format!("scene `{}`", scene.name))?;
+    let motion =
+        r.kinematics(view.rolling_velocity_m_s).within(|| format!("scene `{}`", scene.name))?;
     let grid = scene.grid();
     let t0 = Instant::now();
     let mut m = LayerModel::new(
@@ -197,7 +196,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     let stepper = Stepper::new(r.time.scheme, r.time.picard);
     let mut solve_steady = |what: &str| -> Result<LayerState> {
         spin.set_message(format!("{what}: steady rolling, solved directly"));
-        let (s, rep) = rolling_steady(&m, &r.steady).with_context(|| fail(what))?;
+        let (s, rep) = rolling_steady(&m, &r.steady).within(|| fail(what))?;
         steady = Some(rep);
         Ok(s)
     };
@@ -205,11 +204,11 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     let mut state = match (method, r.start()) {
         (Method::Steady, _) => solve_steady("steady solve")?,
         (Method::March, StartState::Uniform) => {
-            uniform_state(&m).with_context(|| fail("uniform start"))?
+            uniform_state(&m).within(|| fail("uniform start"))?
         }
         (Method::March, StartState::SteadyRolling) => solve_steady("steady-rolling start")?,
         (Method::March, StartState::Squeezed) => {
-            let (s, rep) = squeeze_steady(&m).with_context(|| fail("steady squeeze"))?;
+            let (s, rep) = squeeze_steady(&m).within(|| fail("steady squeeze"))?;
             squeeze = Some(rep);
             s
         }
@@ -227,12 +226,12 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
             let controlled = Some((m.eta(0.0) / m.eo * 1e-2, order));
             let plan =
                 Plan::from_run(r, &scene.passing(), &grid, m.scales.a, m.motion(), controlled)
-                    .with_context(|| fail("run"))?;
+                    .within(|| fail("run"))?;
             let mut march = LayerMarch { m: &m, state, stepper };
             let mut rec = drive::drive(&mut march, &plan, &mut |t| {
                 spin.set_message(format!("{label}: t = {t:.4} s"))
             })
-            .with_context(|| fail(&format!("{label} run")))?;
+            .within(|| fail(&format!("{label} run")))?;
             state = march.state;
             // The final state closes the snapshot series.
             if rec.snapshots.last().is_none_or(|s| s.0 < state.t) {

@@ -7,6 +7,7 @@
 pub mod compare;
 pub mod drive;
 pub mod dry;
+pub mod error;
 pub mod layer;
 pub mod model;
 pub mod output;
@@ -17,5 +18,6 @@ pub mod run;
 pub mod sweep;
 
 pub use dry::DryOutcome;
+pub use error::{Diagnosis, Error};
 pub use model::{ContactModel, Outcome};
 pub use run::{MODELS, run_scene};

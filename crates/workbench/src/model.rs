@@ -3,7 +3,7 @@
 //! Nothing outside a model's own module matches on which model it is; the registry in
 //! [`crate::run`] is the one place that lists them.
 
-use anyhow::Result;
+use crate::error::Result;
 use ehl_core::{Grid, HertzScales, Observables};
 use ehl_scene::Scene;
 use ndarray::Array2;

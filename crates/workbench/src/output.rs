@@ -2,9 +2,9 @@
 //! `.npy` and PNG figures, all in SI. Files are staged and moved into place only when all of
 //! them were written, so a failed run leaves nothing half-written.
 
+use crate::error::{Error, Result, create_dir, io, output, write_file};
 use crate::model::Outcome;
 pub use crate::model::{Centreline, q};
-use anyhow::{Context, Result};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -36,23 +36,23 @@ pub fn replace_dir(
 ) -> Result<Vec<PathBuf>> {
     let name = dir
         .file_name()
-        .with_context(|| format!("output folder {} has no name", dir.display()))?
+        .ok_or_else(|| Error::Refused(format!("output folder {} has no name", dir.display())))?
         .to_string_lossy()
         .to_string();
     let parent = match dir.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    std::fs::create_dir_all(&parent).with_context(|| format!("creating {}", parent.display()))?;
+    create_dir(&parent)?;
     let pid = std::process::id();
     let stage = parent.join(format!(".{name}.partial-{pid}"));
     let old = parent.join(format!(".{name}.old-{pid}"));
     for p in [&stage, &old] {
         if p.exists() {
-            std::fs::remove_dir_all(p)?;
+            std::fs::remove_dir_all(p).map_err(io(format!("removing {}", p.display())))?;
         }
     }
-    std::fs::create_dir_all(&stage).with_context(|| format!("creating {}", stage.display()))?;
+    create_dir(&stage)?;
     *STAGE.lock().unwrap() = Some(stage.clone());
     let files = match fill(&stage) {
         Ok(f) => f,
@@ -63,13 +63,13 @@ pub fn replace_dir(
     };
     if dir.exists() {
         std::fs::rename(dir, &old)
-            .with_context(|| format!("moving the old {} aside", dir.display()))?;
+            .map_err(io(format!("moving the old {} aside", dir.display())))?;
     }
     std::fs::rename(&stage, dir)
-        .with_context(|| format!("moving the results into {}", dir.display()))?;
+        .map_err(io(format!("moving the results into {}", dir.display())))?;
     *STAGE.lock().unwrap() = None;
     if old.exists() {
-        std::fs::remove_dir_all(&old)?;
+        std::fs::remove_dir_all(&old).map_err(io(format!("removing {}", old.display())))?;
     }
     Ok(files.into_iter().map(|f| dir.join(f.strip_prefix(&stage).unwrap_or(&f))).collect())
 }
@@ -79,29 +79,30 @@ pub fn write_into(outcome: &dyn Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
     let outputs = outcome.scene().outputs;
     let mut files = vec![];
     let file = dir.join("summary.json");
-    std::fs::write(&file, serde_json::to_string_pretty(&summary(outcome))? + "\n")?;
+    let text = serde_json::to_string_pretty(&summary(outcome)).map_err(output("summary.json"))?;
+    write_file(&file, text + "\n")?;
     files.push(file);
     if let Some(csv) = outcome.time_series_csv() {
         let f = dir.join("timeseries.csv");
-        std::fs::write(&f, csv)?;
+        write_file(&f, csv)?;
         files.push(f);
     }
     if outputs.centreline {
         let f = dir.join("centreline.csv");
-        std::fs::write(&f, outcome.centreline().to_csv())?;
+        write_file(&f, outcome.centreline().to_csv())?;
         files.push(f);
     }
     if outputs.fields {
         let (x, y) = outcome.axes();
         for (stem, arr) in [("x_m", x), ("y_m", y)] {
             let f = dir.join(format!("{stem}.npy"));
-            ndarray_npy::write_npy(&f, &arr).with_context(|| format!("writing {}", f.display()))?;
+            ndarray_npy::write_npy(&f, &arr).map_err(output(format!("writing {}", f.display())))?;
             files.push(f);
         }
         for (stem, field) in outcome.fields() {
             let f = dir.join(format!("{stem}.npy"));
             ndarray_npy::write_npy(&f, &field)
-                .with_context(|| format!("writing {}", f.display()))?;
+                .map_err(output(format!("writing {}", f.display())))?;
             files.push(f);
         }
     }

@@ -1,7 +1,7 @@
 //! PNG figures with plotters. Text is drawn with the DejaVu Sans font bundled by the `dejavu`
 //! crate (plotters' `ab_glyph` backend), so no system fonts are needed.
 
-use anyhow::{Context, Result};
+use crate::error::{Result, output};
 use ndarray::Array2;
 use plotters::prelude::*;
 use std::path::Path;
@@ -303,7 +303,7 @@ pub fn charts(path: &Path, panels: &[Panel], footnote: &str) -> Result<()> {
     for (area, panel) in main.split_evenly((rows, cols)).iter().zip(panels) {
         draw_panel(area, panel)?;
     }
-    root.present().with_context(|| format!("writing {}", path.display()))?;
+    root.present().map_err(output(format!("writing {}", path.display())))?;
     Ok(())
 }
 
@@ -353,7 +353,7 @@ pub fn heat_maps(
             "y / a",
         )?;
     }
-    root.present().with_context(|| format!("writing {}", path.display()))?;
+    root.present().map_err(output(format!("writing {}", path.display())))?;
     Ok(())
 }
 
@@ -536,7 +536,7 @@ pub fn cell_maps(
             }
         }
     }
-    root.present().with_context(|| format!("writing {}", path.display()))?;
+    root.present().map_err(output(format!("writing {}", path.display())))?;
     Ok(())
 }
 

@@ -2,9 +2,9 @@
 
 pub mod flow;
 use crate::drive::{self, Step, Transient};
+use crate::error::{Diagnosis, Result, Within};
 use crate::model::{Centreline, ContactModel, Indicator, Outcome, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
-use anyhow::{Context, Result, bail};
 use ehl_core::observe::Observables;
 use ehl_core::{Dent, Grid, HertzScales, Kinematics, hertz};
 use ehl_reynolds::formulas::{hamrock_dowson_central, nvm_central};
@@ -219,7 +219,7 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
                 c.cycle, c.central_film, c.load_error
             ))
         })
-        .with_context(|| format!("scene `{}`", scene.name))?;
+        .within(|| format!("scene `{}`", scene.name))?;
     spin.finish_and_clear();
     let formulas =
         (hamrock_dowson_central(&contact, &lub, 0.5 * u_sum), nvm_central(&contact, &lub, u_sum));
@@ -288,7 +288,7 @@ impl Transient for ReynoldsMarch<'_> {
         // The wedge term at the speed of the time solved for (the scales stay at u_m).
         self.solver.set_speed(self.motion.speed(t_new) / self.motion.reference_speed());
         let where_ = || format!("dent at x = {:.3} a", self.x0 + travel);
-        let rep = self.solver.step(dt / self.time_unit, &mut |_| {}).with_context(where_)?;
+        let rep = self.solver.step(dt / self.time_unit, &mut |_| {}).within(where_)?;
         self.steps += 1;
         Ok(Step { solves: 1, iterations: rep.cycles, error_estimate: None })
     }
@@ -336,18 +336,20 @@ fn run_transient(
     // Under pure rolling a dent on the ball moves at the mean velocity, the reference speed of
     // the solver's scales (`λ̄`, the time unit `a/u_m`).
     let u_m = 0.5 * u_sum;
-    let motion = run.kinematics(u_m).with_context(|| format!("scene `{}`", scene.name))?;
+    let motion = run.kinematics(u_m).within(|| format!("scene `{}`", scene.name))?;
     let g = solver.grid();
     let plan = drive::Plan::from_run(run, &scene.passing(), &g, s.a, &motion, None)
-        .with_context(|| format!("scene `{}`: run", scene.name))?;
+        .within(|| format!("scene `{}`: run", scene.name))?;
     // The solver's backward differences take equal steps: one phase of them.
     let dt_s = match plan.phases.as_slice() {
         [drive::Phase { steps: drive::Steps::Fixed { dt_s }, .. }] => *dt_s,
-        _ => bail!(
-            "scene `{}`: run.motion `{}`: the Reynolds march takes equal steps at one speed (a motion that changes speed is not marched by it yet)",
-            scene.name,
-            run.motion.label()
-        ),
+        _ => {
+            return Err(Diagnosis::Plan(format!(
+                "run.motion `{}`: the Reynolds march takes equal steps at one speed (a motion that changes speed is not marched by it yet)",
+                run.motion.label()
+            )))
+            .within(|| format!("scene `{}`", scene.name));
+        }
     };
     let x0 = dents.first().map_or(0.0, |d| d.x_start_a);
     let centre = (g.row_nearest(0.0), g.col_nearest(0.0));
@@ -358,7 +360,7 @@ fn run_transient(
     let expected = plan.end.as_ref().map_or(0, |e| (e.0 / dt_s).round() as u64);
     let spin = crate::progress::bar(expected, "dent passing");
     let rec = drive::drive(&mut march, &plan, &mut |_| spin.inc(1))
-        .with_context(|| format!("scene `{}`: Reynolds march", scene.name))?;
+        .within(|| format!("scene `{}`: Reynolds march", scene.name))?;
     spin.finish_and_clear();
     let at = |t: f64| x0 + march.motion.travel(t) / s.a;
     Ok(TransientRecord {

@@ -1,7 +1,7 @@
 //! The registry of models and the runner: a scene goes in, the outcome of its model comes out.
 
+use crate::error::{Error, Result};
 use crate::model::{ContactModel, Outcome};
-use anyhow::{Result, bail};
 use ehl_scene::Scene;
 
 /// Every model the workbench runs. A new model is its module (or crate) implementing
@@ -13,7 +13,7 @@ pub static MODELS: &[&dyn ContactModel] =
 pub fn model(kind: ehl_scene::Model) -> Result<&'static dyn ContactModel> {
     match MODELS.iter().find(|m| m.kind() == kind) {
         Some(m) => Ok(*m),
-        None => bail!("no model registered for {kind:?}"),
+        None => Err(Error::Refused(format!("no model registered for {kind:?}"))),
     }
 }
 
@@ -21,11 +21,11 @@ pub fn model(kind: ehl_scene::Model) -> Result<&'static dyn ContactModel> {
 /// if the solver diverges or does not converge.
 pub fn run_scene(scene: &Scene) -> Result<Box<dyn Outcome>> {
     let Some(kind) = scene.model() else {
-        bail!(
+        return Err(Error::Refused(format!(
             "scene `{}` is a comparison of {:?}: run it with `ehl compare`, or one model of it (Scene::for_model)",
             scene.name,
             scene.models()
-        );
+        )));
     };
     model(kind)?.run(scene)
 }

@@ -8,8 +8,8 @@
 //! the oil moves as a solid layer with the surfaces: the layer model's premise.
 
 use super::ReynoldsOutcome;
+use crate::error::Result;
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
-use anyhow::Result;
 use ndarray::Array2;
 use std::path::{Path, PathBuf};
 

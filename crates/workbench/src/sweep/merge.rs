@@ -5,8 +5,8 @@
 
 use super::{ModelRecord, Plan, PointRecord, records, write_atomic};
 use crate::compare::model_name;
+use crate::error::{Result, io, output};
 use crate::plot::{self, CellPanel, Mark, Panel, Series};
-use anyhow::Result;
 use ehl_core::Observables;
 use ehl_reynolds::formulas;
 use ehl_scene::Model;
@@ -199,7 +199,12 @@ pub fn merge(dir: &Path) -> Result<Vec<PathBuf>> {
     for (name, body) in [
         ("results.csv", results_csv(&plan, &recs)),
         ("cost.csv", cost_csv(&plan, &recs)),
-        ("results.json", serde_json::to_string_pretty(&results_json(&plan, &recs))? + "\n"),
+        (
+            "results.json",
+            serde_json::to_string_pretty(&results_json(&plan, &recs))
+                .map_err(output("results.json"))?
+                + "\n",
+        ),
     ] {
         let f = dir.join(name);
         write_atomic(&f, &body)?;
@@ -247,7 +252,7 @@ fn put(
     let t = dir.join(format!(".{name}.tmp-{}.png", std::process::id()));
     draw(&t)?;
     let f = dir.join(name);
-    std::fs::rename(&t, &f)?;
+    std::fs::rename(&t, &f).map_err(io(format!("moving {} into place", f.display())))?;
     files.push(f);
     Ok(())
 }

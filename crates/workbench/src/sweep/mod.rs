@@ -16,8 +16,8 @@
 pub mod adapt;
 pub mod merge;
 
+use crate::error::{Error, Result, io, output};
 use crate::progress;
-use anyhow::{Context, Result, bail, ensure};
 use ehl_core::Observables;
 use ehl_scene::{Model, Scene, Sweep};
 use serde::{Deserialize, Serialize};
@@ -140,25 +140,28 @@ impl Plan {
         let f = dir.join("plan.json");
         if f.exists() {
             let old = Plan::load(dir)?;
-            ensure!(
-                old == *self,
-                "{} holds the plan of another sweep (or of this one before it was edited): choose another --out, or remove the folder to start again",
-                dir.display()
-            );
+            if old != *self {
+                return Err(Error::Refused(format!(
+                    "{} holds the plan of another sweep (or of this one before it was edited): choose another --out, or remove the folder to start again",
+                    dir.display()
+                )));
+            }
             return Ok(());
         }
         std::fs::create_dir_all(dir.join("points"))
-            .with_context(|| format!("creating {}", dir.display()))?;
-        write_atomic(&f, &(serde_json::to_string_pretty(self)? + "\n"))
+            .map_err(io(format!("creating {}", dir.display())))?;
+        let text = serde_json::to_string_pretty(self).map_err(output("plan.json"))?;
+        write_atomic(&f, &(text + "\n"))
     }
 
     /// Reads the plan a sweep folder holds (`plan.json`).
     pub fn load(dir: &Path) -> Result<Plan> {
         let f = dir.join("plan.json");
-        let text = std::fs::read_to_string(&f).with_context(|| {
-            format!("reading {} (is this a sweep folder? `ehl sweep plan` writes it)", f.display())
-        })?;
-        serde_json::from_str(&text).with_context(|| format!("parsing {}", f.display()))
+        let text = std::fs::read_to_string(&f).map_err(io(format!(
+            "reading {} (is this a sweep folder? `ehl sweep plan` writes it)",
+            f.display()
+        )))?;
+        serde_json::from_str(&text).map_err(output(format!("parsing {}", f.display())))
     }
 
     /// The record of point `index` if it finished (a file that does not parse, or belongs to
@@ -178,10 +181,13 @@ pub fn point_file(dir: &Path, index: usize) -> PathBuf {
 /// Writes `text` to `path` through a temporary file in the same folder and a rename, so a reader
 /// (or a killed writer) never sees half a file.
 pub fn write_atomic(path: &Path, text: &str) -> Result<()> {
-    let name = path.file_name().context("a file name")?.to_string_lossy();
+    let name = path
+        .file_name()
+        .ok_or_else(|| Error::Refused(format!("{} is not a file name", path.display())))?
+        .to_string_lossy();
     let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-    std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("moving {} into place", path.display()))
+    std::fs::write(&tmp, text).map_err(io(format!("writing {}", tmp.display())))?;
+    std::fs::rename(&tmp, path).map_err(io(format!("moving {} into place", path.display())))
 }
 
 /// Shard `index` of `count`: the points `k` with `k % count == index` (neighbouring points,
@@ -236,9 +242,12 @@ pub struct RunSummary {
 
 /// Runs the points of `shard` that have no record yet, `jobs` at a time.
 pub fn run(dir: &Path, shard: Shard, jobs: usize) -> Result<RunSummary> {
-    ensure!(jobs >= 1, "--jobs must be >= 1");
+    if jobs < 1 {
+        return Err(Error::Refused("--jobs must be >= 1".into()));
+    }
     let plan = Plan::load(dir)?;
-    std::fs::create_dir_all(dir.join("points"))?;
+    std::fs::create_dir_all(dir.join("points"))
+        .map_err(io(format!("creating {}/points", dir.display())))?;
     let mine: Vec<&PlannedPoint> = plan.points.iter().filter(|p| shard.holds(p.index)).collect();
     let todo: Vec<&PlannedPoint> =
         mine.iter().copied().filter(|p| plan.finished(dir, p.index).is_none()).collect();
@@ -246,7 +255,7 @@ pub fn run(dir: &Path, shard: Shard, jobs: usize) -> Result<RunSummary> {
     let t0 = Instant::now();
     let bar = progress::bar(todo.len() as u64, &format!("sweep {}", plan.sweep.name));
     let next = AtomicUsize::new(0);
-    let error: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
+    let error: std::sync::Mutex<Option<Error>> = std::sync::Mutex::new(None);
     std::thread::scope(|s| {
         for _ in 0..jobs.min(todo.len().max(1)) {
             s.spawn(|| {
@@ -259,16 +268,16 @@ pub fn run(dir: &Path, shard: Shard, jobs: usize) -> Result<RunSummary> {
                     let rec = run_point(&plan.sweep, p);
                     let line = point_line(&plan.sweep, &rec);
                     let written = serde_json::to_string_pretty(&rec)
-                        .map_err(anyhow::Error::from)
+                        .map_err(output(format!("point {}", p.index)))
                         .and_then(|t| write_atomic(&point_file(dir, p.index), &(t + "\n")));
                     // A record that does not read back would be rerun forever: stop instead.
                     let written = written.and_then(|()| match plan.finished(dir, p.index) {
                         Some(_) => Ok(()),
-                        None => Err(anyhow::anyhow!(
+                        None => Err(Error::Refused(format!(
                             "point {}: its record {} does not read back",
                             p.index,
                             point_file(dir, p.index).display()
-                        )),
+                        ))),
                     });
                     if let Err(e) = written {
                         *error.lock().unwrap() = Some(e);
@@ -443,16 +452,22 @@ fn flag(limit: f64, grid: &CheckRecord, domain: &CheckRecord) -> Option<String> 
 /// Writes the SLURM array script for `shards` shards of the sweep in `dir`: one task per shard,
 /// each `ehl sweep run DIR --shard $SLURM_ARRAY_TASK_ID/N` on the cores SLURM gives it.
 pub fn write_sbatch(dir: &Path, shards: usize, cpus_per_task: usize) -> Result<PathBuf> {
-    ensure!(shards >= 1, "--shards must be >= 1");
-    ensure!(cpus_per_task >= 1, "--cpus-per-task must be >= 1");
+    let refuse = |m: String| Err(Error::Refused(m));
+    if shards < 1 {
+        return refuse("--shards must be >= 1".into());
+    }
+    if cpus_per_task < 1 {
+        return refuse("--cpus-per-task must be >= 1".into());
+    }
     let plan = Plan::load(dir)?;
-    ensure!(
-        shards <= plan.points.len(),
-        "--shards {shards} is more than the sweep's {} points",
-        plan.points.len()
-    );
-    let dir_abs = std::fs::canonicalize(dir)?;
-    let exe = std::env::current_exe().context("locating the ehl binary")?;
+    if shards > plan.points.len() {
+        return refuse(format!(
+            "--shards {shards} is more than the sweep's {} points",
+            plan.points.len()
+        ));
+    }
+    let dir_abs = std::fs::canonicalize(dir).map_err(io(format!("finding {}", dir.display())))?;
+    let exe = std::env::current_exe().map_err(io("locating the ehl binary"))?;
     let q = |p: &Path| format!("'{}'", p.display().to_string().replace('\'', "'\\''"));
     let text = format!(
         "#!/bin/bash\n\
@@ -503,14 +518,14 @@ pub fn records(dir: &Path, plan: &Plan) -> Result<Vec<PointRecord>> {
     }
     if !missing.is_empty() {
         let list: Vec<String> = missing.iter().take(12).map(|k| k.to_string()).collect();
-        bail!(
+        return Err(Error::Refused(format!(
             "{} of {} points have no result yet (points {}{}): run `ehl sweep run {}` (or the shards that hold them) first",
             missing.len(),
             plan.points.len(),
             list.join(", "),
             if missing.len() > 12 { ", …" } else { "" },
             dir.display()
-        );
+        )));
     }
     Ok(out)
 }

@@ -1,0 +1,176 @@
+//! The workbench's errors, typed: a scene refused, a model's failure with its solver's own
+//! diagnosis, a file that could not be read or written, a figure or table that could not be
+//! drawn, a request that cannot run. Each says what, where and when in its text, and keeps the
+//! solver's diagnosis as a value a caller can match (`Error::Model { diagnosis, .. }`).
+//! The binary and xtask wrap these in `anyhow` for their reports; the library does not.
+
+use std::fmt;
+
+/// Why the workbench gave no answer.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The scene (or a sweep over it) was refused, naming the field.
+    #[error(transparent)]
+    Scene(#[from] ehl_scene::SceneError),
+    /// A model failed: where and when (`context`, e.g. "scene `seed`: time step 3 (t = …)"),
+    /// and its solver's diagnosis.
+    #[error("{context}: {diagnosis}")]
+    Model {
+        /// Where and when, outermost first.
+        context: String,
+        /// The solver's own diagnosis.
+        diagnosis: Diagnosis,
+    },
+    /// A file or folder could not be read or written.
+    #[error("{context}: {source}")]
+    Io {
+        /// What was being done, and to which path.
+        context: String,
+        /// The system's error.
+        source: std::io::Error,
+    },
+    /// An output (a figure, JSON, an `.npy` file) could not be produced.
+    #[error("{context}: {message}")]
+    Output {
+        /// Which output.
+        context: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// A request the workbench cannot run as asked (a comparison run as one model, an empty
+    /// plan, a sweep folder from another sweep).
+    #[error("{0}")]
+    Refused(String),
+}
+
+/// A solver's diagnosis, by the solver it comes from.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Diagnosis {
+    /// The dry contact solver (every model's contact).
+    #[error(transparent)]
+    Contact(#[from] ehl_core::NumericError),
+    /// The layer model's stepper or steady solve.
+    #[error(transparent)]
+    Layer(#[from] ehl_layer::LayerError),
+    /// The Reynolds solver: a divergence, or a solve that ended unconverged.
+    #[error(transparent)]
+    Reynolds(#[from] ehl_reynolds::ReynoldsError),
+    /// A motion that cannot be built.
+    #[error(transparent)]
+    Motion(#[from] ehl_core::KinematicsError),
+    /// A march that cannot be planned or driven as the scene asks (what to change is named).
+    #[error("{0}")]
+    Plan(String),
+}
+
+/// The workbench's result.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    /// The same error with `what` (a place or a time) put in front of its context.
+    pub fn within(self, what: impl fmt::Display) -> Error {
+        let join = |c: String| if c.is_empty() { what.to_string() } else { format!("{what}: {c}") };
+        match self {
+            Error::Model { context, diagnosis } => {
+                Error::Model { context: join(context), diagnosis }
+            }
+            Error::Io { context, source } => Error::Io { context: join(context), source },
+            Error::Output { context, message } => Error::Output { context: join(context), message },
+            Error::Refused(m) => Error::Refused(join(m)),
+            Error::Scene(e) => Error::Scene(e),
+        }
+    }
+
+    /// The solver's diagnosis, when a model failed.
+    pub fn diagnosis(&self) -> Option<&Diagnosis> {
+        match self {
+            Error::Model { diagnosis, .. } => Some(diagnosis),
+            _ => None,
+        }
+    }
+}
+
+impl From<Diagnosis> for Error {
+    fn from(diagnosis: Diagnosis) -> Self {
+        Error::Model { context: String::new(), diagnosis }
+    }
+}
+
+/// Each solver's error is a model failure with that diagnosis.
+macro_rules! diagnosis_from {
+    ($($t:ty),*) => {$(
+        impl From<$t> for Error {
+            fn from(e: $t) -> Self {
+                Diagnosis::from(e).into()
+            }
+        }
+    )*};
+}
+diagnosis_from!(
+    ehl_core::NumericError,
+    ehl_layer::LayerError,
+    ehl_reynolds::ReynoldsError,
+    ehl_core::KinematicsError
+);
+
+/// A figure the drawing backend could not draw.
+impl<E: std::error::Error + Send + Sync> From<plotters::drawing::DrawingAreaErrorKind<E>>
+    for Error
+{
+    fn from(e: plotters::drawing::DrawingAreaErrorKind<E>) -> Self {
+        Error::Output { context: "drawing a figure".into(), message: e.to_string() }
+    }
+}
+
+/// Puts a place or a time in front of an error, as it passes up.
+pub trait Within<T> {
+    /// `what` in front of the error's context.
+    fn within(self, what: impl FnOnce() -> String) -> Result<T>;
+}
+
+impl<T, E: Into<Error>> Within<T> for std::result::Result<T, E> {
+    fn within(self, what: impl FnOnce() -> String) -> Result<T> {
+        self.map_err(|e| e.into().within(what()))
+    }
+}
+
+/// Writes `contents` to `path`, a failure naming the path.
+pub fn write_file(path: &std::path::Path, contents: impl AsRef<[u8]>) -> Result<()> {
+    std::fs::write(path, contents).map_err(io(format!("writing {}", path.display())))
+}
+
+/// Creates the folder `path` and its parents, a failure naming the path.
+pub fn create_dir(path: &std::path::Path) -> Result<()> {
+    std::fs::create_dir_all(path).map_err(io(format!("creating {}", path.display())))
+}
+
+/// An I/O failure, saying what was being done.
+pub fn io(context: impl fmt::Display) -> impl FnOnce(std::io::Error) -> Error {
+    let context = context.to_string();
+    move |source| Error::Io { context, source }
+}
+
+/// An output failure (a drawing backend, a serialiser), saying which output.
+pub fn output<E: fmt::Display>(context: impl fmt::Display) -> impl FnOnce(E) -> Error {
+    let context = context.to_string();
+    move |e| Error::Output { context, message: e.to_string() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn context_reads_outermost_first_and_the_diagnosis_stays_a_value() {
+        let e: Error = ehl_core::NumericError::Invalid("load 0".into()).into();
+        let e = e.within("time step 3 (t = 1e-3 s)").within("scene `seed`");
+        assert_eq!(e.to_string(), "scene `seed`: time step 3 (t = 1e-3 s): load 0");
+        assert!(matches!(
+            e.diagnosis(),
+            Some(Diagnosis::Contact(ehl_core::NumericError::Invalid(_)))
+        ));
+        let r: Result<()> =
+            Err(Diagnosis::Plan("run.time.dt_s: required".into())).within(|| "run".into());
+        assert_eq!(r.unwrap_err().to_string(), "run: run.time.dt_s: required");
+    }
+}
