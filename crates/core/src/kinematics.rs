@@ -325,13 +325,15 @@ mod tests {
         assert!((sum - k.travel(0.3)).abs() < 2.3e-11, "{sum}");
     }
 
+    /// Up to 0.02 m/s in 0.1 s, held, a jump down to 0.01 m/s at 0.2 s, to rest at 0.4 s.
+    fn ramp_hold_jump_slowdown() -> Kinematics {
+        let knots = [(0.0, 0.0), (0.1, 0.02), (0.2, 0.02), (0.2, 0.01), (0.4, 0.0)];
+        Kinematics::table(&knots, 0.02).unwrap()
+    }
+
     #[test]
     fn a_step_travels_what_the_travel_differences_say() {
-        let k = Kinematics::table(
-            &[(0.0, 0.0), (0.1, 0.02), (0.2, 0.02), (0.2, 0.01), (0.4, 0.0)],
-            0.02,
-        )
-        .unwrap();
+        let k = ramp_hold_jump_slowdown();
         // Steps inside one piece, across a kink, across the jump, past the last knot.
         for (t0, dt) in [(0.02, 0.03), (0.05, 0.1), (0.15, 0.1), (0.35, 0.3), (0.0, 1.0)] {
             let want = k.travel(t0 + dt) - k.travel(t0);
@@ -345,11 +347,7 @@ mod tests {
 
     #[test]
     fn a_table_with_a_jump_and_a_slowdown() {
-        let k = Kinematics::table(
-            &[(0.0, 0.0), (0.1, 0.02), (0.2, 0.02), (0.2, 0.01), (0.4, 0.0)],
-            0.02,
-        )
-        .unwrap();
+        let k = ramp_hold_jump_slowdown();
         assert_eq!(k.speed(0.2), 0.01);
         let total = 0.5 * 0.02 * 0.1 + 0.02 * 0.1 + 0.5 * 0.01 * 0.2;
         assert!((k.travel(1.0) - total).abs() < 1e-18);
