@@ -106,7 +106,7 @@ fn builtin_scene_centrelines() {
     let features = ["dent-deep", "dent-shallow", "hole", "squeeze-after-stop", "reynolds-m20-l10"];
     for scene in ehl_scene::builtins() {
         // Comparison scenes have their own snapshot (tests/compare.rs).
-        if features.contains(&scene.name.as_str()) || scene.model.is_none() {
+        if features.contains(&scene.name.as_str()) || scene.is_comparison() {
             continue;
         }
         // The seed's Reynolds case needs its full grid: on 33² its 12 nm film closes

@@ -167,7 +167,7 @@ fn figures(out: &std::path::Path) -> Result<()> {
     std::fs::create_dir_all(out)?;
     let mut written = vec![];
     for scene in ehl_scene::builtins() {
-        if scene.model.is_none() {
+        if scene.is_comparison() {
             continue; // comparison scenes: Figs. 7 and 12 below
         }
         let outcome = ehl_workbench::run_scene(&scene)?;

@@ -118,11 +118,11 @@ fn real_main() -> Result<()> {
         }
         Command::Run(RunArgs { scene, out, grid, threads }) => {
             let s = prepare(&scene, grid, threads)?;
-            if s.model.is_none() {
+            if s.is_comparison() {
                 bail!(
                     "scene `{}` lists several models ({:?}): run it with `ehl compare`",
                     s.name,
-                    s.models
+                    s.models()
                 );
             }
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));

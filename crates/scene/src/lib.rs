@@ -27,11 +27,13 @@ pub struct Scene {
     pub description: String,
     /// Which model runs it (a one-model scene) …
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub model: Option<Model>,
+    model: Option<Model>,
     /// … or which models run it, each on the same conditions, domain and grid (a comparison
-    /// scene, for `ehl compare`). Exactly one of `model` and `models` is given.
+    /// scene, for `ehl compare`). Exactly one of `model` and `models` is given: both are
+    /// private, read through [`Scene::model`] and [`Scene::models`] and set only by parsing
+    /// (checked) or by [`Scene::for_model`] and [`Scene::comparing`], so no value holds both.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub models: Vec<Model>,
+    models: Vec<Model>,
     /// Ball, load, modulus and rolling speed (SI).
     pub conditions: Conditions,
     /// Lubricant (the layer's damper, the Reynolds fluid); required by those models.
@@ -135,6 +137,20 @@ impl Scene {
     /// first).
     pub fn model(&self) -> Option<Model> {
         self.model
+    }
+
+    /// Whether the scene is a comparison (several models).
+    pub fn is_comparison(&self) -> bool {
+        self.model.is_none()
+    }
+
+    /// This scene as a comparison of `models` (each once), checked.
+    pub fn comparing(&self, models: &[Model]) -> Result<Scene, SceneError> {
+        let mut s = self.clone();
+        s.model = None;
+        s.models = models.to_vec();
+        s.validate(&format!("{} as a comparison", self.name))?;
+        Ok(s)
     }
 
     /// This scene as `m` alone runs it: the same conditions, domain and grid, `m`'s blocks.
@@ -1511,14 +1527,14 @@ mod tests {
         // the supply stays for the Reynolds model (to read) and leaves the dry one.
         let text = BUILTINS.iter().find(|b| b.0 == "dent-shallow").unwrap().1.to_string();
         let mut s = Scene::from_json(&text, "test").unwrap();
-        s.model = None;
-        s.models = vec![Model::Layer, Model::Reynolds];
         s.reynolds = Some(ReynoldsSpec {
             viscosity: ViscosityLaw::default(),
             density: DensityLaw::default(),
             moes: None,
             solver: ReynoldsSettings::default(),
         });
+        let s = s.comparing(&[Model::Layer, Model::Reynolds]).unwrap();
+        assert!(s.is_comparison() && s.comparing(&[Model::Layer, Model::Layer]).is_err());
         let r = s.for_model(Model::Reynolds);
         let l = s.for_model(Model::Layer);
         assert_eq!(r.dents().unwrap(), l.dents().unwrap());
