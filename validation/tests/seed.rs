@@ -80,6 +80,31 @@ fn squeeze_after_stop_ends_in_the_direct_steady_squeeze() {
 }
 
 #[test]
+fn a_stop_mid_run_rolls_to_it_then_ends_in_the_same_steady_squeeze() {
+    // Steady rolling, 20 ms more of it (19 cells of travel on 33², 190 steps), then a sudden
+    // stop: the squeeze after it forgets the history and ends where the direct steady squeeze
+    // is, as the stop at t = 0 does (the test above; same bounds, same reasons).
+    let stop = 0.02;
+    let o = layer("squeeze-after-stop", 33, |s| {
+        s.run.as_mut().unwrap().motion = ehl_scene::Motion::StopAt { at_s: stop };
+    });
+    let direct = layer("squeeze-steady", 33, |_| {});
+    let rec = o.record.as_ref().unwrap();
+    assert!(rec.finished, "{}", rec.stop_reason);
+    let (a, b) = (&o.final_monitor, &direct.final_monitor);
+    assert!((a.max_pressure - b.max_pressure).abs() < 2e-3 * o.scales.p_h);
+    assert!((a.contact_diameter - b.contact_diameter).abs() < 1e-12);
+    assert!((a.dry_diameter - b.dry_diameter).abs() <= o.grid.dx() * o.scales.a + 1e-12);
+    // While it rolled, the steps were the rolling ones (10 a cell at 0.01 m/s, about 0.1 ms,
+    // equal steps landing on the stop); the steady rule waited a window after the stop. A
+    // stop read as one at t = 0 rolls no step; one never reached never becomes steady.
+    let rolled = rec.observed.iter().filter(|(t, _)| *t <= stop * (1.0 + 1e-12)).count() - 1;
+    let cells = 0.01 * stop / (o.grid.dx() * o.scales.a);
+    assert_eq!(rolled as f64, (10.0 * cells - 1e-9).ceil(), "steps while rolling");
+    assert!(o.final_state.t > stop + 0.5, "steady only a window after the stop");
+}
+
+#[test]
 fn hole_central_pressure_drop_matches_the_seed() {
     // The hole (radius 0.2 a) centred at x = 0 at t = 1.45 a / u1; its drop of the central
     // pressure against the steady rolling state it passes through (the run's start).
