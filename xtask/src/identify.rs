@@ -14,11 +14,12 @@
 //! fit is Levenberg–Marquardt with forward-difference Jacobians.
 
 use anyhow::{Context, Result, bail};
-use ehl_layer::{LawSet, Monitor};
+use ehl_layer::LawSet;
 use ehl_scene::Scene;
 use ehl_workbench::layer::LayerOutcome;
+use ehl_workbench::layer::LayerRow;
 use ehl_workbench::plot::{self, Mark, Panel, Series};
-use ehl_workbench::run_scene;
+use ehl_workbench::{Outcome, run_scene};
 use plotters::prelude::SeriesLabelPosition;
 use serde::Serialize;
 use serde_json::{Value, json};
@@ -107,9 +108,9 @@ fn layer(s: &Scene) -> Result<LayerOutcome> {
 
 /// The earliest time after which every quantity stays within `band` of its final value,
 /// interpolated linearly between the samples either side of the last excursion.
-fn settle_time(series: &[Monitor], qs: &[&dyn Fn(&Monitor) -> f64], band: f64) -> f64 {
+fn settle_time(series: &[LayerRow], qs: &[&dyn Fn(&LayerRow) -> f64], band: f64) -> f64 {
     let last = series.last().expect("a run records its steps");
-    let out = |m: &Monitor| qs.iter().map(|q| (q(m) - q(last)).abs() / band).fold(0.0, f64::max);
+    let out = |m: &LayerRow| qs.iter().map(|q| (q(m) - q(last)).abs() / band).fold(0.0, f64::max);
     match series.iter().rposition(|m| out(m) > 1.0) {
         None => series[0].t,
         Some(k) if k + 1 >= series.len() => last.t,
@@ -122,16 +123,14 @@ fn settle_time(series: &[Monitor], qs: &[&dyn Fn(&Monitor) -> f64], band: f64) -
 }
 
 /// Time of the largest `p_max`, by a parabola through the sample and its neighbours.
-fn peak_time(series: &[Monitor]) -> f64 {
-    let k = (0..series.len())
-        .max_by(|&i, &j| series[i].max_pressure.total_cmp(&series[j].max_pressure))
-        .unwrap();
+fn peak_time(series: &[LayerRow]) -> f64 {
+    let p = |k: usize| series[k].observed.max_pressure_pa;
+    let k = (0..series.len()).max_by(|&i, &j| p(i).total_cmp(&p(j))).unwrap();
     if k == 0 || k + 1 == series.len() {
         return series[k].t;
     }
     let (t0, t1, t2) = (series[k - 1].t, series[k].t, series[k + 1].t);
-    let (y0, y1, y2) =
-        (series[k - 1].max_pressure, series[k].max_pressure, series[k + 1].max_pressure);
+    let (y0, y1, y2) = (p(k - 1), p(k), p(k + 1));
     // Vertex of the parabola through three unevenly spaced points.
     let num = (t1 - t0).powi(2) * (y1 - y2) - (t1 - t2).powi(2) * (y1 - y0);
     let den = (t1 - t0) * (y1 - y2) - (t1 - t2) * (y1 - y0);
@@ -184,26 +183,26 @@ fn evaluate(th: &Theta, g: Grids) -> Result<Eval> {
         bail!("a march stopped before steady (κ = {:.3e}, σ = {:.2})", th[0].exp(), th[1]);
     }
     // Steady: every monitor within 1 % (of l0, p_h) of its final value from then on.
-    let hc = |m: &Monitor| m.central_thickness / l0;
-    let hmin = |m: &Monitor| m.minimum_thickness / l0;
-    let pmax = |m: &Monitor| m.max_pressure / p_h;
-    let appr = |m: &Monitor| m.approach / l0;
+    let hc = |m: &LayerRow| m.layer.central_thickness / l0;
+    let hmin = |m: &LayerRow| m.layer.minimum_thickness / l0;
+    let pmax = |m: &LayerRow| m.observed.max_pressure_pa / p_h;
+    let appr = |m: &LayerRow| m.layer.approach / l0;
     let t_roll = settle_time(&ro_rec.rows, &[&hc, &hmin, &pmax], 0.01) * u1 / a;
     // The squeeze: the seed calls it steady when pressure and layer stop changing, and notes the
     // contact diameter growing until then; the diameters are counted in cells, so their band is
     // at least one cell.
     let cell = sq.grid.dx() * a;
     let dband = (0.01 * 2.0 * a).max(cell) / (0.01 * 2.0 * a);
-    let dc = |m: &Monitor| m.contact_diameter / (2.0 * a) / dband;
-    let dd = |m: &Monitor| m.dry_diameter / (2.0 * a) / dband;
+    let dc = |m: &LayerRow| m.observed.contact_extent_x_m / (2.0 * a) / dband;
+    let dd = |m: &LayerRow| m.layer.dry_diameter / (2.0 * a) / dband;
     let t_sq = settle_time(&sq_rec.rows, &[&pmax, &appr, &dc, &dd], 0.01);
-    let f = &sq.final_monitor;
+    let (f, fo) = (&sq.final_monitor, sq.observables());
     Ok(Eval {
         theta: *th,
         values: [hc_steady, t_roll, peak_time(&sq_rec.rows), t_sq],
         steady_tolerance,
-        squeeze_max_pressure_ph: f.max_pressure / p_h,
-        squeeze_contact_diameter_2a: f.contact_diameter / (2.0 * a),
+        squeeze_max_pressure_ph: fo.max_pressure_pa / p_h,
+        squeeze_contact_diameter_2a: fo.contact_extent_x_m / (2.0 * a),
         squeeze_dry_diameter_2a: f.dry_diameter / (2.0 * a),
         wall_s: t0.elapsed().as_secs_f64(),
     })
@@ -744,17 +743,17 @@ pub fn figures(out: &Path) -> Result<Vec<std::path::PathBuf>> {
             let series = &o.record.as_ref().context("a march")?.rows;
             films.push(Series::new(
                 format!("h_c, {label}"),
-                series.iter().map(|m| (m.t, m.central_thickness * 1e9)).collect(),
+                series.iter().map(|m| (m.t, m.layer.central_thickness * 1e9)).collect(),
                 Mark::Line,
             ));
             films.push(Series::new(
                 format!("h_min, {label}"),
-                series.iter().map(|m| (m.t, m.minimum_thickness * 1e9)).collect(),
+                series.iter().map(|m| (m.t, m.layer.minimum_thickness * 1e9)).collect(),
                 Mark::Line,
             ));
             pressures.push(Series::new(
                 format!("p_max, {label}"),
-                series.iter().map(|m| (m.t, m.max_pressure / o.scales.p_h)).collect(),
+                series.iter().map(|m| (m.t, m.observed.max_pressure_pa / o.scales.p_h)).collect(),
                 Mark::Line,
             ));
         }
@@ -792,31 +791,40 @@ fn seed_fit_note() -> String {
 mod tests {
     use super::*;
 
-    fn mon(t: f64, p: f64) -> Monitor {
-        Monitor {
+    fn mon(t: f64, p: f64) -> LayerRow {
+        let observed = ehl_core::Observables {
+            central_film_m: 0.0,
+            minimum_film_m: 0.0,
+            minimum_film_at_m: (0.0, 0.0),
+            max_pressure_pa: p,
+            max_pressure_at_m: (0.0, 0.0),
+            contact_extent_x_m: 0.0,
+            contact_extent_y_m: 0.0,
+            load_error: 0.0,
+        };
+        let layer = ehl_layer::Monitor {
             t,
             central_thickness: 0.0,
             minimum_thickness: 0.0,
-            max_pressure: p,
-            contact_diameter: 0.0,
             dry_diameter: 0.0,
             approach: 0.0,
             central_pressure: 0.0,
             lateral_wiggle: 0.0,
             iterations: 0,
-        }
+        };
+        LayerRow { t, observed, layer }
     }
 
     #[test]
     fn settle_and_peak_times_interpolate() {
         // p = 1 − e^{−t}: within 0.01 of the final 1 − e^{−10} from t ≈ ln(1/0.01) = 4.6.
-        let s: Vec<Monitor> =
+        let s: Vec<LayerRow> =
             (0..=100).map(|k| mon(0.1 * k as f64, 1.0 - (-0.1 * k as f64).exp())).collect();
-        let t = settle_time(&s, &[&|m: &Monitor| m.max_pressure], 0.01);
+        let t = settle_time(&s, &[&|m: &LayerRow| m.observed.max_pressure_pa], 0.01);
         let exact = -(0.01f64 + (-10.0f64).exp()).ln();
         assert!((t - exact).abs() < 0.01, "{t} against {exact}");
         // A parabola's vertex at 0.37 sampled every 0.1: recovered exactly.
-        let s: Vec<Monitor> =
+        let s: Vec<LayerRow> =
             (0..10).map(|k| mon(0.1 * k as f64, -(0.1 * k as f64 - 0.37).powi(2))).collect();
         assert!((peak_time(&s) - 0.37).abs() < 1e-12);
     }

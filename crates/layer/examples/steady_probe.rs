@@ -36,7 +36,7 @@ fn main() {
                 r.wall_time_s,
                 mon.central_thickness * 1e9,
                 mon.minimum_thickness * 1e9,
-                mon.max_pressure / m.scales.p_h,
+                s.p.iter().cloned().fold(0.0, f64::max),
                 mon.lateral_wiggle / m.scales.p_h
             );
             let h: Vec<String> = r.history.iter().map(|v| format!("{v:.1e}")).collect();

@@ -484,7 +484,10 @@ impl LayerState {
     }
 }
 
-/// Scalars a run is watched by, in SI.
+/// What only the layer model has to report about a state, in SI: the layer itself, the dry
+/// zone, the approach, the lateral wiggle. The quantities every model shares (films, maximum
+/// pressure, contact extents) are the core's observables (`ehl_core::Observables`), defined
+/// once, and not repeated here.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Monitor {
     /// Time [s].
@@ -493,10 +496,6 @@ pub struct Monitor {
     pub central_thickness: f64,
     /// Smallest layer thickness where the surfaces carry pressure [m].
     pub minimum_thickness: f64,
-    /// Largest pressure [Pa].
-    pub max_pressure: f64,
-    /// Extent of the loaded zone along `y = 0` [m].
-    pub contact_diameter: f64,
     /// Extent of the loaded zone with no layer left along `y = 0` [m].
     pub dry_diameter: f64,
     /// Mutual approach `−h0` [m].
@@ -562,8 +561,6 @@ impl Monitor {
             t: s.t,
             central_thickness: sc.h_si(l[[j0, i0]]),
             minimum_thickness: sc.h_si(lmin),
-            max_pressure: sc.p_si(s.p.iter().cloned().fold(0.0, f64::max)),
-            contact_diameter: sc.x_si(extent(prow.iter().map(|&p| p > 0.0), g.dx())),
             dry_diameter: sc.x_si(extent(
                 prow.iter().zip(lrow.iter()).map(|(&p, &l)| p > 0.0 && l <= dry_tol),
                 g.dx(),

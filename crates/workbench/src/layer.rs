@@ -54,8 +54,20 @@ pub struct LayerOutcome {
     pub total_time_s: f64,
 }
 
-/// A layer march: a monitor per step, strain, pressure and thickness at the snapshots.
-pub type LayerRecord = drive::Record<Monitor, Snapshot>;
+/// A layer march: a row per step, strain, pressure and thickness at the snapshots.
+pub type LayerRecord = drive::Record<LayerRow, Snapshot>;
+
+/// What is recorded after each step of a layer march: the standard observables (the driver
+/// computes them once for every model) and the layer's own quantities beside them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LayerRow {
+    /// Time [s] from the start of the motion.
+    pub t: f64,
+    /// The standard observables, one definition for every model.
+    pub observed: Observables,
+    /// The layer's own: its thickness, the dry zone, the approach, the wiggle.
+    pub layer: Monitor,
+}
 
 /// The layer model as the driver marches it.
 struct LayerMarch<'a> {
@@ -65,7 +77,7 @@ struct LayerMarch<'a> {
 }
 
 impl Transient for LayerMarch<'_> {
-    type Row = Monitor;
+    type Row = LayerRow;
     type Snapshot = Snapshot;
     type Saved = (LayerState, Stepper);
     fn time(&self) -> f64 {
@@ -76,18 +88,23 @@ impl Transient for LayerMarch<'_> {
         let i = self.stepper.step(self.m, &mut self.state, dt)?;
         Ok(Step { solves: i.solves, iterations: i.iterations, error_estimate: i.error_estimate })
     }
-    fn row(&self, step: &Step, _: &Observables) -> Monitor {
-        Monitor::of(self.m, &self.state, step.iterations)
+    fn row(&self, step: &Step, observed: &Observables) -> LayerRow {
+        LayerRow {
+            t: self.state.t,
+            observed: *observed,
+            layer: Monitor::of(self.m, &self.state, step.iterations),
+        }
     }
-    /// Central and minimum layer thickness per `l0`, maximum pressure per `p_h`, contact
-    /// diameter per `2a`.
-    fn monitors(&self, r: &Monitor) -> Vec<f64> {
-        let (sc, l0) = (&self.m.scales, self.m.supply_thickness_m());
+    /// The standard observables the steady rule watches: central and minimum film per `l0`,
+    /// maximum pressure per `p_h`, contact extent along `x` per `2a` (interpolated at 1 % of
+    /// `p_h`, so it moves smoothly rather than by whole cells).
+    fn monitors(&self, r: &LayerRow) -> Vec<f64> {
+        let (sc, l0, o) = (&self.m.scales, self.m.supply_thickness_m(), &r.observed);
         vec![
-            r.central_thickness / l0,
-            r.minimum_thickness / l0,
-            r.max_pressure / sc.p_h,
-            r.contact_diameter / (2.0 * sc.a),
+            o.central_film_m / l0,
+            o.minimum_film_m / l0,
+            o.max_pressure_pa / sc.p_h,
+            o.contact_extent_x_m / (2.0 * sc.a),
         ]
     }
     fn snapshot(&self) -> Snapshot {
@@ -299,21 +316,19 @@ impl LayerOutcome {
                 "coefficient_smoothing": q(spec.coefficient_smoothing_a * s.a, "m"),
                 "oedometric_modulus": q(self.eo * s.p_h, "Pa"),
             },
+            // The layer's own; films, maximum pressure and contact extents are the shared
+            // observables beside these.
             "results": {
-                "central_thickness": q(f.central_thickness, "m"),
-                "minimum_thickness": q(f.minimum_thickness, "m"),
-                "max_pressure": q(f.max_pressure, "Pa"),
+                "central_layer_thickness": q(f.central_thickness, "m"),
+                "minimum_layer_thickness_loaded": q(f.minimum_thickness, "m"),
                 "central_pressure": q(f.central_pressure, "Pa"),
-                "contact_diameter": q(f.contact_diameter, "m"),
                 "dry_diameter": q(f.dry_diameter, "m"),
                 "approach": q(f.approach, "m"),
                 "lateral_wiggle": q(f.lateral_wiggle, "Pa"),
             },
             "normalised": {
-                "central_thickness_over_l0": f.central_thickness / self.supply_thickness_m,
-                "minimum_thickness_over_l0": f.minimum_thickness / self.supply_thickness_m,
-                "max_pressure_over_p_h": f.max_pressure / s.p_h,
-                "contact_diameter_over_2a": f.contact_diameter / (2.0 * s.a),
+                "central_layer_thickness_over_l0": f.central_thickness / self.supply_thickness_m,
+                "minimum_layer_thickness_loaded_over_l0": f.minimum_thickness / self.supply_thickness_m,
                 "dry_diameter_over_2a": f.dry_diameter / (2.0 * s.a),
             },
             "run": run_json,
@@ -377,18 +392,23 @@ impl LayerOutcome {
     /// Time series as CSV, SI.
     pub fn time_series_csv(&self) -> Option<String> {
         let rec = self.record.as_ref()?;
+        // The standard observables, then the layer's own quantities.
         let mut s = String::from(
-            "t_s,central_thickness_m,minimum_thickness_m,max_pressure_pa,central_pressure_pa,contact_diameter_m,dry_diameter_m,approach_m,lateral_wiggle_pa,iterations\n",
+            "t_s,central_film_m,minimum_film_m,max_pressure_pa,contact_extent_x_m,contact_extent_y_m,central_layer_thickness_m,minimum_layer_thickness_loaded_m,central_pressure_pa,dry_diameter_m,approach_m,lateral_wiggle_pa,iterations\n",
         );
-        for m in &rec.rows {
+        for r in &rec.rows {
+            let (o, m) = (&r.observed, &r.layer);
             s += &format!(
-                "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}\n",
-                m.t,
+                "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}\n",
+                r.t,
+                o.central_film_m,
+                o.minimum_film_m,
+                o.max_pressure_pa,
+                o.contact_extent_x_m,
+                o.contact_extent_y_m,
                 m.central_thickness,
                 m.minimum_thickness,
-                m.max_pressure,
                 m.central_pressure,
-                m.contact_diameter,
                 m.dry_diameter,
                 m.approach,
                 m.lateral_wiggle,
@@ -486,8 +506,8 @@ impl LayerOutcome {
         self.maps(&f, &self.l, &self.final_state.p, &format!("(final, l0 = {l0_nm} nm)"))?;
         out.push(f);
         if let Some(rec) = &self.record {
-            let ser = |k: fn(&Monitor) -> f64, scale: f64| -> Vec<(f64, f64)> {
-                rec.rows.iter().map(|m| (m.t, k(m) * scale)).collect()
+            let ser = |k: fn(&LayerRow) -> f64, scale: f64| -> Vec<(f64, f64)> {
+                rec.rows.iter().map(|r| (r.t, k(r) * scale)).collect()
             };
             let f = dir.join(format!("{prefix}history.png"));
             plot::history_chart(
@@ -495,13 +515,13 @@ impl LayerOutcome {
                 "t [s]",
                 "Layer thickness",
                 [
-                    ("central", ser(|m| m.central_thickness, 1e9)),
-                    ("minimum", ser(|m| m.minimum_thickness, 1e9)),
+                    ("central", ser(|r| r.layer.central_thickness, 1e9)),
+                    ("minimum", ser(|r| r.layer.minimum_thickness, 1e9)),
                 ],
                 "Pressure",
                 [
-                    ("maximum", ser(|m| m.max_pressure, 1.0 / s.p_h)),
-                    ("central", ser(|m| m.central_pressure, 1.0 / s.p_h)),
+                    ("maximum", ser(|r| r.observed.max_pressure_pa, 1.0 / s.p_h)),
+                    ("central", ser(|r| r.layer.central_pressure, 1.0 / s.p_h)),
                 ],
                 &self.note(),
             )?;
@@ -591,19 +611,20 @@ fn layer_report(o: &LayerOutcome) -> String {
     }
     let _ = writeln!(
         out,
-        "  central thickness {:.4e} m ({:.4} l0)   minimum {:.4e} m ({:.4} l0)",
+        "  central layer {:.4e} m ({:.4} l0)   minimum where loaded {:.4e} m ({:.4} l0)",
         f.central_thickness,
         f.central_thickness / l0,
         f.minimum_thickness,
         f.minimum_thickness / l0
     );
+    let ob = o.observables();
     let _ = writeln!(
         out,
-        "  max pressure {:.5e} Pa ({:.4} p_h)   contact diameter {:.4e} m ({:.4} x 2a)   dry diameter {:.4e} m",
-        f.max_pressure,
-        f.max_pressure / s.p_h,
-        f.contact_diameter,
-        f.contact_diameter / (2.0 * s.a),
+        "  max pressure {:.5e} Pa ({:.4} p_h)   contact extent {:.4e} m ({:.4} x 2a)   dry diameter {:.4e} m",
+        ob.max_pressure_pa,
+        ob.max_pressure_pa / s.p_h,
+        ob.contact_extent_x_m,
+        ob.contact_extent_x_m / (2.0 * s.a),
         f.dry_diameter
     );
     if f.lateral_wiggle > 0.05 * s.p_h {
