@@ -8,6 +8,7 @@ mod compare;
 mod convergence;
 mod identify;
 mod layer;
+mod measured;
 mod mutants;
 mod reynolds;
 mod scene_study;
