@@ -45,7 +45,7 @@ fn steady_rolling_central_thickness_matches_the_seed() {
         s.run.as_mut().unwrap().time.steps_per_cell = 5.0;
     });
     assert!(o.record.as_ref().unwrap().finished);
-    let hc = o.final_monitor.central_thickness / o.supply_thickness_m;
+    let hc = o.final_monitor.central_thickness / o.supply_thickness_m();
     let want = seed("rolling_central_thickness");
     assert!((hc / want - 1.0).abs() < 0.06, "h_c/l0 = {hc} against the seed's {want}");
 }
@@ -58,7 +58,7 @@ fn rolling_from_squeezed_and_from_uniform_reach_the_same_steady_state() {
     let (fa, fb) = (&a.final_monitor, &b.final_monitor);
     // Both stop when nothing changes by more than 1e-3 l0 over 0.5 a of travel; they must agree
     // to a few times that.
-    let l0 = a.supply_thickness_m;
+    let l0 = a.supply_thickness_m();
     assert!((fa.central_thickness - fb.central_thickness).abs() < 5e-3 * l0);
     assert!((fa.minimum_thickness - fb.minimum_thickness).abs() < 5e-3 * l0);
 }
@@ -143,9 +143,9 @@ fn seed_fit_laws_reproduce_the_recorded_fit() {
         l.laws = ehl_layer::LawSet::SeedFit;
         l.damper_constant = None;
     });
-    let hc = o.final_monitor.central_thickness / o.supply_thickness_m;
+    let hc = o.final_monitor.central_thickness / o.supply_thickness_m();
     assert!((hc / want - 1.0).abs() < 1e-4, "h_c/l0 = {hc}, recorded {want}");
     let recon = layer("rolling-steady", n, |_| {});
-    let h0 = recon.final_monitor.central_thickness / recon.supply_thickness_m;
+    let h0 = recon.final_monitor.central_thickness / recon.supply_thickness_m();
     assert!((hc / h0 - 1.0).abs() > 0.01, "seed-fit {hc} against reconstruction {h0}");
 }

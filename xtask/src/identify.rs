@@ -153,11 +153,11 @@ pub struct Grids {
 fn steady_hc(th: &Theta, n: usize) -> Result<(f64, f64)> {
     let mut s = scene("rolling-steady", n, th)?;
     match layer(&s) {
-        Ok(o) => Ok((o.final_monitor.central_thickness / o.supply_thickness_m, 1e-5)),
+        Ok(o) => Ok((o.final_monitor.central_thickness / o.supply_thickness_m(), 1e-5)),
         Err(_) => {
             s.run.as_mut().unwrap().steady.strain_tolerance = 1e-3;
             let o = layer(&s)?;
-            Ok((o.final_monitor.central_thickness / o.supply_thickness_m, 1e-3))
+            Ok((o.final_monitor.central_thickness / o.supply_thickness_m(), 1e-3))
         }
     }
 }
@@ -175,7 +175,7 @@ fn evaluate(th: &Theta, g: Grids) -> Result<Eval> {
     let ((st, ro), sq) =
         rayon::join(|| (steady_hc(th, g.rolling), layer(&rolling)), || layer(&squeeze));
     let ((hc_steady, steady_tolerance), ro, sq) = (st?, ro?, sq?);
-    let (a, p_h, l0) = (ro.scales.a, ro.scales.p_h, ro.supply_thickness_m);
+    let (a, p_h, l0) = (ro.scales.a, ro.scales.p_h, ro.supply_thickness_m());
     let u1 = rolling.conditions.rolling_velocity_m_s.unwrap();
     let ro_rec = ro.record.as_ref().context("rolling: no record")?;
     let sq_rec = sq.record.as_ref().context("squeeze: no record")?;
@@ -363,7 +363,7 @@ fn lateral(th: &Theta, n: usize) -> Result<Value> {
                     &s.conditions.contact(),
                     &lub,
                     &spec,
-                    o.supply_thickness_m,
+                    o.supply_thickness_m(),
                     ehl_core::Kinematics::constant(s.conditions.rolling_velocity_m_s.unwrap())
                         .unwrap(),
                     s.grid(),

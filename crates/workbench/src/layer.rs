@@ -26,8 +26,6 @@ pub struct LayerOutcome {
     pub grid: Grid,
     /// `l0 / (a²/R)`, `Eo / p_h`, for normalising.
     pub l0: f64,
-    /// The supply's thickness `l0` [m].
-    pub supply_thickness_m: f64,
     /// What the model read of the scene.
     pub view: LayerView,
     /// `Eo / p_h`.
@@ -266,7 +264,6 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
         scales: m.scales,
         grid,
         l0: m.l0,
-        supply_thickness_m: supply_m,
         view: view.clone(),
         eo: m.eo,
         l,
@@ -283,6 +280,11 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
 }
 
 impl LayerOutcome {
+    /// The supply's thickness `l0` [m].
+    pub fn supply_thickness_m(&self) -> f64 {
+        self.view.supply.thickness_m
+    }
+
     /// What only the layer model reports (`summary.json`'s `details`).
     pub fn summary(&self) -> Value {
         let (s, f) = (&self.scales, &self.final_monitor);
@@ -327,8 +329,8 @@ impl LayerOutcome {
                 "lateral_wiggle": q(f.lateral_wiggle, "Pa"),
             },
             "normalised": {
-                "central_layer_thickness_over_l0": f.central_thickness / self.supply_thickness_m,
-                "minimum_layer_thickness_loaded_over_l0": f.minimum_thickness / self.supply_thickness_m,
+                "central_layer_thickness_over_l0": f.central_thickness / self.supply_thickness_m(),
+                "minimum_layer_thickness_loaded_over_l0": f.minimum_thickness / self.supply_thickness_m(),
                 "dry_diameter_over_2a": f.dry_diameter / (2.0 * s.a),
             },
             "run": run_json,
@@ -426,7 +428,7 @@ impl LayerOutcome {
             self.scene.name,
             self.scene.conditions.load_n,
             self.scene.conditions.rolling_velocity_m_s.unwrap_or(0.0),
-            self.supply_thickness_m * 1e9,
+            self.supply_thickness_m() * 1e9,
             spec.modulus_law,
             spec.damper_reading,
             spec.law_parameters(self.scales.p_h).map_or(f64::NAN, |l| l.damper_constant),
@@ -471,7 +473,7 @@ impl LayerOutcome {
     pub fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
         let mut out = vec![];
         let (s, g) = (&self.scales, &self.grid);
-        let l0_nm = self.supply_thickness_m * 1e9;
+        let l0_nm = self.supply_thickness_m() * 1e9;
         let x: Vec<f64> = g.xs();
         let line = |field: &Array2<f64>, scale: f64| -> Vec<(f64, f64)> {
             x.iter().cloned().zip(self.row(field).iter().map(|v| v * scale)).collect()
@@ -577,7 +579,7 @@ fn layer_report(o: &LayerOutcome) -> String {
 
     let f = &o.final_monitor;
     let s = &o.scales;
-    let l0 = o.supply_thickness_m;
+    let l0 = o.supply_thickness_m();
     let _ = writeln!(
         out,
         "scene {} ({}x{}): {:.1} s wall",
