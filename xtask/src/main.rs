@@ -178,9 +178,9 @@ fn figures(out: &std::path::Path) -> Result<()> {
         let summary = ehl_workbench::output::summary(outcome.as_ref());
         std::fs::write(&f, serde_json::to_string_pretty(&summary)? + "\n")?;
         written.push(f);
-        if let Some(csv) = outcome.time_series_csv() {
+        if let Some(rows) = outcome.time_series()? {
             let f = out.join(format!("{}_timeseries.csv", scene.name));
-            std::fs::write(&f, csv)?;
+            std::fs::write(&f, ehl_workbench::output::csv(&rows))?;
             written.push(f);
         }
     }

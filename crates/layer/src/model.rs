@@ -491,19 +491,26 @@ impl LayerState {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Monitor {
     /// Time [s].
+    #[serde(skip)]
     pub t: f64,
     /// Layer thickness at the contact centre [m].
+    #[serde(rename = "central_layer_thickness_m")]
     pub central_thickness: f64,
     /// Smallest layer thickness where the surfaces carry pressure [m].
+    #[serde(rename = "minimum_layer_thickness_loaded_m")]
     pub minimum_thickness: f64,
     /// Extent of the loaded zone with no layer left along `y = 0` [m].
+    #[serde(rename = "dry_diameter_m")]
     pub dry_diameter: f64,
     /// Mutual approach `−h0` [m].
+    #[serde(rename = "approach_m")]
     pub approach: f64,
     /// Pressure at the contact centre [Pa].
+    #[serde(rename = "central_pressure_pa")]
     pub central_pressure: f64,
     /// Row-to-row odd-even wiggle of the pressure [Pa] (see [`lateral_wiggle`]): the signature
     /// of the lateral short-wave instability; ~0 for smooth fields.
+    #[serde(rename = "lateral_wiggle_pa")]
     pub lateral_wiggle: f64,
     /// Contact-solver iterations spent on the step that led here.
     pub iterations: usize,

@@ -56,14 +56,18 @@ pub struct LayerOutcome {
 pub type LayerRecord = drive::Record<LayerRow, Snapshot>;
 
 /// What is recorded after each step of a layer march: the standard observables (the driver
-/// computes them once for every model) and the layer's own quantities beside them.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// computes them once for every model) and the layer's own quantities beside them. Its
+/// `Serialize` form is the time series' columns.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct LayerRow {
     /// Time [s] from the start of the motion.
+    #[serde(rename = "t_s")]
     pub t: f64,
     /// The standard observables, one definition for every model.
+    #[serde(flatten)]
     pub observed: Observables,
     /// The layer's own: its thickness, the dry zone, the approach, the wiggle.
+    #[serde(flatten)]
     pub layer: Monitor,
 }
 
@@ -170,8 +174,8 @@ impl Outcome for LayerOutcome {
     fn fields(&self) -> Vec<(String, Array2<f64>)> {
         LayerOutcome::fields(self)
     }
-    fn time_series_csv(&self) -> Option<String> {
-        LayerOutcome::time_series_csv(self)
+    fn time_series(&self) -> Result<Option<Vec<Value>>> {
+        self.record.as_ref().map(|rec| crate::error::json_rows(&rec.rows)).transpose()
     }
     fn history(&self) -> Option<&[(f64, Observables)]> {
         self.record.as_ref().map(|r| r.observed.as_slice())
@@ -389,35 +393,6 @@ impl LayerOutcome {
             }
         }
         v
-    }
-
-    /// Time series as CSV, SI.
-    pub fn time_series_csv(&self) -> Option<String> {
-        let rec = self.record.as_ref()?;
-        // The standard observables, then the layer's own quantities.
-        let mut s = String::from(
-            "t_s,central_film_m,minimum_film_m,max_pressure_pa,contact_extent_x_m,contact_extent_y_m,central_layer_thickness_m,minimum_layer_thickness_loaded_m,central_pressure_pa,dry_diameter_m,approach_m,lateral_wiggle_pa,iterations\n",
-        );
-        for r in &rec.rows {
-            let (o, m) = (&r.observed, &r.layer);
-            s += &format!(
-                "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}\n",
-                r.t,
-                o.central_film_m,
-                o.minimum_film_m,
-                o.max_pressure_pa,
-                o.contact_extent_x_m,
-                o.contact_extent_y_m,
-                m.central_thickness,
-                m.minimum_thickness,
-                m.central_pressure,
-                m.dry_diameter,
-                m.approach,
-                m.lateral_wiggle,
-                m.iterations
-            );
-        }
-        Some(s)
     }
 
     /// Conditions and laws, for figure footnotes.

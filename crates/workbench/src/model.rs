@@ -88,9 +88,10 @@ pub trait Outcome: AsAny + Send + 'static {
     fn centreline(&self) -> Centreline;
     /// Fields to write as `.npy`, SI, with their file stems.
     fn fields(&self) -> Vec<(String, Array2<f64>)>;
-    /// A history, for runs in time.
-    fn time_series_csv(&self) -> Option<String> {
-        None
+    /// A run in time's record, one row per step (SI, each row a JSON object whose leaves are
+    /// the columns): the writer renders it as `timeseries.csv` ([`crate::output::csv`]).
+    fn time_series(&self) -> Result<Option<Vec<Value>>> {
+        Ok(None)
     }
     /// The standard observables after every step of a run in time (time [s] from the start of
     /// the motion), as the driver recorded them: what a comparison overlays.

@@ -82,7 +82,9 @@ pub fn write_into(outcome: &dyn Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
     let text = serde_json::to_string_pretty(&summary(outcome)).map_err(output("summary.json"))?;
     write_file(&file, text + "\n")?;
     files.push(file);
-    if let Some(csv) = outcome.time_series_csv() {
+    if let Some(rows) = outcome.time_series()? {
+        let csv = csv(&rows);
+
         let f = dir.join("timeseries.csv");
         write_file(&f, csv)?;
         files.push(f);
@@ -110,6 +112,51 @@ pub fn write_into(outcome: &dyn Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
         files.extend(outcome.figures(dir, "")?);
     }
     Ok(files)
+}
+
+/// CSV of `rows` (each the JSON form of a `Serialize` row): a column per leaf of a row (nested
+/// names joined by `.`, array items by `[k]`, in the declared order), numbers in `e` notation,
+/// text quoted. The header is the first row's; every row of one type has the same leaves.
+pub fn csv(rows: &[Value]) -> String {
+    fn leaves(v: &Value, name: String, out: &mut Vec<(String, String)>) {
+        match v {
+            Value::Object(m) => {
+                for (k, x) in m {
+                    let n = if name.is_empty() { k.clone() } else { format!("{name}.{k}") };
+                    leaves(x, n, out);
+                }
+            }
+            Value::Array(a) => {
+                for (k, x) in a.iter().enumerate() {
+                    leaves(x, format!("{name}[{k}]"), out);
+                }
+            }
+            Value::Number(n) => out.push((
+                name,
+                match (n.as_u64(), n.as_i64(), n.as_f64()) {
+                    (Some(u), _, _) => u.to_string(),
+                    (_, Some(i), _) => i.to_string(),
+                    (_, _, Some(f)) => format!("{f:e}"),
+                    _ => n.to_string(),
+                },
+            )),
+            Value::String(s) => out.push((name, format!("\"{}\"", s.replace('"', "'")))),
+            Value::Bool(b) => out.push((name, b.to_string())),
+            Value::Null => out.push((name, String::new())),
+        }
+    }
+    let mut text = String::new();
+    for (k, v) in rows.iter().enumerate() {
+        let mut cells = vec![];
+        leaves(v, String::new(), &mut cells);
+        if k == 0 {
+            text += &cells.iter().map(|c| c.0.as_str()).collect::<Vec<_>>().join(",");
+            text.push('\n');
+        }
+        text += &cells.iter().map(|c| c.1.as_str()).collect::<Vec<_>>().join(",");
+        text.push('\n');
+    }
+    text
 }
 
 /// The version of the shared part of `summary.json`: a reader checks it before reading.
@@ -168,4 +215,38 @@ pub fn summary(outcome: &dyn Outcome) -> Value {
         },
         "details": outcome.summary(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_has_a_column_per_leaf_in_declared_order() {
+        #[derive(serde::Serialize)]
+        struct Inner {
+            at_m: (f64, f64),
+            n: usize,
+        }
+        #[derive(serde::Serialize)]
+        struct Row {
+            t_s: f64,
+            inner: Inner,
+            #[serde(flatten)]
+            flat: Inner,
+            note: &'static str,
+        }
+        let r = |t: f64| Row {
+            t_s: t,
+            inner: Inner { at_m: (1.5, -2.0), n: 3 },
+            flat: Inner { at_m: (0.0, 1e-9), n: 7 },
+            note: "a \"b\"",
+        };
+        let rows = [r(0.0), r(0.25)].map(|r| serde_json::to_value(r).unwrap());
+        let text = csv(&rows);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "t_s,inner.at_m[0],inner.at_m[1],inner.n,at_m[0],at_m[1],n,note");
+        assert_eq!(lines[2], "2.5e-1,1.5e0,-2e0,3,0e0,1e-9,7,\"a 'b'\"");
+        assert_eq!(lines.len(), 3);
+    }
 }

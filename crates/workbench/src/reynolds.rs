@@ -46,8 +46,8 @@ pub struct ReynoldsOutcome {
 pub struct TransientRow {
     /// Time from the start of the march [s].
     pub t_s: f64,
-    /// Dent centre [a].
-    pub dent_x_a: f64,
+    /// Dent centre [m].
+    pub dent_x_m: f64,
     /// Central film [m].
     pub central_film_m: f64,
     /// Minimum film [m].
@@ -172,8 +172,8 @@ impl Outcome for ReynoldsOutcome {
     fn fields(&self) -> Vec<(String, Array2<f64>)> {
         ReynoldsOutcome::fields(self)
     }
-    fn time_series_csv(&self) -> Option<String> {
-        ReynoldsOutcome::time_series_csv(self)
+    fn time_series(&self) -> Result<Option<Vec<Value>>> {
+        self.transient.as_ref().map(|t| crate::error::json_rows(&t.rows)).transpose()
     }
     fn history(&self) -> Option<&[(f64, Observables)]> {
         self.transient.as_ref().map(|t| t.observed.as_slice())
@@ -298,7 +298,7 @@ impl Transient for ReynoldsMarch<'_> {
         let t_s = self.time();
         TransientRow {
             t_s,
-            dent_x_a: self.x0 + self.motion.travel(t_s) / self.solver.prm.scales.a,
+            dent_x_m: self.x0 * self.solver.prm.scales.a + self.motion.travel(t_s),
             central_film_m: ob.central_film_m,
             minimum_film_m: ob.minimum_film_m,
             max_pressure_pa: ob.max_pressure_pa,
@@ -449,28 +449,6 @@ impl ReynoldsOutcome {
         })
     }
 
-    /// The transient run's rows as CSV (SI).
-    pub fn time_series_csv(&self) -> Option<String> {
-        let t = self.transient.as_ref()?;
-        let mut s = String::from(
-            "t_s,dent_x_m,central_film_m,minimum_film_m,max_pressure_pa,central_pressure_pa,h00_m,cycles\n",
-        );
-        for r in &t.rows {
-            s += &format!(
-                "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}\n",
-                r.t_s,
-                r.dent_x_a * self.prm.scales.a,
-                r.central_film_m,
-                r.minimum_film_m,
-                r.max_pressure_pa,
-                r.central_pressure_pa,
-                r.h00_m,
-                r.cycles
-            );
-        }
-        Some(s)
-    }
-
     fn row(&self, f: &Array2<f64>) -> Vec<f64> {
         f.row(self.grid.row_nearest(0.0)).to_vec()
     }
@@ -619,7 +597,7 @@ impl ReynoldsOutcome {
     ) -> Result<Vec<PathBuf>> {
         let s = &self.prm.scales;
         let xs = |f: fn(&TransientRow) -> f64, k: f64| -> Vec<(f64, f64)> {
-            t.rows.iter().map(|r| (r.dent_x_a, f(r) * k)).collect()
+            t.rows.iter().map(|r| (r.dent_x_m / self.prm.scales.a, f(r) * k)).collect()
         };
         let f_hist = dir.join(format!("{prefix}history.png"));
         plot::history_chart(
