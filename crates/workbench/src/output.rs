@@ -114,9 +114,20 @@ pub fn write_into(outcome: &dyn Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(files)
 }
 
-/// CSV of `rows` (each the JSON form of a `Serialize` row): a column per leaf of a row (nested
-/// names joined by `.`, array items by `[k]`, in the declared order), numbers in `e` notation,
-/// text quoted. The header is the first row's; every row of one type has the same leaves.
+/// A text cell: bare when it is a plain word, else quoted (with its own quotes made single and
+/// its line breaks spaces, so a row stays one line).
+fn cell_text(s: &str) -> String {
+    if s.chars().all(|c| c.is_alphanumeric() || "-_.".contains(c)) {
+        s.to_string()
+    } else {
+        format!("\"{}\"", s.replace('"', "'").replace('\n', " "))
+    }
+}
+
+/// CSV of `rows` (each the JSON form of a `Serialize` row, or an object built in column order):
+/// a column per leaf of a row (nested names joined by `.`, array items by `[k]`, in order),
+/// numbers in `e` notation (counts as integers), text bare when it is a plain word and quoted
+/// otherwise, `null` empty. The header is the first row's; every row has the same leaves.
 pub fn csv(rows: &[Value]) -> String {
     fn leaves(v: &Value, name: String, out: &mut Vec<(String, String)>) {
         match v {
@@ -140,7 +151,7 @@ pub fn csv(rows: &[Value]) -> String {
                     _ => n.to_string(),
                 },
             )),
-            Value::String(s) => out.push((name, format!("\"{}\"", s.replace('"', "'")))),
+            Value::String(s) => out.push((name, cell_text(s))),
             Value::Bool(b) => out.push((name, b.to_string())),
             Value::Null => out.push((name, String::new())),
         }

@@ -28,72 +28,59 @@ pub fn formulas_at(p: &super::PlannedPoint) -> Option<[f64; 3]> {
     })
 }
 
-fn num(v: Option<f64>) -> String {
-    v.map(|x| format!("{x:e}")).unwrap_or_default()
-}
-
-fn text(s: &str) -> String {
-    format!("\"{}\"", s.replace('"', "'").replace('\n', " "))
-}
-
 /// `results.csv`.
 pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
     // Every premise indicator any model reported, a column each (empty for the others).
     let names: std::collections::BTreeSet<&String> =
         recs.iter().flat_map(|r| r.models.iter().flat_map(|m| m.indicators.keys())).collect();
-    let mut s = String::from("point");
-    for a in &plan.sweep.parameters {
-        s += &format!(",{}", a.parameter.name());
-    }
-    s += ",model,converged,central_film_m,minimum_film_m,max_pressure_pa,contact_extent_x_m,contact_extent_y_m,load_error,\
-          hamrock_dowson_central_m,hamrock_dowson_minimum_m,nvm_central_m,nx,ny,x_min_a,x_max_a,y_min_a,y_max_a,\
-          grid_change_h_c,grid_change_h_min,grid_change_p_max,domain_change_h_c,domain_change_h_min,domain_change_p_max";
-    for n in &names {
-        s += &format!(",{n}");
-    }
-    s += ",flag,diagnosis\n";
+    let mut rows = vec![];
     for r in recs {
         let f = formulas_at(&plan.points[r.index]);
         for m in &r.models {
-            s += &r.index.to_string();
-            for v in &r.values {
-                s += &format!(",{v:e}");
+            // A row as data, its columns in order; the one writer renders it.
+            let mut row = serde_json::Map::new();
+            let mut put = |k: &str, v: Value| {
+                row.insert(k.to_string(), v);
+            };
+            put("point", json!(r.index));
+            for (a, v) in plan.sweep.parameters.iter().zip(&r.values) {
+                put(&a.parameter.name(), json!(v));
             }
             let o = m.observables.as_ref();
             let g = m.grid_check.as_ref().and_then(|c| c.change).unwrap_or_default();
             let d = m.domain_check.as_ref().and_then(|c| c.change).unwrap_or_default();
-            let mut cols: Vec<String> = vec![
-                model_name(m.model),
-                o.is_some().to_string(),
-                num(o.map(|o| o.central_film_m)),
-                num(o.map(|o| o.minimum_film_m)),
-                num(o.map(|o| o.max_pressure_pa)),
-                num(o.map(|o| o.contact_extent_x_m)),
-                num(o.map(|o| o.contact_extent_y_m)),
-                num(o.map(|o| o.load_error)),
-                num(f.map(|f| f[0])),
-                num(f.map(|f| f[1])),
-                num(f.map(|f| f[2])),
-                r.nx.to_string(),
-                r.ny.to_string(),
-                format!("{:e}", r.x_a[0]),
-                format!("{:e}", r.x_a[1]),
-                format!("{:e}", r.y_a[0]),
-                format!("{:e}", r.y_a[1]),
-                num(g[0]),
-                num(g[1]),
-                num(g[2]),
-                num(d[0]),
-                num(d[1]),
-                num(d[2]),
-            ];
-            cols.extend(names.iter().map(|n| num(m.indicators.get(*n).map(|i| i.value))));
-            cols.push(m.flag.as_deref().map(text).unwrap_or_default());
-            cols.push(m.diagnosis.as_deref().map(text).unwrap_or_default());
-            s += &format!(",{}\n", cols.join(","));
+            put("model", json!(model_name(m.model)));
+            put("converged", json!(o.is_some()));
+            put("central_film_m", json!(o.map(|o| o.central_film_m)));
+            put("minimum_film_m", json!(o.map(|o| o.minimum_film_m)));
+            put("max_pressure_pa", json!(o.map(|o| o.max_pressure_pa)));
+            put("contact_extent_x_m", json!(o.map(|o| o.contact_extent_x_m)));
+            put("contact_extent_y_m", json!(o.map(|o| o.contact_extent_y_m)));
+            put("load_error", json!(o.map(|o| o.load_error)));
+            put("hamrock_dowson_central_m", json!(f.map(|f| f[0])));
+            put("hamrock_dowson_minimum_m", json!(f.map(|f| f[1])));
+            put("nvm_central_m", json!(f.map(|f| f[2])));
+            put("nx", json!(r.nx));
+            put("ny", json!(r.ny));
+            put("x_min_a", json!(r.x_a[0]));
+            put("x_max_a", json!(r.x_a[1]));
+            put("y_min_a", json!(r.y_a[0]));
+            put("y_max_a", json!(r.y_a[1]));
+            for (k, v) in ["h_c", "h_min", "p_max"].iter().zip(g) {
+                put(&format!("grid_change_{k}"), json!(v));
+            }
+            for (k, v) in ["h_c", "h_min", "p_max"].iter().zip(d) {
+                put(&format!("domain_change_{k}"), json!(v));
+            }
+            for n in &names {
+                put(n, json!(m.indicators.get(*n).map(|i| i.value)));
+            }
+            put("flag", json!(m.flag));
+            put("diagnosis", json!(m.diagnosis));
+            rows.push(Value::Object(row));
         }
     }
-    s
+    crate::output::csv(&rows)
 }
 
 /// `cost.csv`: wall time of each model's run and of its checks at each point.
