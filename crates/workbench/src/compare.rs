@@ -120,36 +120,26 @@ impl Comparison {
 
     /// The same table as CSV; a failed model has empty numbers and its diagnosis.
     pub fn to_csv(&self) -> String {
-        let mut s = String::from(
-            "model,converged,central_film_m,minimum_film_m,max_pressure_pa,contact_extent_x_m,contact_extent_y_m,load_error,wall_time_s,diagnosis\n",
-        );
-        for e in &self.entries {
-            match &e.outcome {
-                Ok(o) => {
-                    let ob = o.observables();
-                    s += &format!(
-                        "{},true,{:e},{:e},{:e},{:e},{:e},{:e},{:.3},\n",
-                        e.name(),
-                        ob.central_film_m,
-                        ob.minimum_film_m,
-                        ob.max_pressure_pa,
-                        ob.contact_extent_x_m,
-                        ob.contact_extent_y_m,
-                        ob.load_error,
-                        e.wall_time_s
-                    )
-                }
-                Err(d) => {
-                    s += &format!(
-                        "{},false,,,,,,,{:.3},\"{}\"\n",
-                        e.name(),
-                        e.wall_time_s,
-                        d.to_string().replace('"', "'").replace('\n', " ")
-                    )
-                }
-            }
-        }
-        s
+        let rows: Vec<serde_json::Value> = self
+            .entries
+            .iter()
+            .map(|e| {
+                let ob = e.outcome.as_ref().ok().map(|o| o.observables());
+                serde_json::json!({
+                    "model": e.name(),
+                    "converged": ob.is_some(),
+                    "central_film_m": ob.map(|o| o.central_film_m),
+                    "minimum_film_m": ob.map(|o| o.minimum_film_m),
+                    "max_pressure_pa": ob.map(|o| o.max_pressure_pa),
+                    "contact_extent_x_m": ob.map(|o| o.contact_extent_x_m),
+                    "contact_extent_y_m": ob.map(|o| o.contact_extent_y_m),
+                    "load_error": ob.map(|o| o.load_error),
+                    "wall_time_s": e.wall_time_s,
+                    "diagnosis": e.outcome.as_ref().err().map(|d| d.to_string()),
+                })
+            })
+            .collect();
+        crate::output::csv(&rows)
     }
 
     /// The side-by-side table for the terminal.

@@ -85,28 +85,23 @@ pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
 
 /// `cost.csv`: wall time of each model's run and of its checks at each point.
 pub fn cost_csv(plan: &Plan, recs: &[PointRecord]) -> String {
-    let mut s = String::from("point");
-    for a in &plan.sweep.parameters {
-        s += &format!(",{}", a.parameter.name());
-    }
-    s += ",model,nx,ny,wall_time_s,check_wall_time_s\n";
+    let mut rows = vec![];
     for r in recs {
         for m in &r.models {
-            s += &r.index.to_string();
-            for v in &r.values {
-                s += &format!(",{v:e}");
+            let mut row = serde_json::Map::new();
+            row.insert("point".into(), json!(r.index));
+            for (a, v) in plan.sweep.parameters.iter().zip(&r.values) {
+                row.insert(a.parameter.name(), json!(v));
             }
-            s += &format!(
-                ",{},{},{},{:.3},{:.3}\n",
-                model_name(m.model),
-                r.nx,
-                r.ny,
-                m.wall_time_s,
-                m.check_wall_time_s
-            );
+            row.insert("model".into(), json!(model_name(m.model)));
+            row.insert("nx".into(), json!(r.nx));
+            row.insert("ny".into(), json!(r.ny));
+            row.insert("wall_time_s".into(), json!(m.wall_time_s));
+            row.insert("check_wall_time_s".into(), json!(m.check_wall_time_s));
+            rows.push(Value::Object(row));
         }
     }
-    s
+    crate::output::csv(&rows)
 }
 
 /// `results.json`: the sweep, its parameters, and every point's record in full.
