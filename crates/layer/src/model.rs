@@ -9,7 +9,7 @@ use ehl_core::params::oedometric_modulus;
 use ehl_core::{
     Contact, DryProblem, DryReport, DrySettings, DrySolver, Grid, HertzScales, Kinematics,
     Lubricant, NumericError, Start,
-    features::{Dent, Hole},
+    features::{Dent, Hole, Supply},
 };
 use ndarray::{Array2, Zip};
 use serde::{Deserialize, Serialize};
@@ -94,10 +94,10 @@ pub struct LayerModel {
     pub scales: HertzScales,
     /// The grid [a].
     pub grid: Grid,
-    /// The supplied layer's thickness `l0 / (a²/R)` …
+    /// The supplied layer's thickness `l0 / (a²/R)`.
     pub l0: f64,
-    /// … and in metres, as given.
-    supply_thickness_m: f64,
+    /// The supply as given (thickness [m], the holes passing: [`LayerModel::set_passing`]).
+    supply: Supply,
     /// `Eo / p_h`.
     pub eo: f64,
     /// `p_ref / p_h`.
@@ -113,8 +113,6 @@ pub struct LayerModel {
     motion: Kinematics,
     /// Dents in the ball passing (set with [`LayerModel::set_passing`]).
     dents: Vec<Dent>,
-    /// Holes in the supply passing, likewise.
-    holes: Vec<Hole>,
     /// The dry contact solver of the grid.
     pub solver: DrySolver,
     /// `(X² + Y²)/2`.
@@ -152,7 +150,7 @@ impl LayerModel {
         let damper = Damper { eta_zero: eta_zero_pa_s / scales.p_h, shape };
         Self {
             l0: supply_thickness_m / scales.delta,
-            supply_thickness_m,
+            supply: Supply::uniform(supply_thickness_m),
             eo: oedometric_modulus(spec.modulus_pa, spec.poisson_ratio) / scales.p_h,
             p_ref: laws.reference_pressure_over_p_h,
             law: spec.modulus_law,
@@ -160,7 +158,6 @@ impl LayerModel {
             spec: *spec,
             motion,
             dents: vec![],
-            holes: vec![],
             solver: DrySolver::new(grid, settings),
             shape: grid.paraboloid(),
             load: scales.load_dimensionless(),
@@ -172,12 +169,12 @@ impl LayerModel {
     /// What passes from now on: dents in the ball and holes in the supply.
     pub fn set_passing(&mut self, dents: Vec<Dent>, holes: Vec<Hole>) {
         self.dents = dents;
-        self.holes = holes;
+        self.supply.holes = holes;
     }
 
     /// Whether anything passes (a dent or a hole).
     pub fn has_passing(&self) -> bool {
-        !(self.dents.is_empty() && self.holes.is_empty())
+        !(self.dents.is_empty() && self.supply.holes.is_empty())
     }
 
     /// The same model on another grid (same laws, velocity, features and solver settings).
@@ -186,7 +183,7 @@ impl LayerModel {
             scales: self.scales,
             grid,
             l0: self.l0,
-            supply_thickness_m: self.supply_thickness_m,
+            supply: self.supply.clone(),
             eo: self.eo,
             p_ref: self.p_ref,
             law: self.law,
@@ -194,7 +191,6 @@ impl LayerModel {
             spec: self.spec,
             motion: self.motion.clone(),
             dents: self.dents.clone(),
-            holes: self.holes.clone(),
             solver: DrySolver::new(grid, self.solver.settings),
             shape: grid.paraboloid(),
             load: self.load,
@@ -256,7 +252,7 @@ impl LayerModel {
 
     /// The supplied layer's thickness `l0` [m].
     pub fn supply_thickness_m(&self) -> f64 {
-        self.supply_thickness_m
+        self.supply.thickness_m
     }
 
     /// How the surfaces move.
@@ -275,16 +271,14 @@ impl LayerModel {
         self.motion.travel_in_step(t, dt) / (self.scales.a * self.grid.dx())
     }
 
-    /// Supply thickness field `L0(x, t)` [a²/R]: `l0`, zero inside holes.
+    /// Supply thickness field `L0(x, t)` [a²/R]: `l0`, zero inside holes (the core's
+    /// [`Supply::thickness_at`], in the model's units).
     pub fn supply(&self, t: f64) -> Array2<f64> {
-        if self.holes.is_empty() {
+        if self.supply.holes.is_empty() {
             return Array2::from_elem(self.grid.shape(), self.l0);
         }
-        let travel = self.travel_a(t);
-        self.grid.field(|x, y| {
-            let dry = self.holes.iter().any(|h| h.inside(x, y, h.x_start_a + travel));
-            if dry { 0.0 } else { self.l0 }
-        })
+        let (travel, delta) = (self.travel_a(t), self.scales.delta);
+        self.grid.field(|x, y| self.supply.thickness_at(x, y, travel) / delta)
     }
 
     /// Rigid gap of the ball: `f + b(t)` [a²/R].
