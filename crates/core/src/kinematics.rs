@@ -92,11 +92,6 @@ impl Kinematics {
         self.reference
     }
 
-    /// The knots `(t [s], u [m/s])`.
-    pub fn knots(&self) -> &[(f64, f64)] {
-        &self.knots
-    }
-
     /// The speed before the motion starts [m/s]: what a steady-rolling start rolls at.
     pub fn speed_before(&self) -> f64 {
         self.knots[0].1
@@ -110,11 +105,6 @@ impl Kinematics {
     /// The time of the last knot [s]: from then on the speed is constant.
     pub fn settled_from(&self) -> f64 {
         self.knots[self.knots.len() - 1].0
-    }
-
-    /// Whether the speed is one constant (no stop, ramp or table).
-    pub fn is_constant(&self) -> bool {
-        self.knots.iter().all(|k| k.1 == self.knots[0].1)
     }
 
     /// The speed `u(t)` [m/s]; at a jump, the speed after it.
@@ -134,10 +124,11 @@ impl Kinematics {
     /// Distance travelled from `t = 0` to `t` [m] (negative before 0, at the first speed).
     pub fn travel(&self, t: f64) -> f64 {
         let k = &self.knots;
+        // Up to the first knot (and before 0): the first speed.
         if t <= k[0].0 {
-            return -(k[0].0 - t) * k[0].1 + self.segment_sum(k[0].0);
+            return t * k[0].1;
         }
-        let mut s = self.segment_sum(k[0].0);
+        let mut s = k[0].0 * k[0].1;
         for w in k.windows(2) {
             let ((t0, u0), (t1, u1)) = (w[0], w[1]);
             if t1 <= t0 {
@@ -151,11 +142,6 @@ impl Kinematics {
         }
         let (tl, ul) = k[k.len() - 1];
         s + ul * (t - tl)
-    }
-
-    /// Travel from `0` to the first knot's time [m] (at the first speed).
-    fn segment_sum(&self, t_first: f64) -> f64 {
-        t_first * self.knots[0].1
     }
 
     /// Distance travelled in the step from `t0` to `t0 + dt` [m]: the trapezoid on each linear
@@ -192,7 +178,7 @@ impl Kinematics {
         }
         let k = &self.knots;
         // Before the first knot: the first speed.
-        let s_first = self.segment_sum(k[0].0);
+        let s_first = k[0].0 * k[0].1;
         if s <= s_first {
             return Some(s / k[0].1);
         }
@@ -206,6 +192,8 @@ impl Kinematics {
             if s <= acc + seg && seg > 0.0 {
                 // Solve acc + u0 τ + ½ g τ² = s on the piece, g its acceleration.
                 let (need, g) = (s - acc, (u1 - u0) / (t1 - t0));
+                // At constant speed the plain quotient, so that a constant motion's times are
+                // exactly `s/u` (the root formula's `√(u²)` rounds).
                 let tau = if g.abs() < 1e-300 {
                     need / u0
                 } else {
@@ -280,7 +268,6 @@ mod tests {
         assert_eq!(k.travel(2.0), 0.02);
         assert_eq!(k.travel(-1.0), -0.01);
         assert_eq!(k.time_at_travel(0.02), Some(2.0));
-        assert!(k.is_constant());
         assert_eq!(k.pieces(5.0), vec![Piece { t0: 0.0, t1: 5.0, max_speed: 0.01 }]);
     }
 
