@@ -144,12 +144,6 @@ pub fn create_dir(path: &std::path::Path) -> Result<()> {
     std::fs::create_dir_all(path).map_err(io(format!("creating {}", path.display())))
 }
 
-/// Rows in their JSON form (what [`crate::model::Outcome::time_series`] returns; the writer
-/// renders them as CSV).
-pub fn json_rows<T: serde::Serialize>(rows: &[T]) -> Result<Vec<serde_json::Value>> {
-    rows.iter().map(serde_json::to_value).collect::<Result<_, _>>().map_err(output("a time series"))
-}
-
 /// An I/O failure, saying what was being done.
 pub fn io(context: impl fmt::Display) -> impl FnOnce(std::io::Error) -> Error {
     let context = context.to_string();

@@ -175,7 +175,7 @@ impl Outcome for LayerOutcome {
         LayerOutcome::fields(self)
     }
     fn time_series(&self) -> Result<Option<Vec<Value>>> {
-        self.record.as_ref().map(|rec| crate::error::json_rows(&rec.rows)).transpose()
+        self.record.as_ref().map(|rec| crate::model::json_rows(&rec.rows)).transpose()
     }
     fn history(&self) -> Option<&[(f64, Observables)]> {
         self.record.as_ref().map(|r| r.observed.as_slice())

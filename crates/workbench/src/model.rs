@@ -123,6 +123,15 @@ impl dyn Outcome {
     }
 }
 
+/// Rows in their JSON form: what [`Outcome::time_series`] returns (the writer renders them as
+/// CSV, [`crate::output::csv`]).
+pub fn json_rows<T: serde::Serialize>(rows: &[T]) -> Result<Vec<Value>> {
+    rows.iter()
+        .map(serde_json::to_value)
+        .collect::<std::result::Result<_, _>>()
+        .map_err(crate::error::output("a time series"))
+}
+
 /// A scalar a model reports about its own answer, describing itself for the tables and charts
 /// that show it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

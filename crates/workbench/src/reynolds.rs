@@ -173,7 +173,7 @@ impl Outcome for ReynoldsOutcome {
         ReynoldsOutcome::fields(self)
     }
     fn time_series(&self) -> Result<Option<Vec<Value>>> {
-        self.transient.as_ref().map(|t| crate::error::json_rows(&t.rows)).transpose()
+        self.transient.as_ref().map(|t| crate::model::json_rows(&t.rows)).transpose()
     }
     fn history(&self) -> Option<&[(f64, Observables)]> {
         self.transient.as_ref().map(|t| t.observed.as_slice())
