@@ -6,6 +6,15 @@
 //! boundary), the time derivative `∂(ρ̄H)/∂T` by backward differences (transient runs),
 //! `P = 0` on the boundary, cavitation as `P ≥ 0`.
 //!
+//! Two cavitation conditions. Without a supply (fully flooded) the pressure is clamped at 0 and
+//! a cavitated point's equation is dropped (Reynolds' condition: the oil pushed out is lost).
+//! With a supply the solver is mass conserving (Jakobsson–Floberg–Olsson in Elrod's film
+//! content): the wedge and time terms act on `ρ̄ θ H`, `θ` the share of the gap filled with oil,
+//! with `P ≥ 0, θ ≤ 1, P (1 − θ) = 0`; where `P = 0` the equation holds with `θ` as its unknown
+//! (the oil transported, conserved), and the supply enters as `ρ̄θH = H_oil` on the inflow
+//! boundary. The flooded clamp stays the default: it is the same answer for a flooded contact
+//! (tested against a thick supply) and its digits are the textbook's.
+//!
 //! Relaxation: for every line along `X`, changes `δ` of all its interior points are solved
 //! together from a banded (pentadiagonal) system. Where the Poiseuille coefficients are large a
 //! point's change is its own (Gauss–Seidel); where they are small compared with the wedge term's
@@ -67,6 +76,15 @@ pub struct Level {
     pub p: Array2<f64>,
     /// Film `H` [a²/R].
     pub film: Array2<f64>,
+    /// Film content `θ` (the share of the gap filled with oil, 1 wherever `P > 0`); all ones
+    /// without a supply. Column 0 (the inflow boundary) holds the supply's `H_oil / H`.
+    pub theta: Array2<f64>,
+    /// The supplied layer per row at the inflow boundary [a²/R] (`ρ̄θH` there, the oil at
+    /// ambient density): `None` is fully flooded with the clamp.
+    supply: Option<Vec<f64>>,
+    /// Whether relaxation solves for `θ` where `P = 0` (the top grid of a cycle); coarser grids
+    /// of a cycle hold the finer grid's `θ`, injected, and correct pressures only.
+    pub theta_free: bool,
     /// FAS right-hand side (zero on the finest grid).
     pub rhs: Array2<f64>,
     /// Influence kernel rows `K(|di|, dj)` for `dj = 0, 1, 2`, `di = 0 … nx+2`.
@@ -110,6 +128,7 @@ struct Rows<'a> {
     p: &'a mut [f64],
     film: &'a mut [f64],
     laws: &'a mut [[f64; 3]],
+    theta: &'a mut [f64],
     ghost: Option<Ghost>,
 }
 
@@ -119,6 +138,7 @@ struct Ghost {
     p: Vec<f64>,
     film: Vec<f64>,
     laws: Vec<[f64; 3]>,
+    theta: Vec<f64>,
     /// Pressure changes `(i, ΔP)` for the owner to add afterwards.
     deferred: Vec<(usize, f64)>,
 }
@@ -129,6 +149,7 @@ impl<'a> Rows<'a> {
         p: &'a mut Array2<f64>,
         film: &'a mut Array2<f64>,
         laws: &'a mut Array2<[f64; 3]>,
+        theta: &'a mut Array2<f64>,
     ) -> Self {
         let layout = "grid arrays are in standard layout";
         let nx = p.ncols();
@@ -138,6 +159,7 @@ impl<'a> Rows<'a> {
             p.as_slice_mut().expect(layout),
             film.as_slice_mut().expect(layout),
             laws.as_slice_mut().expect(layout),
+            theta.as_slice_mut().expect(layout),
         )
     }
 
@@ -147,8 +169,9 @@ impl<'a> Rows<'a> {
         p: &'a mut [f64],
         film: &'a mut [f64],
         laws: &'a mut [[f64; 3]],
+        theta: &'a mut [f64],
     ) -> Self {
-        Self { first, nx, p, film, laws, ghost: None }
+        Self { first, nx, p, film, laws, theta, ghost: None }
     }
 
     fn span(&self, j: usize) -> std::ops::Range<usize> {
@@ -172,6 +195,20 @@ impl<'a> Rows<'a> {
             Some(g) => &g.film,
             None => &self.film[self.span(j)],
         }
+    }
+
+    fn theta_row(&self, j: usize) -> &[f64] {
+        match self.ghost(j) {
+            Some(g) => &g.theta,
+            None => &self.theta[self.span(j)],
+        }
+    }
+
+    /// A row's film content to write (never the ghost).
+    fn theta_row_mut(&mut self, j: usize) -> &mut [f64] {
+        assert!(self.ghost(j).is_none(), "the ghost row is not relaxed by this half");
+        let r = self.span(j);
+        &mut self.theta[r]
     }
 
     /// A row's film to add near-field changes to (never the ghost: it lies behind the sweep).
@@ -198,6 +235,10 @@ impl<'a> Rows<'a> {
             return None;
         }
         let k = self.span(j).start + i;
+        if self.theta[k] < 1.0 {
+            // A partly filled point keeps `P = 0` (a distributed change reaching it).
+            return None;
+        }
         let old = self.p[k];
         // Pressures below 1e-10 p_h are cavitation, not load: left positive they carry
         // equations they cannot satisfy and keep the free boundary moving.
@@ -212,8 +253,11 @@ impl<'a> Rows<'a> {
 struct LineWork {
     /// `ε̄` on rows `j−1, j, j+1`.
     eps: [Vec<f64>; 3],
-    /// `ρ̄` on row `j`.
+    /// `ρ̄θ` on row `j` (what the wedge and time terms carry).
     rho: Vec<f64>,
+    /// `ρ̄` on row `j`, and `θ` as the line's relaxation leaves it.
+    dens: Vec<f64>,
+    theta: Vec<f64>,
     /// Which unknowns change distributively.
     dist: Vec<bool>,
     /// Residuals of the line's equations.
@@ -224,8 +268,12 @@ struct LineWork {
     /// The right-hand side as elimination leaves it, and the changes `δ`.
     rhs: Vec<f64>,
     delta: Vec<f64>,
-    /// Unknowns held at `P = 0` by the complementarity passes.
+    /// Unknowns held by the complementarity passes (`P = 0`; `θ` at 1 or 0) …
     fixed: Vec<bool>,
+    /// … and the change their row fixes.
+    known: Vec<f64>,
+    /// Which unknowns are film contents (`P = 0`, the gap partly filled).
+    partial: Vec<bool>,
     /// Pressure changes made `(i, j, ΔP)`.
     applied: Vec<(usize, usize, f64)>,
 }
@@ -242,6 +290,9 @@ impl Level {
             h: grid.dx(),
             p: grid.zeros(),
             film: grid.zeros(),
+            theta: Array2::ones(grid.shape()),
+            supply: None,
+            theta_free: true,
             rhs: grid.zeros(),
             kernel,
             shape: grid.paraboloid(),
@@ -282,9 +333,57 @@ impl Level {
         self.shape = self.grid.field(|x, y| 0.5 * (x * x + y * y) + extra(x, y));
     }
 
-    /// `ρ̄H` on the grid.
+    /// `ρ̄θH` on the grid: the oil's mass per area (`θ = 1` without a supply).
     pub fn rho_film(&self, prm: &ReynoldsParams) -> Array2<f64> {
-        Zip::from(&self.p).and(&self.film).par_map_collect(|&p, &h| prm.density.rho(p) * h)
+        Zip::from(&self.p)
+            .and(&self.film)
+            .and(&self.theta)
+            .par_map_collect(|&p, &h, &t| prm.density.rho(p) * t * h)
+    }
+
+    /// The supplied layer per row at the inflow boundary [a²/R] (`None`: fully flooded, the
+    /// clamp); `θ` starts full and the boundary's follows the film.
+    pub fn set_supply(&mut self, supply: Option<Vec<f64>>) {
+        if let Some(s) = &supply {
+            assert_eq!(s.len(), self.grid.ny, "one supply value per row");
+        }
+        self.supply = supply;
+        self.set_inflow_theta();
+    }
+
+    /// The supply at the inflow boundary for this time (a hole crossing it) [a²/R], keeping `θ`.
+    pub fn supply(&self) -> Option<&[f64]> {
+        self.supply.as_deref()
+    }
+
+    /// Whether the level conserves mass (has a supply) rather than clamping.
+    pub fn mass_conserving(&self) -> bool {
+        self.supply.is_some()
+    }
+
+    /// A start for `θ`: upstream of the centre (`X < 0`), where `P = 0`, the supplied layer
+    /// as it arrives, `min(1, H_oil / H)` (the oil is carried, nothing pushes it back); 1
+    /// elsewhere. Starting full there instead left the inlet holding oil no supply brought,
+    /// and the relaxation carried it away one cell in several sweeps.
+    pub fn start_theta(&mut self) {
+        self.theta.fill(1.0);
+        let Some(s) = &self.supply else { return };
+        for ((j, i), t) in self.theta.indexed_iter_mut() {
+            let h = self.film[[j, i]];
+            if self.grid.x(i) < 0.0 && self.p[[j, i]] <= 0.0 && h > s[j] {
+                *t = s[j] / h;
+            }
+        }
+    }
+
+    /// `θ` on the inflow column from the supply and the film there (`P = 0`, `ρ̄ = 1`):
+    /// `min(1, H_oil / H)`.
+    fn set_inflow_theta(&mut self) {
+        let Some(s) = &self.supply else { return };
+        for (j, &h_oil) in s.iter().enumerate() {
+            let h = self.film[[j, 0]];
+            self.theta[[j, 0]] = if h > h_oil { (h_oil / h).max(0.0) } else { 1.0 };
+        }
     }
 
     /// `∬ P dX dY` (trapezoidal; `P = 0` on the boundary).
@@ -296,6 +395,7 @@ impl Level {
     pub fn update_film(&mut self, h00: f64) {
         self.op.apply(self.p.view(), self.film.view_mut());
         Zip::from(&mut self.film).and(&self.shape).for_each(|f, &s| *f += s + h00);
+        self.set_inflow_theta();
     }
 
     /// `(ε̄, ρ̄)` at pressure `p` and film `h`: `ε̄ = ρ̄ H³ / (η̄ λ̄)` with `H ≥ 0`.
@@ -311,19 +411,20 @@ impl Level {
         rho * h.max(0.0).powi(3) / eta_lambda
     }
 
-    /// `ε̄` and `ρ̄` on the whole grid (the laws from the relaxation's cache where it holds
+    /// `ε̄` and `ρ̄θ` on the whole grid (the laws from the relaxation's cache where it holds
     /// the point's pressure, the same values bit for bit; lagged laws where they lag).
     pub fn coefficients(&self, prm: &ReynoldsParams) -> (Array2<f64>, Array2<f64>) {
         let cached = self.laws_for == Some((prm.lambda_bar, prm.viscosity, prm.density));
         let held = cached && self.lagged;
-        let at = |&p: &f64, &h: &f64, c: &[f64; 3]| {
-            if cached && (c[0].to_bits() == p.to_bits() || held && c[0].is_finite()) {
+        let at = |&p: &f64, &h: &f64, c: &[f64; 3], &t: &f64| {
+            let (e, r) = if cached && (c[0].to_bits() == p.to_bits() || held && c[0].is_finite()) {
                 (Self::eps_of(c[2], h, c[1]), c[2])
             } else {
                 Self::eps_rho(prm, p, h)
-            }
+            };
+            (e, r * t)
         };
-        let zip = Zip::from(&self.p).and(&self.film).and(&self.laws);
+        let zip = Zip::from(&self.p).and(&self.film).and(&self.laws).and(&self.theta);
         let both = if self.p.len() >= ehl_core::PAR_MIN_WORK {
             zip.par_map_collect(at)
         } else {
@@ -356,10 +457,17 @@ impl Level {
         out
     }
 
-    /// Residual `f − L(P)` (zero on the boundary and at cavitated points of the finest grid).
+    /// Residual `f − L(P)` (zero on the boundary; with the clamp also at cavitated points of
+    /// the finest grid, whose equation is dropped; mass conserving, every point's equation
+    /// holds, with `θ` its unknown where `P = 0`).
     pub fn residual(&self, prm: &ReynoldsParams) -> Array2<f64> {
+        let all = self.mass_conserving();
         self.map_operator(prm, |j, i, l| {
-            if self.p[[j, i]] > 0.0 || self.rhs[[j, i]] != 0.0 { self.rhs[[j, i]] - l } else { 0.0 }
+            if all || self.p[[j, i]] > 0.0 || self.rhs[[j, i]] != 0.0 {
+                self.rhs[[j, i]] - l
+            } else {
+                0.0
+            }
         })
     }
 
@@ -384,10 +492,11 @@ impl Level {
         let mut p = std::mem::take(&mut self.p);
         let mut film = std::mem::take(&mut self.film);
         let mut laws = std::mem::take(&mut self.laws);
+        let mut theta = std::mem::take(&mut self.theta);
         let mut work = std::mem::take(&mut self.work);
         {
             let this = &*self;
-            let mut whole = Rows::whole(&mut p, &mut film, &mut laws);
+            let mut whole = Rows::whole(&mut p, &mut film, &mut laws, &mut theta);
             let mid = ny / 2;
             this.relax_line(prm, s, &mut whole, mid, &[mid - 1, mid + 1], &mut work[0]);
             // The lower half keeps a frozen copy of the centre row; its changes there wait.
@@ -396,14 +505,17 @@ impl Level {
                 p: whole.p_row(mid).to_vec(),
                 film: whole.film_row(mid).to_vec(),
                 laws: whole.laws[mid * nx..(mid + 1) * nx].to_vec(),
+                theta: whole.theta_row(mid).to_vec(),
                 deferred: Vec::new(),
             };
             let (p_lo, p_hi) = p.as_slice_mut().expect("standard layout").split_at_mut(mid * nx);
             let (f_lo, f_hi) = film.as_slice_mut().expect("standard layout").split_at_mut(mid * nx);
             let (l_lo, l_hi) = laws.as_slice_mut().expect("standard layout").split_at_mut(mid * nx);
+            let (t_lo, t_hi) =
+                theta.as_slice_mut().expect("standard layout").split_at_mut(mid * nx);
             let mut below =
-                Rows { ghost: Some(ghost), ..Rows::from_slices(0, nx, p_lo, f_lo, l_lo) };
-            let mut above = Rows::from_slices(mid, nx, p_hi, f_hi, l_hi);
+                Rows { ghost: Some(ghost), ..Rows::from_slices(0, nx, p_lo, f_lo, l_lo, t_lo) };
+            let mut above = Rows::from_slices(mid, nx, p_hi, f_hi, l_hi, t_hi);
             let [w_lo, w_hi] = &mut work;
             let upper = || {
                 for j in mid + 1..ny - 1 {
@@ -427,6 +539,7 @@ impl Level {
         self.p = p;
         self.film = film;
         self.laws = laws;
+        self.theta = theta;
         self.work = work;
         self.update_film(h00);
         if self.lagged {
@@ -474,6 +587,8 @@ impl Level {
         for a in [&mut self.p, &mut self.film, &mut self.rhs, &mut self.history] {
             a.fill(0.0);
         }
+        self.theta.fill(1.0);
+        self.set_inflow_theta();
         self.time_a0 = 0.0;
         self.laws.fill([f64::NAN; 3]);
         self.laws_for = None;
@@ -517,59 +632,130 @@ impl Level {
         w.delta.resize(m, 0.0);
         Self::line_coefficients(prm, s.coefficient_lag > 0.0, rows, j, w);
         let eps = w.eps.each_ref().map(|r| r.as_slice());
-        let rho = w.rho.as_slice();
-        // Which points distribute.
-        w.dist.clear();
-        w.dist.extend(
-            (1..nx - 1).map(|i| {
-                4.0 * eps[1][i] / (h * h) < s.distributive_threshold * rho[i] * wedge_diag
-            }),
-        );
-        // Residuals on the line (cavitated points included: they may turn loaded).
         let p = [rows.p_row(j - 1), rows.p_row(j), rows.p_row(j + 1)];
         let film = rows.film_row(j);
         let rhs = row_of(&self.rhs, j);
+        let mass_conserving = self.mass_conserving();
+        // Where the gap is full `P` is a line unknown; mass conserving, where `P = 0` and the
+        // equation asks for less oil than a full gap holds (`r > 0`), or the gap is partly
+        // filled, `θ` is (its column in the line Jacobian the wedge's and the time term's
+        // weight of `ρ̄H`). Solving both kinds in one line system matters: with the seed's
+        // `ε̄` a pressure change of 1e-5 moves a neighbour's film-content equation by ~0.4,
+        // and updating `θ` point by point between the pressure solves moved the meniscus
+        // one cell in several sweeps (129², a 5 nm supply: the force balance stalled at 2e-4).
+        // A coarser grid of a cycle holds `θ` (its partly filled points keep `P = 0`).
+        if mass_conserving {
+            // A loaded point's gap is full (a prolonged start, a correction, may leave less).
+            for i in 1..nx - 1 {
+                if p[1][i] > 0.0 && w.theta[i] != 1.0 {
+                    w.theta[i] = 1.0;
+                    w.rho[i] = w.dens[i];
+                }
+            }
+        }
+        let rho = w.rho.as_slice();
         w.r.clear();
         w.r.extend((1..nx - 1).map(|i| rhs[i] - self.op_line(eps, rho, p, film, i, j)));
+        w.partial.clear();
+        w.partial.extend((1..nx - 1).map(|i| {
+            mass_conserving && p[1][i] <= 0.0 && (w.theta[i] < 1.0 || w.r[i - 1] > 0.0)
+        }));
+        // Which points distribute (by the density: not a partly filled point, nor a point
+        // beside one on the line, whose change the distribution would spread onto it).
+        let part = |q: usize| w.partial[q];
+        w.dist.clear();
+        w.dist.extend((1..nx - 1).map(|i| {
+            let q = i - 1;
+            !(part(q) || q > 0 && part(q - 1) || q + 1 < m && part(q + 1))
+                && 4.0 * eps[1][i] / (h * h) < s.distributive_threshold * w.dens[i] * wedge_diag
+        }));
         for q in 0..m {
             w.band[q] = self.jacobian_row(eps, rho, q + 1, &w.dist);
+        }
+        for q in (0..m).filter(|&q| w.partial[q]) {
+            // ∂L_i/∂θ_q for the rows i = q, q+1, q+2 the upwind stencil reaches (first order
+            // at the first point).
+            let mass = w.dens[q + 1] * film[q + 1];
+            // The rows upstream of the point do not see its film content.
+            for ahead in 1..=2 {
+                if q >= ahead {
+                    w.band[q - ahead][2 + ahead] = 0.0;
+                }
+            }
+            for back in 0..3 {
+                let row = q + back;
+                if row >= m {
+                    break;
+                }
+                let weight = if row >= 1 { [1.5, -2.0, 0.5][back] } else { [1.0, -1.0, 0.0][back] };
+                let own = if back == 0 { self.time_a0 * mass } else { 0.0 };
+                w.band[row][2 - back] = -self.speed * weight * mass / h - own;
+            }
         }
         // Complementarity on the line: points whose pressure the solve would drive negative
         // are fixed at P = 0 (their row becomes δ = −P) and the line solved again, so that
         // the others' changes account for it; clamping afterwards instead makes the
-        // cavitation boundary flip from cycle to cycle.
+        // cavitation boundary flip from cycle to cycle. Film contents the solve would take
+        // above 1 or below 0 are fixed there the same way (a full gap becomes a pressure
+        // unknown at the next sweep).
         let dist = &w.dist;
-        let omega = |q: usize| if dist[q] { s.omega_jd } else { s.omega_gs };
+        let partial = &w.partial;
+        let omega = |q: usize| {
+            if partial[q] {
+                1.0
+            } else if dist[q] {
+                s.omega_jd
+            } else {
+                s.omega_gs
+            }
+        };
         let p_line = p[1];
         w.fixed.clear();
         w.fixed.resize(m, false);
-        w.solve.clone_from(&w.band);
-        w.rhs.clone_from(&w.r);
-        eliminate_banded(&mut w.solve, &mut w.rhs, 0);
-        back_substitute_banded(&w.solve, &w.rhs, &mut w.delta);
-        for _pass in 0..4 {
+        w.known.clear();
+        w.known.resize(m, 0.0);
+        w.solve.resize(m, [0.0; 5]);
+        w.rhs.resize(m, 0.0);
+        if !self.theta_free {
+            for q in (0..m).filter(|&q| partial[q]) {
+                w.fixed[q] = true;
+            }
+        }
+        let mut first = Some(0);
+        for _pass in 0..5 {
             // The rows before the first newly fixed one eliminate as they did in the last
             // pass: the elimination resumes there (the same operations, the same numbers).
-            let mut first = None;
+            let Some(from) = first else { break };
+            w.solve[from..].copy_from_slice(&w.band[from..]);
+            w.rhs[from..].copy_from_slice(&w.r[from..]);
+            for q in from..m {
+                if w.fixed[q] {
+                    w.solve[q] = [0.0, 0.0, 1.0, 0.0, 0.0];
+                    w.rhs[q] = w.known[q];
+                }
+            }
+            eliminate_banded(&mut w.solve, &mut w.rhs, from);
+            back_substitute_banded(&w.solve, &w.rhs, &mut w.delta);
+            first = None;
             for q in 0..m {
-                if !w.fixed[q] && p_line[q + 1] + omega(q) * w.delta[q] < 0.0 {
+                if w.fixed[q] {
+                    continue;
+                }
+                let known = if partial[q] {
+                    let t = w.theta[q + 1] + w.delta[q];
+                    (t > 1.0 || t < 0.0).then(|| t.clamp(0.0, 1.0) - w.theta[q + 1])
+                } else {
+                    let pq = p_line[q + 1];
+                    (pq + omega(q) * w.delta[q] < 0.0).then(|| -pq / omega(q))
+                };
+                if let Some(k) = known {
                     w.fixed[q] = true;
+                    w.known[q] = k;
                     first.get_or_insert(q);
                 }
             }
-            let Some(first) = first else { break };
-            w.solve[first..].copy_from_slice(&w.band[first..]);
-            w.rhs[first..].copy_from_slice(&w.r[first..]);
-            for q in first..m {
-                if w.fixed[q] {
-                    w.solve[q] = [0.0, 0.0, 1.0, 0.0, 0.0];
-                    w.rhs[q] = -p_line[q + 1] / omega(q);
-                }
-            }
-            eliminate_banded(&mut w.solve, &mut w.rhs, first);
-            back_substitute_banded(&w.solve, &w.rhs, &mut w.delta);
         }
-        // Apply changes (cavitation: no negative pressures).
+        // Apply changes (cavitation: no negative pressures, film contents in [0, 1]).
         w.applied.clear();
         for q in 0..m {
             let i = q + 1;
@@ -577,7 +763,11 @@ impl Level {
             if !d.is_finite() {
                 continue;
             }
-            if dist[q] {
+            if partial[q] {
+                let t = (w.theta[i] + d).clamp(0.0, 1.0);
+                w.theta[i] = t;
+                w.rho[i] = w.dens[i] * t;
+            } else if dist[q] {
                 w.applied.extend(rows.add_p(i, j, d));
                 for (ii, jj) in [(i - 1, j), (i + 1, j), (i, j - 1), (i, j + 1)] {
                     if ii >= 1 && ii < nx - 1 && jj >= 1 && jj < ny - 1 {
@@ -587,6 +777,9 @@ impl Level {
             } else {
                 w.applied.extend(rows.add_p(i, j, d));
             }
+        }
+        if mass_conserving {
+            rows.theta_row_mut(j).copy_from_slice(&w.theta);
         }
         // The next lines see the near-field film change of these changes at once (the full
         // film is recomputed by FFT after the sweep): within NEAR cells the kernel carries
@@ -631,10 +824,14 @@ impl Level {
                 eps.push(Self::eps_of(c[2], film[i], c[1]));
             }
             if jj == j {
-                w.rho.clear();
-                w.rho.extend(laws.iter().map(|c| c[2]));
+                w.dens.clear();
+                w.dens.extend(laws.iter().map(|c| c[2]));
             }
         }
+        w.theta.clear();
+        w.theta.extend_from_slice(rows.theta_row(j));
+        w.rho.clear();
+        w.rho.extend(w.dens.iter().zip(&w.theta).map(|(r, t)| r * t));
     }
 
     /// `ε̄` averaged to the half points east, west, north, south of `i` (rows `j−1, j, j+1`).
@@ -954,7 +1151,7 @@ mod tests {
         let mut w = LineWork::default();
         let coefficients = |l: &mut Level, prm: &ReynoldsParams, j: usize, w: &mut LineWork| {
             l.laws_for(prm);
-            let mut rows = Rows::whole(&mut l.p, &mut l.film, &mut l.laws);
+            let mut rows = Rows::whole(&mut l.p, &mut l.film, &mut l.laws, &mut l.theta);
             Level::line_coefficients(prm, false, &mut rows, j, w);
         };
         coefficients(&mut l, &roelands, 8, &mut w);

@@ -329,6 +329,7 @@ impl ReynoldsSolver {
         self.levels[top].p = g.field(hertz::pressure);
         let h00 = self.h00;
         self.levels[top].update_film(h00);
+        self.levels[top].start_theta();
         self.rho_h.clear();
     }
 
@@ -339,6 +340,50 @@ impl ReynoldsSolver {
         }
         let h00 = self.h00;
         self.levels[0].update_film(h00);
+    }
+
+    /// The oil supplied at the inflow boundary `X = x_min`, per `Y` [a²/R] (the layer `h_oil`
+    /// at ambient density; 0 in a hole crossing the boundary): the solver becomes mass
+    /// conserving (film content `θ`, [`Level`]). `None`: fully flooded, the clamp. Called again
+    /// before a solve: the solver starts again ([`Self::set_inflow`] between time steps).
+    pub fn set_supply(&mut self, h_oil: Option<&dyn Fn(f64) -> f64>) {
+        self.set_inflow(h_oil);
+        self.start();
+    }
+
+    /// The supply at the inflow boundary changed (a hole crossing it) [a²/R]: the state is
+    /// kept, only the boundary's film content follows.
+    pub fn set_inflow(&mut self, h_oil: Option<&dyn Fn(f64) -> f64>) {
+        for l in &mut self.levels {
+            let g = l.grid;
+            l.set_supply(h_oil.map(|f| (0..g.ny).map(|j| f(g.y(j))).collect()));
+        }
+    }
+
+    /// Whether the solver conserves mass (has a supply).
+    pub fn mass_conserving(&self) -> bool {
+        self.levels[0].mass_conserving()
+    }
+
+    /// Film content `θ` on the finest grid (1 where the gap is full).
+    pub fn theta(&self) -> &Array2<f64> {
+        &self.levels[0].theta
+    }
+
+    /// Sets the finest grid's film content where `P = 0` (the oil present where the gap is not
+    /// full: a hole cut into the inlet layer at the start of a march), `ρ̄θH` kept by the time
+    /// history that follows.
+    pub fn set_theta(&mut self, theta: impl Fn(f64, f64, f64) -> f64) {
+        let f = &mut self.levels[0];
+        let g = f.grid;
+        for ((j, i), t) in f.theta.indexed_iter_mut() {
+            if f.p[[j, i]] <= 0.0 {
+                *t = theta(g.x(i), g.y(j), *t);
+            }
+        }
+        if !self.rho_h.is_empty() {
+            self.rho_h = vec![self.levels[0].rho_film(&self.prm)];
+        }
     }
 
     /// The finest grid.
@@ -444,9 +489,14 @@ impl ReynoldsSolver {
             let pc = inject(&self.levels[l].coefficient_pressures());
             self.levels[l + 1].set_coefficient_pressures(&prm, &pc);
         }
+        let theta_hat = inject(&self.levels[l].theta);
         let target_c = {
             let c = &mut self.levels[l + 1];
             c.p = p_hat.clone();
+            // The coarse grid holds the fine grid's film content and corrects pressures only:
+            // where the gap is partly filled it keeps `P = 0`.
+            c.theta = theta_hat;
+            c.theta_free = false;
             c.rhs.fill(0.0);
             c.update_film(self.h00);
             let lc = c.operator(&prm);
@@ -553,6 +603,7 @@ impl ReynoldsSolver {
         t0: Instant,
     ) -> Result<CycleLog, ReynoldsError> {
         let target = 2.0 * PI / 3.0;
+        self.levels[l].theta_free = true;
         self.cycle(l, target);
         let f = &self.levels[l];
         let load = f.load();
@@ -703,9 +754,11 @@ impl ReynoldsSolver {
                     history.push(rec);
                 }
                 let p = prolong(&self.levels[l].p);
+                let theta = prolong(&self.levels[l].theta);
                 let h00 = self.h00;
                 let f = &mut self.levels[l - 1];
                 f.p = p;
+                f.theta = theta;
                 f.rhs.fill(0.0);
                 f.update_film(h00);
             }
