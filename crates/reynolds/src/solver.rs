@@ -280,6 +280,7 @@ pub struct ReynoldsSolver {
     active: ReynoldsSettings,
     /// `ρ̄H` of the last two time levels, newest first (transient runs).
     rho_h: Vec<Array2<f64>>,
+    secant: Option<(f64, f64, usize)>,
 }
 
 fn restrict_full_weighting(r: &Array2<f64>) -> Array2<f64> {
@@ -310,7 +311,7 @@ impl ReynoldsSolver {
             grids.push(c);
         }
         let levels: Vec<Level> = grids.into_iter().map(Level::new).collect();
-        let mut s = Self { levels, prm, h00: 0.0, settings, active: settings, rho_h: vec![] };
+        let mut s = Self { levels, prm, h00: 0.0, settings, active: settings, rho_h: vec![], secant: None };
         s.start();
         s
     }
@@ -323,7 +324,7 @@ impl ReynoldsSolver {
             l.reset();
         }
         let hc = moes_to_hertz_film(nvm_central_moes(&self.prm.moes), &self.prm.moes);
-        self.h00 = hc - 1.0;
+        self.h00 = self.starved_film_estimate(hc) - 1.0;
         let top = if self.active.fmg_cycles > 0 { self.levels.len() - 1 } else { 0 };
         let g = self.levels[top].grid;
         self.levels[top].p = g.field(hertz::pressure);
@@ -331,6 +332,20 @@ impl ReynoldsSolver {
         self.levels[top].update_film(h00);
         self.levels[top].start_theta();
         self.rho_h.clear();
+    }
+
+    /// The central film to start from [a²/R]: the flooded estimate `hc` without a supply; with
+    /// one, `hc · R(r)` by the starvation curve's form (Chevalier et al. 1998) with `γ = 2`,
+    /// `r = H_oil / (ρ̄(p_h) hc)` (the thinnest row's supply): a start that holds about the oil
+    /// supplied. Starting from the flooded film instead, the relaxation drained the excess oil
+    /// as slowly as time would (seed conditions, 5 nm on 257²: the central film still 2.5×
+    /// too thick after 150 cycles).
+    fn starved_film_estimate(&self, hc: f64) -> f64 {
+        let Some(s) = self.levels[0].supply() else { return hc };
+        if let Ok(v) = std::env::var("HC0") { return v.parse().unwrap(); }
+        let h_oil = s.iter().cloned().fold(f64::INFINITY, f64::min);
+        let r = h_oil / (self.prm.density.rho(1.0) * hc);
+        hc * r / (1.0 + r * r).sqrt()
     }
 
     /// Adds `extra(X, Y)` [a²/R] to the rigid film on every level (a dent where positive).
@@ -472,16 +487,17 @@ impl ReynoldsSolver {
         if l == last {
             for _ in 0..s.coarse_sweeps {
                 self.levels[l].relax(&prm, self.h00, &s.relax);
-                let dh = s.h00_gain * (self.levels[l].load() - target) / PI;
+                let g = if std::env::var("FINE_H00").is_ok() && self.levels[l].mass_conserving() { 0.0 } else { s.h00_gain };
+                let dh = g * (self.levels[l].load() - target) / PI;
                 self.h00 += dh;
-                self.levels[l].film += dh;
+                self.levels[l].shift_film(dh);
             }
             return;
         }
         for _ in 0..s.pre_sweeps {
             self.levels[l].relax(&prm, self.h00, &s.relax);
         }
-        let r = self.levels[l].residual(&prm);
+        let r = self.levels[l].residual_to_restrict(&prm);
         let p_hat = inject(&self.levels[l].p);
         let load_f = self.levels[l].load();
         if s.relax.coefficient_lag > 0.0 {
@@ -495,7 +511,7 @@ impl ReynoldsSolver {
             c.p = p_hat.clone();
             // The coarse grid holds the fine grid's film content and corrects pressures only:
             // where the gap is partly filled it keeps `P = 0`.
-            c.theta = theta_hat;
+            c.theta = theta_hat.clone();
             c.theta_free = false;
             c.rhs.fill(0.0);
             c.update_film(self.h00);
@@ -507,8 +523,19 @@ impl ReynoldsSolver {
             self.cycle(l + 1, target_c);
         }
         let corr = prolong(&(&self.levels[l + 1].p - &p_hat));
+        let theta_corr = self.levels[l + 1]
+            .theta_free
+            .then(|| prolong(&(&self.levels[l + 1].theta - &theta_hat)));
         {
             let f = &mut self.levels[l];
+            if let Some(tc) = &theta_corr {
+                // The film content where the fine gap is partly filled.
+                for ((t, &p), &d) in f.theta.iter_mut().zip(&f.p).zip(tc) {
+                    if p <= 0.0 && *t < 1.0 {
+                        *t = (*t + d).clamp(0.0, 1.0);
+                    }
+                }
+            }
             // Only points inside the pressurised region are corrected: the coarse grid cannot
             // resolve the cavitation boundary, and a correction at a cavitated point, or at a
             // loaded point beside one, moves that boundary every cycle (on 257² this kept a
@@ -524,7 +551,8 @@ impl ReynoldsSolver {
                         && p0[[j, i + 1]] > 0.0
                         && p0[[j - 1, i]] > 0.0
                         && p0[[j + 1, i]] > 0.0;
-                    if inside {
+                    let lowering = std::env::var("LOWER").is_ok() && f.mass_conserving() && p > 0.0 && corr[[j, i]] < 0.0;
+                    if inside || lowering {
                         let q = p + corr[[j, i]];
                         f.p[[j, i]] = if q > crate::level::CAVITATION_FLOOR { q } else { 0.0 };
                     }
@@ -605,6 +633,22 @@ impl ReynoldsSolver {
         let target = 2.0 * PI / 3.0;
         self.levels[l].theta_free = true;
         self.cycle(l, target);
+        let every: usize = std::env::var("EVERY").map(|v| v.parse().unwrap()).unwrap_or(1);
+        if let (Ok(g), true, true) = (std::env::var("FINE_H00"), self.levels[l].mass_conserving(), cycle % every == 0) {
+            let g: f64 = g.parse().unwrap();
+            let load = self.levels[l].load();
+            let mut slope = -PI / g;
+            if let Some((h0, l0, lev)) = self.secant {
+                if lev == l && (self.h00 - h0).abs() > 1e-12 {
+                    let sl = (load - l0) / (self.h00 - h0);
+                    if sl < 0.0 { slope = sl.clamp(-30.0 * PI, -0.03 * PI); }
+                }
+            }
+            self.secant = Some((self.h00, load, l));
+            self.h00 -= (load - target) / slope;
+            let h00 = self.h00;
+            self.levels[l].update_film(h00);
+        }
         let f = &self.levels[l];
         let load = f.load();
         let load_error = load / target - 1.0;
