@@ -31,6 +31,7 @@ fn main() {
             gamma: envu("GAMMA", d.gamma),
             film_tolerance: std::env::var("FTOL").map(|v| v.parse().unwrap()).unwrap_or(d.film_tolerance),
             stall_cycles: envu("STALL", d.stall_cycles),
+            relax: RelaxSettings { omega_gs: std::env::var("OMEGA").map(|v| v.parse().unwrap()).unwrap_or(d.relax.omega_gs), meniscus_passes: envu("MPASS", d.relax.meniscus_passes), ..d.relax },
             h00_gain: std::env::var("H00GAIN").map(|v| v.parse().unwrap()).unwrap_or(d.h00_gain),
             fallback_lag: if std::env::var("NOLAG").is_ok() { 0.0 } else { d.fallback_lag },
             ..d
@@ -41,7 +42,7 @@ fn main() {
             s.set_supply(Some(&move |_y| hd));
         }
         let t = std::time::Instant::now();
-        let r = s.solve(&mut |c| if std::env::var("LOG").is_ok() { println!("  cycle {} n {} res {:.3e} load {:.2e} hc {:.5e}", c.cycle, c.points, c.residual, c.load_error, c.central_film) });
+        let r = s.solve(&mut |c| if std::env::var("LOG").is_ok() { println!("  cycle {} n {} res {:.3e} load {:.2e} hc {:.5e} mass {:.2e}", c.cycle, c.points, c.residual, c.load_error, c.central_film, c.mass_defect) });
         let dt = t.elapsed().as_secs_f64();
         let (hc, hmin) = s.films();
         let (j, i) = (grid.row_nearest(0.0), grid.col_nearest(0.0));

@@ -73,8 +73,12 @@ pub enum Model {
     Dry,
     /// The oedometric viscoelastic layer model.
     Layer,
-    /// The conventional Reynolds EHL model (steady).
+    /// The conventional Reynolds EHL model: mass conserving, fed the scene's `supply` (fully
+    /// flooded when the scene has none).
     Reynolds,
+    /// The same solver fully flooded whatever the scene supplies (it does not read `supply`):
+    /// the reference a starved contact is measured against (`R = h_c / h_c,flooded`).
+    ReynoldsFlooded,
 }
 
 /// A block of a scene beyond the conditions, domain, grid, contact solver and outputs that
@@ -101,6 +105,7 @@ impl Model {
             Model::Dry => &[],
             Model::Layer => &[Block::Lubricant, Block::Supply, Block::Layer, Block::Run],
             Model::Reynolds => &[Block::Lubricant, Block::Supply, Block::Run, Block::Reynolds],
+            Model::ReynoldsFlooded => &[Block::Lubricant, Block::Run, Block::Reynolds],
         }
     }
 }
@@ -970,7 +975,7 @@ impl Scene {
             }
         }
         match self.model {
-            Some(Model::Reynolds) => self.validate_reynolds(&ck),
+            Some(Model::Reynolds | Model::ReynoldsFlooded) => self.validate_reynolds(&ck),
             Some(Model::Layer) => self.validate_layer(&ck),
             _ => Ok(()),
         }
@@ -1067,12 +1072,15 @@ impl Scene {
                 |allowed| format!("must be {allowed} for the Reynolds model (its march starts from its steady solve and rolls)"),
             )?;
         }
+        let marching = self.run.as_ref().is_some_and(|r| r.method == Some(Method::March));
         if let Some(k) = self.supply.as_ref().and_then(|s| (!s.holes.is_empty()).then_some(0)) {
-            return Err(ck.err(
-                &format!("supply.holes[{k}]"),
-                "(given)".into(),
-                "none for the Reynolds model: it runs fully flooded and cannot see a hole in the supply (the layer model can)",
-            ));
+            if !marching {
+                return Err(ck.err(
+                    &format!("supply.holes[{k}]"),
+                    "(given)".into(),
+                    "only in a march for the Reynolds model (run.method \"march\"): a hole passes the contact; a steady solve has none",
+                ));
+            }
         }
         let (_, u_sum) = self.reynolds_conditions();
         self.validate_run(ck, r, 0.5 * u_sum)

@@ -159,7 +159,7 @@ impl Comparison {
             s.p_h * 1e-9
         );
         t += &format!(
-            "  {:<10} {:>10} {:>10} {:>12} {:>11} {:>11} {:>10} {:>9}\n",
+            "  {:<16} {:>10} {:>10} {:>12} {:>11} {:>11} {:>10} {:>9}\n",
             "model",
             "h_c [nm]",
             "h_min [nm]",
@@ -174,7 +174,7 @@ impl Comparison {
                 Ok(o) => {
                     let ob = o.observables();
                     t += &format!(
-                        "  {:<10} {:>10.3} {:>10.3} {:>12.4} {:>11.4} {:>11.4} {:>10.1e} {:>9.2}\n",
+                        "  {:<16} {:>10.3} {:>10.3} {:>12.4} {:>11.4} {:>11.4} {:>10.1e} {:>9.2}\n",
                         e.name(),
                         ob.central_film_m * 1e9,
                         ob.minimum_film_m * 1e9,
@@ -186,7 +186,7 @@ impl Comparison {
                     )
                 }
                 Err(d) => {
-                    t += &format!("  {:<10} FAILED after {:.2} s: {d}\n", e.name(), e.wall_time_s)
+                    t += &format!("  {:<16} FAILED after {:.2} s: {d}\n", e.name(), e.wall_time_s)
                 }
             }
         }

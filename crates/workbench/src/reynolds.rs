@@ -29,6 +29,8 @@ pub struct ReynoldsOutcome {
     pub p: Array2<f64>,
     /// Film `H` [a²/R].
     pub film: Array2<f64>,
+    /// Film content `θ` (1 where the gap is full; all ones fully flooded).
+    pub theta: Array2<f64>,
     /// `H00` [a²/R].
     pub h00: f64,
     /// The steady solve's report.
@@ -85,6 +87,22 @@ pub struct TransientRecord {
 
 /// The registered Reynolds model.
 pub struct Reynolds;
+
+/// The Reynolds model fully flooded whatever the scene supplies (a comparison's reference for
+/// the starved one): the same solver, given a scene without its `supply` block.
+pub struct ReynoldsFlooded;
+
+impl ContactModel for ReynoldsFlooded {
+    fn kind(&self) -> ehl_scene::Model {
+        ehl_scene::Model::ReynoldsFlooded
+    }
+    fn run(&self, scene: &Scene) -> Result<Box<dyn Outcome>> {
+        Ok(Box::new(run_reynolds(scene)?))
+    }
+    fn inlet_distance(&self, scene: &Scene) -> f64 {
+        Reynolds.inlet_distance(scene)
+    }
+}
 
 impl ContactModel for Reynolds {
     fn kind(&self) -> ehl_scene::Model {
@@ -209,6 +227,13 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     if !dents.is_empty() {
         set_dents(&mut solver, &dents, 0.0);
     }
+    // The supply: the layer arriving at the inflow boundary (holes there at the start left
+    // out of the steady solve: a steady contact has none; they enter as the march carries them).
+    if let Some(sup) = &view.supply {
+        let (x_in, delta) = (grid.x(0), prm.scales.delta);
+        let uniform = ehl_core::Supply::uniform(sup.thickness_m);
+        solver.set_supply(Some(&|y| uniform.thickness_at(x_in, y, 0.0) / delta));
+    }
     let setup_time_s = t0.elapsed().as_secs_f64();
     let spin = crate::progress::spinner("reynolds");
     // Nothing is written for a solve that did not converge: its error says what happened.
@@ -224,10 +249,11 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     let formulas =
         (hamrock_dowson_central(&contact, &lub, 0.5 * u_sum), nvm_central(&contact, &lub, u_sum));
     let transient = match run {
-        Some(r) => Some(run_transient(scene, r, &prm, &mut solver, dents)?),
+        Some(r) => Some(run_transient(scene, r, &prm, &mut solver, dents, view.supply.clone())?),
         None => None,
     };
     let (fp, ff) = (solver.pressure(), solver.film());
+    let theta = solver.theta().clone();
     Ok(ReynoldsOutcome {
         scene: scene.clone(),
         view: view.clone(),
@@ -235,6 +261,7 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
         grid,
         p: fp.clone(),
         film: ff.clone(),
+        theta,
         h00: solver.h00,
         report,
         formulas,
@@ -257,6 +284,8 @@ fn set_dents(solver: &mut ReynoldsSolver, dents: &[Dent], travel: f64) {
 struct ReynoldsMarch<'a> {
     solver: &'a mut ReynoldsSolver,
     dents: Vec<Dent>,
+    /// The supply when it has holes: the inflow boundary's layer follows them.
+    holes: Option<ehl_core::Supply>,
     steps: usize,
     /// The step [s] and the time unit `a/u_m` [s].
     dt_s: f64,
@@ -284,6 +313,10 @@ impl Transient for ReynoldsMarch<'_> {
         let travel = self.motion.travel(t_new) / self.solver.prm.scales.a;
         if !self.dents.is_empty() {
             set_dents(self.solver, &self.dents, travel);
+        }
+        if let Some(sup) = &self.holes {
+            let (x_in, delta) = (self.solver.grid().x(0), self.solver.prm.scales.delta);
+            self.solver.set_inflow(Some(&|y| sup.thickness_at(x_in, y, travel) / delta));
         }
         // The wedge term at the speed of the time solved for (the scales stay at u_m).
         self.solver.set_speed(self.motion.speed(t_new) / self.motion.reference_speed());
@@ -330,6 +363,7 @@ fn run_transient(
     prm: &ReynoldsParams,
     solver: &mut ReynoldsSolver,
     dents: Vec<Dent>,
+    supply: Option<ehl_core::Supply>,
 ) -> Result<TransientRecord> {
     let s = prm.scales;
     let (_, u_sum) = scene.reynolds_conditions();
@@ -355,8 +389,28 @@ fn run_transient(
     let centre = (g.row_nearest(0.0), g.col_nearest(0.0));
     let time_unit = s.a / u_m;
     let h_ref = s.h_si(solver.films().0);
-    let mut march =
-        ReynoldsMarch { solver, dents, steps: 0, dt_s, time_unit, motion, x0, centre, h_ref };
+    // Holes already inside the domain at the start: no oil there where the gap is not full.
+    let holes = supply.filter(|s| !s.holes.is_empty());
+    if let Some(sup) = &holes {
+        solver.set_theta(|x, y, t| if sup.thickness_at(x, y, 0.0) > 0.0 { t } else { 0.0 });
+    }
+    let x0 = if holes.is_some() && x0 == 0.0 {
+        scene.passing().first().map_or(0.0, |p| p.x_start_a)
+    } else {
+        x0
+    };
+    let mut march = ReynoldsMarch {
+        solver,
+        dents,
+        holes,
+        steps: 0,
+        dt_s,
+        time_unit,
+        motion,
+        x0,
+        centre,
+        h_ref,
+    };
     let expected = plan.end.as_ref().map_or(0, |e| (e.0 / dt_s).round() as u64);
     let spin = crate::progress::bar(expected, "dent passing");
     let rec = drive::drive(&mut march, &plan, &mut |_| spin.inc(1))
@@ -400,11 +454,15 @@ impl ReynoldsOutcome {
                 "m": self.prm.moes.m, "l": self.prm.moes.l, "lambda_bar": self.prm.lambda_bar,
             },
             "lubricant": self.scene.lubricant,
-            "supply": self.view.supply.as_ref().map(|sup| json!({
-                "thickness": q(sup.thickness_m, "m"),
-                "applied": false,
-                "note": "this Reynolds solver is fully flooded: it does not read the supply yet",
-            })),
+            "supply": match self.view.supply.as_ref() {
+                Some(sup) => json!({
+                    "thickness": q(sup.thickness_m, "m"),
+                    "applied": true,
+                    "cavitation": "mass conserving (film content θ, Elrod/JFO)",
+                    "inlet_meniscus": self.meniscus_a().map(|x| q(s.x_si(x), "m")),
+                }),
+                None => json!({ "applied": false, "cavitation": "fully flooded, Reynolds' condition (P ≥ 0)" }),
+            },
             "laws": { "viscosity": self.view.spec.viscosity, "density": self.view.spec.density },
             "results": {
                 "central_film": q(s.h_si(hc), "m"),
@@ -473,10 +531,25 @@ impl ReynoldsOutcome {
     /// The final fields (SI), and the flux ratio.
     pub fn fields(&self) -> Vec<(String, Array2<f64>)> {
         let s = &self.prm.scales;
-        vec![
+        let mut f = vec![
             ("pressure_pa".into(), self.p.mapv(|v| s.p_si(v))),
             ("film_m".into(), self.film.mapv(|v| s.h_si(v))),
-        ]
+        ];
+        if self.view.supply.is_some() {
+            f.push(("film_content".into(), self.theta.clone()));
+        }
+        f
+    }
+
+    /// Where the gap first fills on the centre line, upstream of the centre [a] (the inlet
+    /// meniscus; the domain's inflow edge when full there): mass conserving only.
+    pub fn meniscus_a(&self) -> Option<f64> {
+        self.view.supply.as_ref()?;
+        let g = &self.grid;
+        let j = g.row_nearest(0.0);
+        let centre = g.col_nearest(0.0);
+        let first_full = (0..=centre).rev().find(|&i| self.theta[[j, i]] < 1.0).map_or(0, |i| i + 1);
+        Some(g.x(first_full))
     }
 
     fn note(&self) -> String {
