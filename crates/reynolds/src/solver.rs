@@ -920,6 +920,7 @@ mod tests {
             central_film: 0.4,
             minimum_film: 0.3,
             wall_s: 0.0,
+            mass_defect: 0.0,
         };
         load_errors.iter().enumerate().map(|(k, &e)| rec(k, e)).collect()
     }

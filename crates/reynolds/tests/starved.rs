@@ -1,0 +1,100 @@
+//! The starved, mass-conserving solver against what it must reproduce without being told: the
+//! thin-supply limit (mass conservation through the contact), the flooded answer once the
+//! supply exceeds what the inlet takes, and the oil balance over the domain's edges computed
+//! from the fluxes themselves.
+mod common;
+
+use ehl_core::Grid;
+use ehl_reynolds::*;
+
+/// The seed's contact (Table 1, u1 = 0.01 m/s) on its own domain `[−1.25, 1.25]²`, `n²`,
+/// fed `h_oil_nm` (None: flooded, the clamp): the converged solver.
+fn seed_solve(n: usize, h_oil_nm: Option<f64>) -> (ReynoldsParams, ReynoldsSolver) {
+    let prm = common::seed();
+    let grid = Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
+    let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
+    if let Some(h) = h_oil_nm {
+        let hd = h * 1e-9 / prm.scales.delta;
+        s.set_supply(Some(&move |_y| hd));
+    }
+    s.solve(&mut |_| {}).expect("converges");
+    (prm, s)
+}
+
+#[test]
+fn a_thin_supply_crosses_the_contact_at_its_own_thickness() {
+    // With 5 nm supplied (a third of the flooded film) nothing is pushed back at the inlet:
+    // what arrives passes, so ρ̄(p_c) h_c = h_oil (Chevalier et al. 1998's thin-layer limit).
+    // Issue target 2 % on 257²; measured on 129²: 0.2 % (0.14 % on 257²). A solver that
+    // clamps (the oil pushed out lost) gives 11 nm here, one whose inflow face carries half the
+    // first cell's own content 7× the supply.
+    let (prm, s) = seed_solve(129, Some(5.0));
+    let g = s.grid();
+    let (j, i) = (g.row_nearest(0.0), g.col_nearest(0.0));
+    let carried = prm.density.rho(s.pressure()[[j, i]]) * s.films().0 * prm.scales.delta;
+    assert!((carried / 5e-9 - 1.0).abs() < 0.02, "ρ̄ h_c = {:.4} nm against 5 nm", carried * 1e9);
+    assert!(s.mass_conserving());
+}
+
+#[test]
+fn a_supply_thicker_than_the_inlet_takes_gives_the_flooded_film() {
+    // 1 µm on the seed's contact fills the whole domain's inlet: the film content is 1 up to
+    // the inflow edge and the answer is the clamp's (the outlet's cavitation differs in kind,
+    // Reynolds' condition against the film content, and moves the central film by 1e-4 on 257²).
+    // Bound 1e-3: ten times that, far below any starvation (25 nm already gives 1.3 %). On
+    // 257²: the flooded seed stalls on 129² (a known limit of the flooded solver there).
+    let (_, flooded) = seed_solve(257, None);
+    let (_, thick) = seed_solve(257, Some(1000.0));
+    let (hf, ht) = (flooded.films().0, thick.films().0);
+    assert!((ht / hf - 1.0).abs() < 1e-3, "h_c {ht:.6e} against flooded {hf:.6e}");
+    assert!(!flooded.mass_conserving());
+}
+
+/// The oil through the domain's edges per unit time (Hertz units): what the supply brings in
+/// at the inflow face, and what leaves through the outflow face and the two sides, each from
+/// the discrete fluxes (Couette by the scheme's upwind face values, Poiseuille by the
+/// half-point `ε̄`).
+fn edge_flows(prm: &ReynoldsParams, s: &ReynoldsSolver) -> (f64, f64) {
+    let f = s.finest();
+    let (eps, rt) = f.coefficients(prm);
+    let (p, film) = (&f.p, &f.film);
+    let (ny, nx) = p.dim();
+    let h = f.h;
+    let q = |j: usize, i: usize| rt[[j, i]] * film[[j, i]];
+    let supplied: f64 = (1..ny - 1).map(|j| q(j, 0) * h).sum();
+    let (o, b) = (nx - 2, nx - 1);
+    let out_x: f64 = (1..ny - 1)
+        .map(|j| {
+            let couette = 1.5 * q(j, o) - 0.5 * q(j, o - 1);
+            let pois = -0.5 * (eps[[j, o]] + eps[[j, b]]) * (p[[j, b]] - p[[j, o]]) / h;
+            (couette + pois) * h
+        })
+        .sum();
+    let sides: f64 = (1..nx - 1)
+        .map(|i| {
+            let low = 0.5 * (eps[[1, i]] + eps[[0, i]]) * (p[[1, i]] - p[[0, i]]) / h;
+            let high =
+                0.5 * (eps[[ny - 2, i]] + eps[[ny - 1, i]]) * (p[[ny - 2, i]] - p[[ny - 1, i]]) / h;
+            (low + high) * h
+        })
+        .sum();
+    (supplied, out_x + sides)
+}
+
+#[test]
+fn the_oil_leaving_the_domain_is_the_oil_supplied() {
+    // Steady and mass conserving: outflow plus side leakage equals the supply, to the solver's
+    // oil tolerance (1 % of the supply, `ReynoldsSettings::mass_tolerance`), for a thin supply
+    // (the meniscus at the contact's edge) and a thicker one (partly filled inlet, 10 nm).
+    // Measured on 129²: 0.05 % and 0.3 %. The flooded clamp loses oil at the outlet: the same
+    // balance is off by 10 % there (it is not asked of it).
+    for h_oil in [5.0, 10.0] {
+        let (prm, s) = seed_solve(129, Some(h_oil));
+        let (supplied, left) = edge_flows(&prm, &s);
+        let tol = ReynoldsSettings::default().mass_tolerance;
+        assert!(
+            (left / supplied - 1.0).abs() < tol,
+            "{h_oil} nm: {left:.6e} left against {supplied:.6e} supplied"
+        );
+    }
+}
