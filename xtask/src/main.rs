@@ -13,6 +13,7 @@ mod mutants;
 mod reynolds;
 mod scene_study;
 mod slurm;
+mod starvation;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -51,6 +52,19 @@ enum Command {
         /// Grid of the layer time-step study.
         #[arg(long, default_value_t = 129)]
         nt_points: usize,
+    },
+    /// The starvation study: the seed's contact fed 5-200 nm (the built-in sweep
+    /// `seed-supply`), both models' starvation curves with the fitted `γ`, the grid
+    /// convergence of the starved film; writes `docs/measured/starvation.md`.
+    Starvation {
+        #[arg(long, default_value = "out/starvation")]
+        out: PathBuf,
+        /// Points per side of the supply sweep.
+        #[arg(long, default_value_t = 257)]
+        points: usize,
+        /// Grids of the convergence study (points per side).
+        #[arg(long, value_delimiter = ',', default_value = "129,257,513")]
+        grids: Vec<usize>,
     },
     /// Stability studies: `reynolds` (converged or not, and cycles, over Moes' M and L).
     Stability {
@@ -148,6 +162,12 @@ fn main() -> Result<()> {
         Command::Bench { out, max_points, only } => bench::run(&out, max_points, only),
         Command::Identify { out, points, squeeze_points, check_points } => {
             identify::run(&out, points, squeeze_points, check_points)
+        }
+        Command::Starvation { out, points, grids } => {
+            for f in starvation::run(&out, points, &grids)? {
+                println!("  {}", f.display());
+            }
+            Ok(())
         }
         Command::SlurmCheck { keep } => slurm::check(keep),
         Command::Mutants { file, shard, timeout, out } => {

@@ -732,6 +732,7 @@ const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "dent-shallow",
     "dent-shallow-compare",
     "hole",
+    "hole-compare",
     "reynolds-m20-l10",
     "reynolds-m20-l10-dent",
     "reynolds-seed"

@@ -429,7 +429,7 @@ macro_rules! builtin_sweeps {
     };
 }
 
-const SWEEPS: &[(&str, &str)] = builtin_sweeps!("seed-speed", "seed-speed-load");
+const SWEEPS: &[(&str, &str)] = builtin_sweeps!("seed-speed", "seed-speed-load", "seed-supply");
 
 /// Names of the built-in sweeps.
 pub fn builtin_sweep_names() -> Vec<&'static str> {

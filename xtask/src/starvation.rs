@@ -1,0 +1,197 @@
+//! The starvation study: the seed's contact fed supplies of 5 nm … 200 nm, the layer model and
+//! the mass-conserving Reynolds solver against the flooded Reynolds film; the starvation curve
+//! `R = h_c / h_c,flooded` against `r = h_oil / (ρ̄_c h_c,flooded)` with the Chevalier/Damiens
+//! form `R = r / (1 + r^γ)^(1/γ)` fitted for each model; and the grid convergence of the
+//! starved film and its inlet meniscus.
+
+use crate::measured::{self, Table};
+use anyhow::{Context, Result};
+use ehl_scene::{Model, Parameter, Scene};
+use ehl_workbench::compare;
+use ehl_workbench::plot::{self, Mark, Panel, Series};
+use std::path::{Path, PathBuf};
+
+/// The supplies of the built-in sweep `seed-supply` [m].
+fn supplies() -> Result<Vec<f64>> {
+    let (sweep, _) = ehl_scene::sweep::load_sweep("seed-supply")?;
+    Ok(sweep.parameters[0].values())
+}
+
+/// `R(r) = r / (1 + r^γ)^(1/γ)`.
+fn curve(r: f64, gamma: f64) -> f64 {
+    r / (1.0 + r.powf(gamma)).powf(1.0 / gamma)
+}
+
+/// The `γ` in [0.5, 10] that fits `(r, R)` best in least squares on `log R` (golden section on
+/// a unimodal error), and its RMS misfit.
+fn fit_gamma(points: &[(f64, f64)]) -> (f64, f64) {
+    let err = |g: f64| {
+        let s: f64 = points.iter().map(|&(r, big_r)| (curve(r, g).ln() - big_r.ln()).powi(2)).sum();
+        (s / points.len() as f64).sqrt()
+    };
+    let (mut a, mut b) = (0.5f64, 10.0f64);
+    let phi = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..80 {
+        let (c, d) = (b - phi * (b - a), a + phi * (b - a));
+        if err(c) < err(d) { b = d } else { a = c }
+    }
+    let g = 0.5 * (a + b);
+    (g, err(g))
+}
+
+/// One supply through the comparison's models: the central films [m] of the layer model, the
+/// starved and the flooded Reynolds solver, `ρ̄` at the flooded centre, the inlet meniscus [a].
+struct Point {
+    h_oil: f64,
+    layer: Option<f64>,
+    starved: Option<f64>,
+    flooded: f64,
+    rho_c: f64,
+    meniscus_a: Option<f64>,
+    starved_s: f64,
+    flooded_s: f64,
+}
+
+fn run_point(seed: &Scene, h_oil: f64) -> Result<Point> {
+    let mut scene =
+        seed.with_parameter(Parameter::SupplyThickness, h_oil).map_err(anyhow::Error::msg)?;
+    scene.outputs.figures = false;
+    let c = compare::run(&scene);
+    let film = |m: Model| {
+        c.entries.iter().find(|e| e.model == m).and_then(|e| e.outcome.as_ref().ok()).map(|o| o.observables().central_film_m)
+    };
+    let wall = |m: Model| c.entries.iter().find(|e| e.model == m).map_or(f64::NAN, |e| e.wall_time_s);
+    let flooded_entry = c.entries.iter().find(|e| e.model == Model::ReynoldsFlooded).context("flooded entry")?;
+    let flooded = flooded_entry.outcome.as_ref().map_err(|e| anyhow::anyhow!("flooded Reynolds failed: {e}"))?;
+    let s = flooded.scales();
+    let g = flooded.grid();
+    let pc = flooded.pressure()[[g.row_nearest(0.0), g.col_nearest(0.0)]];
+    // ρ̄ at the flooded centre (Dowson–Higginson, the seed's density law).
+    let rho_c = ehl_core::laws::Density::DowsonHigginson { p_h: s.p_h }.rho(pc);
+    let meniscus_a = c
+        .entries
+        .iter()
+        .find(|e| e.model == Model::Reynolds)
+        .and_then(|e| e.outcome.as_ref().ok())
+        .and_then(|o| o.summary()["details"]["supply"]["inlet_meniscus"]["value"].as_f64())
+        .map(|x| x / s.a);
+    Ok(Point {
+        h_oil,
+        layer: film(Model::Layer),
+        starved: film(Model::Reynolds),
+        flooded: film(Model::ReynoldsFlooded).context("flooded film")?,
+        rho_c,
+        meniscus_a,
+        starved_s: wall(Model::Reynolds),
+        flooded_s: wall(Model::ReynoldsFlooded),
+    })
+}
+
+/// Runs the study: the supply sweep on `points`², the grid study of the starved film on
+/// `grids`, the figure and `docs/measured/starvation.md`.
+pub fn run(out: &Path, points: usize, grids: &[usize]) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(out)?;
+    let mut seed = ehl_scene::builtin("seed").map_err(anyhow::Error::msg)?;
+    seed.grid.nx = points;
+    seed.grid.ny = points;
+    let pts: Vec<Point> =
+        supplies()?.into_iter().map(|h| run_point(&seed, h)).collect::<Result<_>>()?;
+    let mut table = Table::new(&[
+        "h_oil [nm]",
+        "r",
+        "R layer",
+        "R Reynolds",
+        "rho_c h_c / h_oil",
+        "inlet meniscus [a]",
+        "starved / flooded solve time",
+    ]);
+    let (mut layer_rr, mut rey_rr) = (vec![], vec![]);
+    for p in &pts {
+        let r = p.h_oil / (p.rho_c * p.flooded);
+        let rl = p.layer.map(|h| h / p.flooded);
+        let rs = p.starved.map(|h| h / p.flooded);
+        if let Some(v) = rl {
+            layer_rr.push((r, v));
+        }
+        if let Some(v) = rs {
+            rey_rr.push((r, v));
+        }
+        let f = |v: Option<f64>| v.map_or("failed".into(), |v| format!("{v:.4}"));
+        table.rows.push(vec![
+            format!("{:.0}", p.h_oil * 1e9),
+            format!("{r:.3}"),
+            f(rl),
+            f(rs),
+            f(p.starved.map(|h| p.rho_c * h / p.h_oil)),
+            p.meniscus_a.map_or("-".into(), |x| format!("{x:.3}")),
+            format!("{:.1} s / {:.2} s = {:.0}×", p.starved_s, p.flooded_s, p.starved_s / p.flooded_s),
+        ]);
+    }
+    let (g_rey, e_rey) = fit_gamma(&rey_rr);
+    let (g_layer, e_layer) = fit_gamma(&layer_rr);
+    let mut fits = Table::new(&["model", "gamma", "RMS misfit of ln R"]);
+    fits.rows.push(vec!["Reynolds (mass conserving)".into(), format!("{g_rey:.2}"), format!("{e_rey:.3}")]);
+    fits.rows.push(vec!["layer".into(), format!("{g_layer:.2}"), format!("{e_layer:.3}")]);
+
+    // Grid convergence of the starved film and the meniscus (5 nm: fully starved; 25 nm: the
+    // seed's supply, nearly flooded).
+    let mut conv = Table::new(&["h_oil [nm]", "grid", "h_c [nm]", "inlet meniscus [a]", "cycles", "solve [s]"]);
+    for h_oil in [5e-9, 25e-9] {
+        for &n in grids {
+            let mut s = seed.for_model(Model::Reynolds).with_parameter(Parameter::SupplyThickness, h_oil).map_err(anyhow::Error::msg)?;
+            s.grid.nx = n;
+            s.grid.ny = n;
+            let row = match ehl_workbench::reynolds::run_reynolds(&s) {
+                Ok(o) => {
+                    let hc = ehl_workbench::model::Outcome::observables(&o).central_film_m;
+                    vec![
+                        format!("{:.0}", h_oil * 1e9),
+                        format!("{n}²"),
+                        format!("{:.4}", hc * 1e9),
+                        o.meniscus_a().map_or("-".into(), |x| format!("{x:.4}")),
+                        o.report.cycles.to_string(),
+                        format!("{:.2}", o.report.wall_time_s),
+                    ]
+                }
+                Err(e) => vec![format!("{:.0}", h_oil * 1e9), format!("{n}²"), format!("failed: {e}"), "".into(), "".into(), "".into()],
+            };
+            conv.rows.push(row);
+        }
+    }
+
+    // The figure: R against r, both models, the fitted curves, the seed's 25 nm marked.
+    let line = |g: f64| -> Vec<(f64, f64)> {
+        (0..=60).map(|k| 10f64.powf(-1.0 + 2.5 * k as f64 / 60.0)).map(|r| (r, curve(r, g))).collect()
+    };
+    let fig = out.join("starvation.png");
+    plot::charts(
+        &fig,
+        &[Panel::new(
+            "Starvation: the seed's contact fed 5-200 nm (R = h_c / h_c,flooded Reynolds)",
+            "r = h_oil / (rho_c h_c,flooded)",
+            "R",
+            vec![
+                Series::new("Reynolds, mass conserving", rey_rr.clone(), Mark::Points),
+                Series::new(format!("fit, gamma = {g_rey:.2}"), line(g_rey), Mark::Line),
+                Series::new("layer model", layer_rr.clone(), Mark::Points),
+                Series::new(format!("fit, gamma = {g_layer:.2}"), line(g_layer), Mark::Line),
+            ],
+        )
+        .log_log()],
+        &format!("{points}² over [-1.25, 1.25]² a; Table 1 conditions, u1 = 0.01 m/s"),
+    )?;
+    let csv = out.join("starvation.csv");
+    std::fs::write(&csv, format!("{}\n", table.rows.iter().map(|r| r.join(",")).collect::<Vec<_>>().join("\n")))?;
+    let page = measured::write(
+        "starvation",
+        "Starvation: the seed's contact fed a finite supply",
+        &format!("cargo xtask starvation --points {points}"),
+        "Both models fed the same supply (the built-in sweep `seed-supply`); `R` is each model's \
+         central film over the flooded Reynolds film, `r` the supply over the flooded central \
+         film's oil (`rho_c` the density at the flooded centre). The thin-supply limit is \
+         `rho_c h_c = h_oil` (mass conservation through the contact). The fitted form is \
+         Chevalier et al. (1998) / Damiens et al. (2004): `R = r / (1 + r^gamma)^(1/gamma)`.",
+        &[("The supply sweep", &table), ("Fits of the starvation curve", &fits), ("Grid convergence of the starved Reynolds film", &conv)],
+    )?;
+    Ok(vec![fig, csv, page])
+}
