@@ -58,11 +58,20 @@ fn run_point(seed: &Scene, h_oil: f64) -> Result<Point> {
     scene.outputs.figures = false;
     let c = compare::run(&scene);
     let film = |m: Model| {
-        c.entries.iter().find(|e| e.model == m).and_then(|e| e.outcome.as_ref().ok()).map(|o| o.observables().central_film_m)
+        c.entries
+            .iter()
+            .find(|e| e.model == m)
+            .and_then(|e| e.outcome.as_ref().ok())
+            .map(|o| o.observables().central_film_m)
     };
-    let wall = |m: Model| c.entries.iter().find(|e| e.model == m).map_or(f64::NAN, |e| e.wall_time_s);
-    let flooded_entry = c.entries.iter().find(|e| e.model == Model::ReynoldsFlooded).context("flooded entry")?;
-    let flooded = flooded_entry.outcome.as_ref().map_err(|e| anyhow::anyhow!("flooded Reynolds failed: {e}"))?;
+    let wall =
+        |m: Model| c.entries.iter().find(|e| e.model == m).map_or(f64::NAN, |e| e.wall_time_s);
+    let flooded_entry =
+        c.entries.iter().find(|e| e.model == Model::ReynoldsFlooded).context("flooded entry")?;
+    let flooded = flooded_entry
+        .outcome
+        .as_ref()
+        .map_err(|e| anyhow::anyhow!("flooded Reynolds failed: {e}"))?;
     let s = flooded.scales();
     let g = flooded.grid();
     let pc = flooded.pressure()[[g.row_nearest(0.0), g.col_nearest(0.0)]];
@@ -73,7 +82,7 @@ fn run_point(seed: &Scene, h_oil: f64) -> Result<Point> {
         .iter()
         .find(|e| e.model == Model::Reynolds)
         .and_then(|e| e.outcome.as_ref().ok())
-        .and_then(|o| o.summary()["details"]["supply"]["inlet_meniscus"]["value"].as_f64())
+        .and_then(|o| o.summary()["supply"]["inlet_meniscus"]["value"].as_f64())
         .map(|x| x / s.a);
     Ok(Point {
         h_oil,
@@ -124,21 +133,40 @@ pub fn run(out: &Path, points: usize, grids: &[usize]) -> Result<Vec<PathBuf>> {
             f(rs),
             f(p.starved.map(|h| p.rho_c * h / p.h_oil)),
             p.meniscus_a.map_or("-".into(), |x| format!("{x:.3}")),
-            format!("{:.1} s / {:.2} s = {:.0}×", p.starved_s, p.flooded_s, p.starved_s / p.flooded_s),
+            format!(
+                "{:.1} s / {:.2} s = {:.0}×",
+                p.starved_s,
+                p.flooded_s,
+                p.starved_s / p.flooded_s
+            ),
         ]);
     }
     let (g_rey, e_rey) = fit_gamma(&rey_rr);
     let (g_layer, e_layer) = fit_gamma(&layer_rr);
     let mut fits = Table::new(&["model", "gamma", "RMS misfit of ln R"]);
-    fits.rows.push(vec!["Reynolds (mass conserving)".into(), format!("{g_rey:.2}"), format!("{e_rey:.3}")]);
+    fits.rows.push(vec![
+        "Reynolds (mass conserving)".into(),
+        format!("{g_rey:.2}"),
+        format!("{e_rey:.3}"),
+    ]);
     fits.rows.push(vec!["layer".into(), format!("{g_layer:.2}"), format!("{e_layer:.3}")]);
 
     // Grid convergence of the starved film and the meniscus (5 nm: fully starved; 25 nm: the
     // seed's supply, nearly flooded).
-    let mut conv = Table::new(&["h_oil [nm]", "grid", "h_c [nm]", "inlet meniscus [a]", "cycles", "solve [s]"]);
+    let mut conv = Table::new(&[
+        "h_oil [nm]",
+        "grid",
+        "h_c [nm]",
+        "inlet meniscus [a]",
+        "cycles",
+        "solve [s]",
+    ]);
     for h_oil in [5e-9, 25e-9] {
         for &n in grids {
-            let mut s = seed.for_model(Model::Reynolds).with_parameter(Parameter::SupplyThickness, h_oil).map_err(anyhow::Error::msg)?;
+            let mut s = seed
+                .for_model(Model::Reynolds)
+                .with_parameter(Parameter::SupplyThickness, h_oil)
+                .map_err(anyhow::Error::msg)?;
             s.grid.nx = n;
             s.grid.ny = n;
             let row = match ehl_workbench::reynolds::run_reynolds(&s) {
@@ -153,7 +181,14 @@ pub fn run(out: &Path, points: usize, grids: &[usize]) -> Result<Vec<PathBuf>> {
                         format!("{:.2}", o.report.wall_time_s),
                     ]
                 }
-                Err(e) => vec![format!("{:.0}", h_oil * 1e9), format!("{n}²"), format!("failed: {e}"), "".into(), "".into(), "".into()],
+                Err(e) => vec![
+                    format!("{:.0}", h_oil * 1e9),
+                    format!("{n}²"),
+                    format!("failed: {e}"),
+                    "".into(),
+                    "".into(),
+                    "".into(),
+                ],
             };
             conv.rows.push(row);
         }
@@ -161,7 +196,10 @@ pub fn run(out: &Path, points: usize, grids: &[usize]) -> Result<Vec<PathBuf>> {
 
     // The figure: R against r, both models, the fitted curves, the seed's 25 nm marked.
     let line = |g: f64| -> Vec<(f64, f64)> {
-        (0..=60).map(|k| 10f64.powf(-1.0 + 2.5 * k as f64 / 60.0)).map(|r| (r, curve(r, g))).collect()
+        (0..=60)
+            .map(|k| 10f64.powf(-1.0 + 2.5 * k as f64 / 60.0))
+            .map(|r| (r, curve(r, g)))
+            .collect()
     };
     let fig = out.join("starvation.png");
     plot::charts(
@@ -181,7 +219,10 @@ pub fn run(out: &Path, points: usize, grids: &[usize]) -> Result<Vec<PathBuf>> {
         &format!("{points}² over [-1.25, 1.25]² a; Table 1 conditions, u1 = 0.01 m/s"),
     )?;
     let csv = out.join("starvation.csv");
-    std::fs::write(&csv, format!("{}\n", table.rows.iter().map(|r| r.join(",")).collect::<Vec<_>>().join("\n")))?;
+    std::fs::write(
+        &csv,
+        format!("{}\n", table.rows.iter().map(|r| r.join(",")).collect::<Vec<_>>().join("\n")),
+    )?;
     let page = measured::write(
         "starvation",
         "Starvation: the seed's contact fed a finite supply",
@@ -191,7 +232,11 @@ pub fn run(out: &Path, points: usize, grids: &[usize]) -> Result<Vec<PathBuf>> {
          film's oil (`rho_c` the density at the flooded centre). The thin-supply limit is \
          `rho_c h_c = h_oil` (mass conservation through the contact). The fitted form is \
          Chevalier et al. (1998) / Damiens et al. (2004): `R = r / (1 + r^gamma)^(1/gamma)`.",
-        &[("The supply sweep", &table), ("Fits of the starvation curve", &fits), ("Grid convergence of the starved Reynolds film", &conv)],
+        &[
+            ("The supply sweep", &table),
+            ("Fits of the starvation curve", &fits),
+            ("Grid convergence of the starved Reynolds film", &conv),
+        ],
     )?;
     Ok(vec![fig, csv, page])
 }

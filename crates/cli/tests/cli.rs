@@ -141,7 +141,13 @@ fn compare_writes_the_table_and_each_model_and_lists_a_failure() {
     v["reynolds"] = serde_json::json!({"solver": {"max_cycles": 3, "fallback_lag": 0.0}});
     let scene = dir.path().join("user-10n-3-cycles.json");
     std::fs::write(&scene, v.to_string()).unwrap();
-    let o = ehl().arg("compare").arg(&scene).args(["--grid", "65", "--out"]).arg(&out).output().unwrap();
+    let o = ehl()
+        .arg("compare")
+        .arg(&scene)
+        .args(["--grid", "65", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(!o.status.success(), "{stdout}");
     assert!(stdout.contains("reynolds") && stdout.contains("FAILED"), "{stdout}");

@@ -257,6 +257,21 @@ impl<'a> Rows<'a> {
     }
 }
 
+/// A line to relax: row `j`, the rows relaxed after it in its half (they see its near-field
+/// film change at once), and the points `lo ..= hi` that are its unknowns (`None`: the whole
+/// interior; a window around a meniscus otherwise).
+struct Line<'a> {
+    j: usize,
+    next: &'a [usize],
+    span: Option<(usize, usize)>,
+}
+
+impl<'a> Line<'a> {
+    fn whole(j: usize, next: &'a [usize]) -> Self {
+        Self { j, next, span: None }
+    }
+}
+
 /// Buffers of one line's relaxation (kept so that a sweep allocates nothing).
 #[derive(Clone, Default)]
 struct LineWork {
@@ -566,7 +581,13 @@ impl Level {
             let this = &*self;
             let mut whole = Rows::whole(&mut p, &mut film, &mut laws, &mut theta);
             let mid = ny / 2;
-            this.relax_line(prm, s, &mut whole, mid, &[mid - 1, mid + 1], None, &mut work[0]);
+            this.relax_line(
+                prm,
+                s,
+                &mut whole,
+                Line::whole(mid, &[mid - 1, mid + 1]),
+                &mut work[0],
+            );
             // The lower half keeps a frozen copy of the centre row; its changes there wait.
             let ghost = Ghost {
                 j: mid,
@@ -587,12 +608,12 @@ impl Level {
             let [w_lo, w_hi] = &mut work;
             let upper = || {
                 for j in mid + 1..ny - 1 {
-                    this.relax_line(prm, s, &mut above, j, &[j + 1], None, w_hi);
+                    this.relax_line(prm, s, &mut above, Line::whole(j, &[j + 1]), w_hi);
                 }
             };
             let lower = || {
                 for j in (1..mid).rev() {
-                    this.relax_line(prm, s, &mut below, j, &[j - 1], None, w_lo);
+                    this.relax_line(prm, s, &mut below, Line::whole(j, &[j - 1]), w_lo);
                 }
             };
             // Even on 17² the halves gain from two threads (measured: a sweep's halves stay
@@ -655,7 +676,8 @@ impl Level {
                         }
                     }
                     for &span in &windows {
-                        this.relax_line(prm, s, &mut rows, j, &[j - 1, j + 1], Some(span), &mut work[0]);
+                        let line = Line { j, next: &[j - 1, j + 1], span: Some(span) };
+                        this.relax_line(prm, s, &mut rows, line, &mut work[0]);
                     }
                 }
             }
@@ -713,7 +735,8 @@ impl Level {
                 let e = [row_of(&eps, j - 1), row_of(&eps, j), row_of(&eps, j + 1)];
                 let (ee, ew, en, es) = Self::half_points(e, i);
                 let rtj = |ii: usize| rt[[j, ii]];
-                let (r0, r1, r2) = (w0 * rtj(i) / h, w1 * rtj(i - 1) / h, w2 * rtj(i.max(2) - 2) / h);
+                let (r0, r1, r2) =
+                    (w0 * rtj(i) / h, w1 * rtj(i - 1) / h, w2 * rtj(i.max(2) - 2) / h);
                 let mut row = [0.0; 5];
                 for dj in -1i64..=1 {
                     let qc = q as i64 + dj;
@@ -797,7 +820,8 @@ impl Level {
                     // column Jacobian reads).
                     for jj in j.saturating_sub(2).max(1)..(j + 3).min(ny - 1) {
                         for ii in i.saturating_sub(2)..=(i + 2).min(nx - 1) {
-                            self.film[[jj, ii]] += (new - old) * self.k(ii as i64 - i as i64, jj as i64 - j as i64);
+                            self.film[[jj, ii]] +=
+                                (new - old) * self.k(ii as i64 - i as i64, jj as i64 - j as i64);
                         }
                     }
                 }
@@ -870,11 +894,10 @@ impl Level {
         prm: &ReynoldsParams,
         s: &RelaxSettings,
         rows: &mut Rows,
-        j: usize,
-        next: &[usize],
-        span: Option<(usize, usize)>,
+        line: Line,
         w: &mut LineWork,
     ) {
+        let Line { j, next, span } = line;
         let (ny, nx) = self.p_dim();
         let h = self.h;
         // The line's unknowns: points `lo ..= hi` (the whole interior, or a window whose
@@ -920,9 +943,11 @@ impl Level {
         w.r.clear();
         w.r.extend((lo..=hi).map(|i| rhs[i] - self.op_line(eps, rho, p, film, i, j)));
         w.partial.clear();
-        w.partial.extend((lo..=hi).map(|i| {
-            mass_conserving && p[1][i] <= 0.0 && (w.theta[i] < 1.0 || w.r[i - lo] > 0.0)
-        }));
+        w.partial.extend(
+            (lo..=hi).map(|i| {
+                mass_conserving && p[1][i] <= 0.0 && (w.theta[i] < 1.0 || w.r[i - lo] > 0.0)
+            }),
+        );
         // Which points distribute (by the density: not a partly filled point, nor a point
         // beside one on the line, whose change the distribution would spread onto it).
         let part = |q: usize| w.partial[q];
@@ -1009,7 +1034,7 @@ impl Level {
                 }
                 let known = if partial[q] {
                     let t = w.theta[q + lo] + w.delta[q];
-                    (t > 1.0 || t < 0.0).then(|| t.clamp(0.0, 1.0) - w.theta[q + lo])
+                    (!(0.0..=1.0).contains(&t)).then(|| t.clamp(0.0, 1.0) - w.theta[q + lo])
                 } else {
                     let pq = p_line[q + lo];
                     (pq + omega(q) * w.delta[q] < 0.0).then(|| -pq / omega(q))

@@ -363,7 +363,10 @@ impl ReynoldsSolver {
         if !self.levels[0].mass_conserving() {
             return self.levels.len() - 1;
         }
-        (0..self.levels.len()).rev().find(|&l| self.levels[l].grid.nx >= STARVED_FMG_POINTS).unwrap_or(0)
+        (0..self.levels.len())
+            .rev()
+            .find(|&l| self.levels[l].grid.nx >= STARVED_FMG_POINTS)
+            .unwrap_or(0)
     }
 
     /// The central film to start from [a²/R]: the flooded estimate `hc` without a supply; with
@@ -817,7 +820,8 @@ impl ReynoldsSolver {
                 // Mass conserving, each grid of the start settles (film to 1e-3 a cycle, load
                 // to 1e-4, the oil to 3× the tolerance): a meniscus moves a few cells a cycle,
                 // cheaper on the coarser grid.
-                let most = if mass_conserving { STARVED_FMG_MAX_CYCLES } else { self.active.fmg_cycles };
+                let most =
+                    if mass_conserving { STARVED_FMG_MAX_CYCLES } else { self.active.fmg_cycles };
                 let mut prev = f64::NAN;
                 for k in 0..most {
                     cycle += 1;

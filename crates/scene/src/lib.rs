@@ -1074,14 +1074,14 @@ impl Scene {
             )?;
         }
         let marching = self.run.as_ref().is_some_and(|r| r.method == Some(Method::March));
-        if let Some(k) = self.supply.as_ref().and_then(|s| (!s.holes.is_empty()).then_some(0)) {
-            if !marching {
-                return Err(ck.err(
-                    &format!("supply.holes[{k}]"),
-                    "(given)".into(),
-                    "only in a march for the Reynolds model (run.method \"march\"): a hole passes the contact; a steady solve has none",
-                ));
-            }
+        if let Some(k) = self.supply.as_ref().and_then(|s| (!s.holes.is_empty()).then_some(0))
+            && !marching
+        {
+            return Err(ck.err(
+                &format!("supply.holes[{k}]"),
+                "(given)".into(),
+                "only in a march for the Reynolds model (run.method \"march\"): a hole passes the contact; a steady solve has none",
+            ));
         }
         let (_, u_sum) = self.reynolds_conditions();
         self.validate_run(ck, r, 0.5 * u_sum)

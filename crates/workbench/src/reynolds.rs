@@ -548,7 +548,8 @@ impl ReynoldsOutcome {
         let g = &self.grid;
         let j = g.row_nearest(0.0);
         let centre = g.col_nearest(0.0);
-        let first_full = (0..=centre).rev().find(|&i| self.theta[[j, i]] < 1.0).map_or(0, |i| i + 1);
+        let first_full =
+            (0..=centre).rev().find(|&i| self.theta[[j, i]] < 1.0).map_or(0, |i| i + 1);
         Some(g.x(first_full))
     }
 

@@ -6,8 +6,12 @@ use ehl_scene::Scene;
 
 /// Every model the workbench runs. A new model is its module (or crate) implementing
 /// [`ContactModel`], its name in the scene's `Model` enum, and one line here.
-pub static MODELS: &[&dyn ContactModel] =
-    &[&crate::dry::Dry, &crate::layer::Layer, &crate::reynolds::Reynolds, &crate::reynolds::ReynoldsFlooded];
+pub static MODELS: &[&dyn ContactModel] = &[
+    &crate::dry::Dry,
+    &crate::layer::Layer,
+    &crate::reynolds::Reynolds,
+    &crate::reynolds::ReynoldsFlooded,
+];
 
 /// The registered model of a scene's kind.
 pub fn model(kind: ehl_scene::Model) -> Result<&'static dyn ContactModel> {
