@@ -353,9 +353,10 @@ impl ReynoldsSolver {
     /// The grid a solve starts on: the coarsest for a full-multigrid start, the finest without.
     /// Mass conserving, the coarsest with at least [`STARVED_FMG_POINTS`] per side: on coarser
     /// grids the seed's films are thinner than the grid resolves (negative central films on
-    /// 17² and 33²), and the meniscus they gave led the finer grids into a flooded-like state
-    /// the supply could not sustain, drained one sweep at a time (5 nm on 257²: the central
-    /// film 2.5× too thick after 150 cycles; started on 65² it converges in 15).
+    /// 17² and 33², 65² wandering with 5 nm supplied), and the meniscus they gave led the finer
+    /// grids into a flooded-like state the supply could not sustain, drained one sweep at a
+    /// time (5 nm on 257² from 17²: the central film 2.5× too thick after 150 cycles; started
+    /// on 129² it converges in 13).
     fn fmg_top(&self) -> usize {
         if self.active.fmg_cycles == 0 {
             return 0;
