@@ -117,6 +117,8 @@ pub enum Part {
     Contact,
     Layer,
     Reynolds,
+    /// The starved Reynolds solve against the flooded one (`docs/measured/bench-starved.md`).
+    Starved,
 }
 
 pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
@@ -140,6 +142,9 @@ pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
         let f = out.join("bench_reynolds.json");
         std::fs::write(&f, serde_json::to_string_pretty(&reynolds)? + "\n")?;
         println!("wrote {}", f.display());
+    }
+    if wanted(Part::Starved) {
+        println!("wrote {}", crate::starvation::bench(max.min(257), 3)?.display());
     }
     Ok(())
 }
