@@ -258,6 +258,15 @@ impl<'a> Rows<'a> {
     }
 }
 
+/// A level's arrays lent out while its rows are relaxed (the level itself read-only meanwhile).
+struct Lent {
+    p: Array2<f64>,
+    film: Array2<f64>,
+    laws: Array2<[f64; 3]>,
+    theta: Array2<f64>,
+    work: [LineWork; 2],
+}
+
 /// A line to relax: row `j`, the rows relaxed after it in its half (they see its near-field
 /// film change at once), and the points `lo ..= hi` that are its unknowns (`None`: the whole
 /// interior; a window around a meniscus otherwise).
@@ -573,14 +582,9 @@ impl Level {
         let (ny, nx) = self.p.dim();
         self.laws_for(prm);
         self.lagged = s.coefficient_lag > 0.0;
-        let mut p = std::mem::take(&mut self.p);
-        let mut film = std::mem::take(&mut self.film);
-        let mut laws = std::mem::take(&mut self.laws);
-        let mut theta = std::mem::take(&mut self.theta);
-        let mut work = std::mem::take(&mut self.work);
-        {
-            let this = &*self;
-            let mut whole = Rows::whole(&mut p, &mut film, &mut laws, &mut theta);
+        self.lend(|this, lent| {
+            let Lent { p, film, laws, theta, work } = lent;
+            let mut whole = Rows::whole(p, film, laws, theta);
             let mid = ny / 2;
             this.relax_line(
                 prm,
@@ -606,7 +610,7 @@ impl Level {
             let mut below =
                 Rows { ghost: Some(ghost), ..Rows::from_slices(0, nx, p_lo, f_lo, l_lo, t_lo) };
             let mut above = Rows::from_slices(mid, nx, p_hi, f_hi, l_hi, t_hi);
-            let [w_lo, w_hi] = &mut work;
+            let [w_lo, w_hi] = work;
             let upper = || {
                 for j in mid + 1..ny - 1 {
                     this.relax_line(prm, s, &mut above, Line::whole(j, &[j + 1]), w_hi);
@@ -625,12 +629,7 @@ impl Level {
             for (i, d) in deferred {
                 above.add_p(i, mid, d);
             }
-        }
-        self.p = p;
-        self.film = film;
-        self.laws = laws;
-        self.theta = theta;
-        self.work = work;
+        });
         self.update_film(h00);
         if self.mass_conserving() && self.theta_free {
             self.relax_columns(prm, h00, s);
@@ -639,6 +638,22 @@ impl Level {
         if self.lagged {
             self.follow_laws(prm, s.coefficient_lag);
         }
+    }
+
+    /// Lends the pressure, film, laws, film content and line buffers to `f`, with the level
+    /// read-only, and takes them back.
+    fn lend<R>(&mut self, f: impl FnOnce(&Self, &mut Lent) -> R) -> R {
+        let mut lent = Lent {
+            p: std::mem::take(&mut self.p),
+            film: std::mem::take(&mut self.film),
+            laws: std::mem::take(&mut self.laws),
+            theta: std::mem::take(&mut self.theta),
+            work: std::mem::take(&mut self.work),
+        };
+        let r = f(self, &mut lent);
+        let Lent { p, film, laws, theta, work } = lent;
+        (self.p, self.film, self.laws, self.theta, self.work) = (p, film, laws, theta, work);
+        r
     }
 
     /// Mass conserving: `meniscus_passes` passes of line relaxation over windows of each row
@@ -653,15 +668,10 @@ impl Level {
             return;
         }
         let (ny, nx) = self.p_dim();
-        let mut p = std::mem::take(&mut self.p);
-        let mut film = std::mem::take(&mut self.film);
-        let mut laws = std::mem::take(&mut self.laws);
-        let mut theta = std::mem::take(&mut self.theta);
-        let mut work = std::mem::take(&mut self.work);
         let mut windows: Vec<(usize, usize)> = Vec::new();
-        {
-            let this = &*self;
-            let mut rows = Rows::whole(&mut p, &mut film, &mut laws, &mut theta);
+        self.lend(|this, lent| {
+            let Lent { p, film, laws, theta, work } = lent;
+            let mut rows = Rows::whole(p, film, laws, theta);
             for _ in 0..s.meniscus_passes {
                 for j in 1..ny - 1 {
                     windows.clear();
@@ -682,12 +692,7 @@ impl Level {
                     }
                 }
             }
-        }
-        self.p = p;
-        self.film = film;
-        self.laws = laws;
-        self.theta = theta;
-        self.work = work;
+        });
         self.update_film(h00);
     }
 
