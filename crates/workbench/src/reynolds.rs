@@ -10,7 +10,7 @@ use ehl_core::{Dent, Grid, HertzScales, Kinematics, hertz};
 use ehl_reynolds::formulas::{hamrock_dowson_central, nvm_central};
 use ehl_reynolds::{ReynoldsParams, ReynoldsReport, ReynoldsSolver};
 use ehl_scene::{ReynoldsView, Scene};
-use ndarray::Array2;
+use ndarray::{Array2, Zip};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -598,6 +598,32 @@ impl ReynoldsOutcome {
             &self.note(),
         )?;
         out.push(f);
+        if let Some(xm) = self.meniscus_a() {
+            // The oil where the gap is not full: the film content, and the oil layer it holds
+            // (θ h), with the inlet meniscus on the centre line in the title.
+            let f = dir.join(format!("{prefix}film_content.png"));
+            let oil_nm = Zip::from(&self.theta).and(&self.film).map_collect(|&t, &h| t * h * nm);
+            let cap = 3.0 * self.films().0 * nm;
+            let oil_nm = oil_nm.mapv(|v| v.min(cap));
+            plot::heat_maps(
+                &f,
+                &[
+                    MapPanel {
+                        field: &self.theta,
+                        title: format!("Film content θ (1: full; inlet meniscus at x = {xm:.3} a)"),
+                        bar_label: "θ".into(),
+                    },
+                    MapPanel {
+                        field: &oil_nm,
+                        title: "Oil θ h [nm] (scale capped at 3 h_c)".into(),
+                        bar_label: "θ h [nm]".into(),
+                    },
+                ],
+                g,
+                &self.note(),
+            )?;
+            out.push(f);
+        }
         let x = g.xs();
         let line = |v: Vec<f64>, k: f64| -> Vec<(f64, f64)> {
             x.iter().cloned().zip(v.into_iter().map(|y| y * k)).collect()
