@@ -1,0 +1,226 @@
+"""The EHL point-contact workbench from Python.
+
+The same scenes, solvers and files as the ``ehl`` command line, with the answers as Python
+objects: standard observables with their units, fields as numpy arrays in SI with shape
+``(ny, nx)`` on the axes ``x``, ``y`` [m], histories of marching runs as arrays, the comparison
+table as rows a ``pandas.DataFrame`` takes as they are.
+
+    import ehl
+    c = ehl.compare("seed", grid=129)
+    print(c)                      # the table the command line prints
+    rows = c.table()              # list of dicts: pandas.DataFrame(rows)
+    p = c["reynolds"].fields["pressure_pa"]
+
+Errors: a refused scene or sweep raises :class:`SceneError` (``.field``, ``.value``,
+``.allowed``); a model that does not converge raises :class:`ModelError` from :func:`run` (its
+message is the solver's diagnosis), and in :func:`compare` is listed in the table with its
+diagnosis (``Comparison.errors``), as on the command line. Solves run with the GIL released;
+Ctrl-C raises ``KeyboardInterrupt`` at once (the abandoned solve finishes on its own thread and
+writes nothing).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+from typing import Any, Dict, List, Optional, Union
+
+import numpy as np
+
+from . import _ehl
+from ._ehl import ModelError, SceneError
+
+__all__ = [
+    "Scene",
+    "Result",
+    "Comparison",
+    "SweepResult",
+    "SceneError",
+    "ModelError",
+    "scene",
+    "run",
+    "compare",
+    "sweep",
+    "builtins",
+]
+
+
+class Scene:
+    """A checked scene: a built-in name, a JSON file's path, or a dict, with every default filled."""
+
+    def __init__(self, spec: Union[str, os.PathLike, Dict[str, Any], "Scene"], grid: Optional[int] = None):
+        if isinstance(spec, Scene):
+            text, is_json = spec.json, True
+        elif isinstance(spec, dict):
+            text, is_json = json.dumps(spec), True
+        else:
+            text, is_json = os.fspath(spec), False
+        self.json: str = _ehl.load_scene(text, is_json, grid)
+        self.data: Dict[str, Any] = json.loads(self.json)
+
+    @property
+    def name(self) -> str:
+        return self.data["name"]
+
+    @property
+    def models(self) -> List[str]:
+        """The models it runs: one, or a comparison's list."""
+        return [self.data["model"]] if self.data.get("model") else list(self.data.get("models", []))
+
+    def to_dict(self) -> Dict[str, Any]:
+        return json.loads(self.json)
+
+    def __repr__(self) -> str:
+        return f"Scene({self.name!r}, models={self.models})"
+
+
+def scene(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int] = None) -> Scene:
+    """A checked scene from a built-in name, a path or a dict; ``grid`` sets the points per side."""
+    return Scene(spec, grid)
+
+
+class Result:
+    """One model's answer.
+
+    ``observables``: the standard observables, ``{name: (value, unit)}`` (central and minimum film,
+    maximum pressure, contact extents, load error, SI). ``fields``: ``{name: array (ny, nx)}`` in
+    SI on ``x``, ``y`` [m]. ``history``: for a marching run, ``{column: array}`` (times and the
+    model's quantities, SI, units in the names), else ``None``. ``summary``: the ``summary.json``
+    the command line writes. ``report``: the text it prints.
+    """
+
+    def __init__(self, raw: Dict[str, Any]):
+        self.summary: Dict[str, Any] = json.loads(raw["summary"])
+        self.report: str = raw["report"]
+        self.fields: Dict[str, np.ndarray] = dict(raw["fields"])
+        self.x: np.ndarray = raw["x"]
+        self.y: np.ndarray = raw["y"]
+        rows = json.loads(raw["time_series"]) if raw["time_series"] is not None else None
+        self.history: Optional[Dict[str, np.ndarray]] = _columns(rows) if rows else None
+        self.model: str = self.summary.get("model", "")
+
+    @property
+    def observables(self) -> Dict[str, tuple]:
+        """``{name: (value, unit)}``, SI; the unit is the name's suffix (``central_film_m``)."""
+        return {k: (v, _unit(k)) for k, v in self.summary["observables"].items()}
+
+    def __getitem__(self, name: str) -> Any:
+        """An observable's value in SI (``result["central_film_m"]``)."""
+        return self.summary["observables"][name]
+
+    def __repr__(self) -> str:
+        return self.report
+
+
+class Comparison:
+    """Every model of a comparison scene side by side.
+
+    ``table()``: the rows of ``comparison.json`` (one dict per model). ``results``: ``{model:
+    Result}`` of the models that converged; ``errors``: ``{model: diagnosis}`` of those that did
+    not. ``comparison``: the whole ``comparison.json``.
+    """
+
+    def __init__(self, raw: Dict[str, Any]):
+        self.comparison: Dict[str, Any] = json.loads(raw["table"])
+        self.text: str = raw["text"]
+        self.results: Dict[str, Result] = {k: Result(v) for k, v in raw["results"].items()}
+        self.errors: Dict[str, str] = dict(raw["errors"])
+
+    def table(self) -> List[Dict[str, Any]]:
+        return [dict(r) for r in self.comparison["models"]]
+
+    def __getitem__(self, model: str) -> Result:
+        if model in self.errors:
+            raise ModelError(self.errors[model])
+        return self.results[model]
+
+    def __repr__(self) -> str:
+        return self.text
+
+
+class SweepResult:
+    """A sweep's results: ``table()`` is ``results.csv`` as rows (numbers as floats, ``True``/
+    ``False`` as bools, empty cells as ``None``); ``folder`` holds every file the command line
+    writes (plan, points, results, charts)."""
+
+    def __init__(self, folder: str, csv_text: str):
+        self.folder = folder
+        self.csv = csv_text
+        self._rows = [{k: _cell(v) for k, v in row.items()} for row in csv.DictReader(csv_text.splitlines())]
+
+    def table(self) -> List[Dict[str, Any]]:
+        return [dict(r) for r in self._rows]
+
+    def __repr__(self) -> str:
+        return f"SweepResult({len(self._rows)} rows in {self.folder})"
+
+
+def run(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int] = None, out: Optional[Union[str, os.PathLike]] = None) -> Result:
+    """Runs a one-model scene; writes the command line's files to ``out`` when given."""
+    s = Scene(spec, grid)
+    if len(s.models) != 1 or not s.data.get("model"):
+        raise SceneError(f"scene `{s.name}` lists several models ({s.models}): use ehl.compare")
+    return Result(_ehl.run(s.json, None if out is None else os.fspath(out)))
+
+
+def compare(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int] = None, out: Optional[Union[str, os.PathLike]] = None) -> Comparison:
+    """Runs every model of a comparison scene on one grid; writes the command line's files
+    (``comparison.json``, ``.csv``, each model's folder) to ``out`` when given."""
+    s = Scene(spec, grid)
+    return Comparison(_ehl.compare_scene(s.json, None if out is None else os.fspath(out)))
+
+
+def sweep(spec: Union[str, os.PathLike, Dict[str, Any]], out: Optional[Union[str, os.PathLike]] = None, jobs: Optional[int] = None) -> SweepResult:
+    """Runs a sweep (a built-in name, a path, or a dict) locally, resumable like the command
+    line's, into ``out`` (a new scratch folder when not given)."""
+    if isinstance(spec, dict):
+        text, is_json = json.dumps(spec), True
+    else:
+        text, is_json = os.fspath(spec), False
+    folder = os.fspath(out) if out is not None else _ehl.scratch_dir()
+    path, csv_text = _ehl.run_sweep(text, is_json, folder, jobs)
+    return SweepResult(path, csv_text)
+
+
+def builtins() -> Dict[str, List[str]]:
+    """The built-in scenes and sweeps by name."""
+    scenes, sweeps = _ehl.builtins()
+    return {"scenes": list(scenes), "sweeps": list(sweeps)}
+
+
+def _unit(name: str) -> str:
+    for suffix, unit in (("_m", "m"), ("_pa", "Pa"), ("_s", "s"), ("_n", "N")):
+        if name.endswith(suffix):
+            return unit
+    return "1"
+
+
+def _columns(rows: List[Dict[str, Any]]) -> Dict[str, np.ndarray]:
+    """Rows of nested objects as flat columns (``a.b`` names), each an array."""
+
+    def flat(prefix: str, v: Any, out: Dict[str, Any]) -> None:
+        if isinstance(v, dict):
+            for k, w in v.items():
+                flat(f"{prefix}.{k}" if prefix else k, w, out)
+        else:
+            out[prefix] = v
+
+    cols: Dict[str, List[Any]] = {}
+    for r in rows:
+        f: Dict[str, Any] = {}
+        flat("", r, f)
+        for k, v in f.items():
+            cols.setdefault(k, []).append(v)
+    return {k: np.asarray(v) for k, v in cols.items()}
+
+
+def _cell(v: str) -> Any:
+    if v == "":
+        return None
+    if v in ("true", "false"):
+        return v == "true"
+    try:
+        return float(v)
+    except ValueError:
+        return v

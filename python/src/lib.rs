@@ -1,0 +1,244 @@
+//! The native half of the `ehl` Python package: the workbench's library calls (the same ones the
+//! `ehl` command makes) behind four functions, their answers as JSON text and numpy arrays. The
+//! Python half (`ehl/__init__.py`) turns them into objects.
+//!
+//! Every solve runs on a worker thread with the GIL released; the calling thread waits in short
+//! slices and checks for signals between them, so Ctrl-C raises `KeyboardInterrupt` at once. The
+//! abandoned solve cannot be stopped mid-cycle: it finishes on its thread and writes nothing.
+
+use ehl_scene::{Scene, SceneError as RustSceneError, Sweep};
+use ehl_workbench::{compare, output, run_scene, sweep};
+use ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::Duration;
+
+pyo3::create_exception!(_ehl, SceneError, pyo3::exceptions::PyValueError, "A scene or sweep refused: `field` names the field (its path), `allowed` what it may hold.");
+pyo3::create_exception!(_ehl, ModelError, pyo3::exceptions::PyRuntimeError, "A model that did not converge or could not run: the message is its diagnosis.");
+
+/// A refused scene as `SceneError(message)` with `.field`, `.value` and `.allowed` set when the
+/// scene names them.
+fn scene_error(py: Python<'_>, e: &RustSceneError) -> PyErr {
+    let err = SceneError::new_err(e.to_string());
+    let (field, value, allowed) = match e {
+        RustSceneError::Range { field, value, allowed, .. } => {
+            (Some(field.clone()), Some(value.clone()), Some(allowed.clone()))
+        }
+        RustSceneError::Parse { path, message, .. } => (Some(path.clone()), None, Some(message.clone())),
+        _ => (None, None, None),
+    };
+    let v = err.value(py);
+    let _ = v.setattr("field", field);
+    let _ = v.setattr("value", value);
+    let _ = v.setattr("allowed", allowed);
+    err
+}
+
+/// Runs `work` on a worker thread with the GIL released, checking for signals every 50 ms.
+/// On an interrupt the work is marked abandoned (it writes nothing) and the signal's exception
+/// is raised.
+fn off_thread<T: Send + 'static>(
+    py: Python<'_>,
+    work: impl FnOnce(&AtomicBool) -> T + Send + 'static,
+) -> PyResult<T> {
+    let abandoned = Arc::new(AtomicBool::new(false));
+    let (tx, rx) = mpsc::channel();
+    let flag = abandoned.clone();
+    std::thread::spawn(move || {
+        let _ = tx.send(work(&flag));
+    });
+    let mut rx = rx;
+    loop {
+        // The receiver is moved through the GIL-free section (it may be sent, not shared).
+        let (got, back) = py.detach(move || (rx.recv_timeout(Duration::from_millis(50)), rx));
+        rx = back;
+        match got {
+            Ok(v) => return Ok(v),
+            Err(mpsc::RecvTimeoutError::Timeout) => {
+                if let Err(e) = py.check_signals() {
+                    abandoned.store(true, Ordering::SeqCst);
+                    return Err(e);
+                }
+            }
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(PyRuntimeError::new_err("the solve's thread ended without an answer"));
+            }
+        }
+    }
+}
+
+/// A scene from a built-in name or a path (`is_json` false), or from JSON text; checked. Returns
+/// the scene as JSON text (every default written out).
+#[pyfunction]
+#[pyo3(signature = (spec, is_json, grid=None))]
+fn load_scene(py: Python<'_>, spec: &str, is_json: bool, grid: Option<usize>) -> PyResult<String> {
+    let scene = if is_json { Scene::from_json(spec, "(dict)") } else { ehl_scene::load(spec) };
+    let mut scene = scene.map_err(|e| scene_error(py, &e))?;
+    if let Some(n) = grid {
+        scene = scene.with_points(n).map_err(|e| scene_error(py, &e))?;
+    }
+    Ok(scene.to_json())
+}
+
+/// What Python receives of one model's answer, computed off the GIL.
+struct Answer {
+    summary: String,
+    report: String,
+    fields: Vec<(String, Array2<f64>)>,
+    x: Vec<f64>,
+    y: Vec<f64>,
+    time_series: Option<String>,
+}
+
+fn answer(o: &dyn ehl_workbench::Outcome) -> Result<Answer, String> {
+    let s = o.scales();
+    let g = o.grid();
+    let rows = o.time_series().map_err(|e| e.to_string())?;
+    Ok(Answer {
+        summary: output::summary(o).to_string(),
+        report: o.report(),
+        fields: o.fields(),
+        x: g.xs().iter().map(|&v| s.x_si(v)).collect(),
+        y: g.ys().iter().map(|&v| s.x_si(v)).collect(),
+        time_series: rows.map(|r| serde_json::Value::Array(r).to_string()),
+    })
+}
+
+/// `{"summary", "report", "fields": {name: (ny, nx) array}, "x", "y", "time_series"}`.
+fn to_py<'py>(py: Python<'py>, a: Answer) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("summary", a.summary)?;
+    d.set_item("report", a.report)?;
+    let fields = PyDict::new(py);
+    for (name, f) in a.fields {
+        fields.set_item(name, f.into_pyarray(py))?;
+    }
+    d.set_item("fields", fields)?;
+    d.set_item("x", PyArray1::from_vec(py, a.x))?;
+    d.set_item("y", PyArray1::from_vec(py, a.y))?;
+    d.set_item("time_series", a.time_series)?;
+    Ok(d)
+}
+
+/// Runs a one-model scene (JSON text); writes the command line's files to `out` when given.
+#[pyfunction]
+#[pyo3(signature = (scene_json, out=None))]
+fn run<'py>(py: Python<'py>, scene_json: &str, out: Option<PathBuf>) -> PyResult<Bound<'py, PyDict>> {
+    let scene = Scene::from_json(scene_json, "(scene)").map_err(|e| scene_error(py, &e))?;
+    let got = off_thread(py, move |abandoned| -> Result<Answer, String> {
+        let outcome = run_scene(&scene).map_err(|e| e.to_string())?;
+        if let Some(dir) = out.filter(|_| !abandoned.load(Ordering::SeqCst)) {
+            output::write(outcome.as_ref(), &dir).map_err(|e| e.to_string())?;
+        }
+        answer(outcome.as_ref())
+    })?;
+    to_py(py, got.map_err(ModelError::new_err)?)
+}
+
+/// Runs every model of a comparison scene (JSON text): `{"table": comparison.json's text,
+/// "text": the printed table, "results": {model: answer}, "errors": {model: diagnosis}}`; writes
+/// the command line's files to `out` when given.
+#[pyfunction]
+#[pyo3(signature = (scene_json, out=None))]
+fn compare_scene<'py>(
+    py: Python<'py>,
+    scene_json: &str,
+    out: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = Scene::from_json(scene_json, "(scene)").map_err(|e| scene_error(py, &e))?;
+    #[allow(clippy::type_complexity)]
+    let got = off_thread(py, move |abandoned| -> Result<(String, String, Vec<(String, Result<Answer, String>)>), String> {
+        let c = compare::run(&scene);
+        if let Some(dir) = out.filter(|_| !abandoned.load(Ordering::SeqCst)) {
+            c.write(&dir).map_err(|e| e.to_string())?;
+        }
+        let entries = c
+            .entries
+            .iter()
+            .map(|e| {
+                let a = match &e.outcome {
+                    Ok(o) => answer(o.as_ref()),
+                    Err(d) => Err(d.to_string()),
+                };
+                (e.name().to_string(), a)
+            })
+            .collect();
+        Ok((c.to_json().to_string(), c.table(), entries))
+    })?;
+    let (table, text, entries) = got.map_err(ModelError::new_err)?;
+    let d = PyDict::new(py);
+    d.set_item("table", table)?;
+    d.set_item("text", text)?;
+    let (results, errors) = (PyDict::new(py), PyDict::new(py));
+    for (name, a) in entries {
+        match a {
+            Ok(a) => results.set_item(name, to_py(py, a)?)?,
+            Err(e) => errors.set_item(name, e)?,
+        }
+    }
+    d.set_item("results", results)?;
+    d.set_item("errors", errors)?;
+    Ok(d)
+}
+
+/// Runs a sweep (a built-in name or a path, or JSON text) locally into `out` (plan, points,
+/// results: the command line's files); returns the folder and `results.csv`'s text.
+#[pyfunction]
+#[pyo3(signature = (spec, is_json, out, jobs=None))]
+fn run_sweep<'py>(
+    py: Python<'py>,
+    spec: &str,
+    is_json: bool,
+    out: PathBuf,
+    jobs: Option<usize>,
+) -> PyResult<Bound<'py, PyList>> {
+    let (sw, base): (Sweep, Option<PathBuf>) = if is_json {
+        (Sweep::from_json(spec, "(dict)").map_err(|e| scene_error(py, &e))?, None)
+    } else {
+        ehl_scene::load_sweep(spec).map_err(|e| scene_error(py, &e))?
+    };
+    let dir = out.clone();
+    let got = off_thread(py, move |_| -> Result<String, String> {
+        let jobs = jobs.unwrap_or_else(sweep::default_jobs);
+        sweep::run_local(&sw, base.as_deref(), &dir, jobs).map_err(|e| e.to_string())?;
+        std::fs::read_to_string(dir.join("results.csv")).map_err(|e| e.to_string())
+    })?;
+    let csv = got.map_err(ModelError::new_err)?;
+    PyList::new(py, [out.display().to_string(), csv])
+}
+
+/// The names of the built-in scenes and sweeps.
+#[pyfunction]
+fn builtins() -> (Vec<&'static str>, Vec<&'static str>) {
+    (ehl_scene::builtin_names(), ehl_scene::builtin_sweep_names())
+}
+
+/// A scratch folder that outlives this call (for a sweep without `out`): its path.
+#[pyfunction]
+fn scratch_dir() -> PyResult<String> {
+    let d = tempfile::Builder::new()
+        .prefix("ehl-sweep-")
+        .tempdir()
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok(d.keep().display().to_string())
+}
+
+#[pymodule]
+fn _ehl(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("SceneError", py.get_type::<SceneError>())?;
+    m.add("ModelError", py.get_type::<ModelError>())?;
+    m.add_function(wrap_pyfunction!(load_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(compare_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(run_sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(builtins, m)?)?;
+    m.add_function(wrap_pyfunction!(scratch_dir, m)?)?;
+    Ok(())
+}

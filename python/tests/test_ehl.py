@@ -1,0 +1,150 @@
+"""The Python API against the command line it wraps: the same scenes refused the same way, the
+same comparison to the last digit, the same sweep table; arrays in SI with the grid's shape.
+
+`EHL_BIN` names the command-line binary to compare with (default: the workspace's release
+build, `target/release/ehl`)."""
+
+import json
+import math
+import os
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import ehl
+
+ROOT = Path(__file__).resolve().parents[2]
+EHL = os.environ.get("EHL_BIN", str(ROOT / "target" / "release" / "ehl"))
+
+
+def cli(*args):
+    return subprocess.run([EHL, *map(str, args)], capture_output=True, text=True)
+
+
+def seed_dict():
+    return ehl.scene("seed").to_dict()
+
+
+def test_a_refused_scene_names_its_field_and_the_allowed_range():
+    d = seed_dict()
+    d["conditions"]["load_n"] = -20.0
+    with pytest.raises(ehl.SceneError) as e:
+        ehl.scene(d)
+    assert e.value.field == "conditions.load_n", str(e.value)
+    assert e.value.value == "-20" and "> 0" in e.value.allowed, str(e.value)
+    # An unknown field is named by its path too.
+    d = seed_dict()
+    d["conditions"]["load"] = 20.0
+    with pytest.raises(ehl.SceneError) as e:
+        ehl.scene(d)
+    assert "conditions" in e.value.field and "load" in str(e.value)
+    # Nothing of a refused name.
+    with pytest.raises(ehl.SceneError):
+        ehl.scene("no-such-scene")
+
+
+def test_compare_on_a_coarse_seed_equals_the_command_lines_table_to_the_last_digit(tmp_path):
+    # 65²: the layer and dry models converge, both Reynolds models fail (their films close on
+    # cells of 0.039 a): failures and diagnoses must match too.
+    out = cli("compare", "seed", "--grid", 65, "--out", tmp_path / "cli")
+    assert (tmp_path / "cli" / "comparison.json").is_file(), out.stderr
+    c = ehl.compare("seed", grid=65, out=tmp_path / "py")
+    by_cli = json.loads((tmp_path / "cli" / "comparison.json").read_text())
+    by_py = json.loads((tmp_path / "py" / "comparison.json").read_text())
+    strip = lambda rows: [{k: v for k, v in r.items() if k != "wall_time_s"} for r in rows]
+    assert strip(by_py["models"]) == strip(by_cli["models"])
+    assert strip(c.table()) == strip(by_cli["models"])
+    assert {k: v for k, v in by_py.items() if k != "models"} == {k: v for k, v in by_cli.items() if k != "models"}
+    # The failures are listed, with the solver's diagnosis, not raised.
+    assert set(c.errors) == {"reynolds", "reynolds-flooded"}
+    assert all("did not converge" in d for d in c.errors.values())
+    with pytest.raises(ehl.ModelError):
+        c["reynolds"]
+    # A pandas DataFrame takes the rows as they are (when pandas is there).
+    pd = pytest.importorskip("pandas")
+    df = pd.DataFrame(c.table())
+    assert list(df["model"]) == ["layer", "reynolds", "reynolds-flooded", "dry"]
+
+
+def test_fields_are_si_arrays_of_the_grids_shape_on_its_axes():
+    r = ehl.run("hertz", grid=33)
+    s = r.summary
+    a, p_h = s["scales"]["a"]["value"], s["scales"]["p_h"]["value"]
+    p = r.fields["pressure_pa"]
+    assert p.shape == (33, 33) == (r.y.size, r.x.size) and p.dtype == np.float64
+    # The axes in metres: the scene's domain ([-1.25, 1.25] a for `hertz`) and its spacing.
+    scene = ehl.scene("hertz").to_dict()["domain"]
+    assert math.isclose(r.x[0], scene["x_a"][0] * a, rel_tol=1e-12)
+    assert math.isclose(r.y[-1], scene["y_a"][1] * a, rel_tol=1e-12)
+    assert math.isclose(r.x[1] - r.x[0], s["grid"]["dx"]["value"], rel_tol=1e-9)
+    # Pressure in Pa: Hertz's p_h at the centre (33² resolves it to 1 %).
+    assert abs(p.max() / p_h - 1.0) < 0.01
+    assert r.observables["max_pressure_pa"] == (r["max_pressure_pa"], "Pa")
+    assert r.observables["central_film_m"][1] == "m"
+
+
+def test_a_marching_run_gives_its_history_as_arrays():
+    r = ehl.run("rolling-from-uniform", grid=33)
+    h = r.history
+    assert h is not None and h["t_s"].ndim == 1 and h["t_s"].size > 10
+    assert np.all(np.diff(h["t_s"]) > 0)
+    assert h["central_film_m"].shape == h["t_s"].shape
+    assert ehl.run("hertz", grid=33).history is None
+
+
+def test_a_sweeps_table_equals_the_command_lines_results_csv(tmp_path):
+    d = seed_dict()
+    d["name"] = "seed-33"
+    d["models"] = ["layer", "dry"]
+    d["grid"] = {"nx": 33, "ny": 33}
+    (tmp_path / "seed-33.json").write_text(json.dumps(d))
+    spec = {
+        "name": "loads",
+        "scene": "seed-33.json",
+        "parameters": [{"parameter": "conditions.load_n", "values": [10.0, 20.0]}],
+        "adapt": False,
+    }
+    path = tmp_path / "loads.json"
+    path.write_text(json.dumps(spec))
+    out = cli("sweep", path, "--out", tmp_path / "cli")
+    assert out.returncode == 0, out.stdout + out.stderr
+    res = ehl.sweep(path, out=tmp_path / "py")
+    text = (tmp_path / "cli" / "results.csv").read_text()
+    assert res.csv == text
+    rows = res.table()
+    assert len(rows) == 2 * 2 and rows[0]["model"] == "layer" and rows[0]["converged"] is True
+    assert rows[1]["conditions.load_n"] == 10.0 and isinstance(rows[0]["central_film_m"], float)
+
+
+def test_a_model_that_does_not_converge_raises_its_diagnosis():
+    d = ehl.scene("reynolds-m20-l10").to_dict()
+    d["reynolds"]["solver"]["max_cycles"] = 2
+    d["reynolds"]["solver"]["fallback_lag"] = 0.0
+    with pytest.raises(ehl.ModelError) as e:
+        ehl.run(d, grid=33)
+    assert "did not converge" in str(e.value)
+
+
+def test_ctrl_c_interrupts_a_solve_at_once():
+    # The seed comparison takes ~15 s; SIGINT after 2 s must raise KeyboardInterrupt within a
+    # second or two, not when the solve ends.
+    import signal
+    import sys
+    import time
+
+    p = subprocess.Popen(
+        [sys.executable, "-c", "import ehl, sys; print('start', flush=True); ehl.compare('seed')"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert p.stdout.readline().strip() == "start"
+    time.sleep(2.0)
+    t0 = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=30)
+    waited = time.monotonic() - t0
+    assert "KeyboardInterrupt" in err, err
+    assert waited < 3.0, f"returned {waited:.1f} s after the interrupt"
