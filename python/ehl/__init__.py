@@ -84,8 +84,9 @@ class Result:
     """One model's answer.
 
     ``observables``: the standard observables, ``{name: (value, unit)}`` (central and minimum film,
-    maximum pressure, contact extents, load error, SI). ``fields``: ``{name: array (ny, nx)}`` in
-    SI on ``x``, ``y`` [m]. ``history``: for a marching run, ``{column: array}`` (times and the
+    maximum pressure, contact extents, load error, SI). ``pressure`` [Pa] and ``film`` [m]: the
+    two fields every model defines, arrays ``(ny, nx)`` on ``x``, ``y`` [m]; ``fields``: every
+    field the model writes, ``{name: array (ny, nx)}``, SI (units in the names). ``history``: for a marching run, ``{column: array}`` (times and the
     model's quantities, SI, units in the names), else ``None``. ``summary``: the ``summary.json``
     the command line writes. ``report``: the text it prints.
     """
@@ -94,6 +95,8 @@ class Result:
         self.summary: Dict[str, Any] = json.loads(raw["summary"])
         self.report: str = raw["report"]
         self.fields: Dict[str, np.ndarray] = dict(raw["fields"])
+        self.film: np.ndarray = raw["film"]
+        self.pressure: np.ndarray = raw["pressure"]
         self.x: np.ndarray = raw["x"]
         self.y: np.ndarray = raw["y"]
         rows = json.loads(raw["time_series"]) if raw["time_series"] is not None else None

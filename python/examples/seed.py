@@ -19,8 +19,8 @@ fig, (ax_p, ax_h) = plt.subplots(1, 2, figsize=(11, 4))
 for model, r in c.results.items():
     j = r.y.size // 2  # the centre line y = 0
     x_mm = r.x * 1e3
-    ax_p.plot(x_mm, r.fields["pressure_pa"][j] / 1e9, label=model)
-    ax_h.plot(x_mm, r.fields["film_m"][j] * 1e9, label=model)
+    ax_p.plot(x_mm, r.pressure[j] / 1e9, label=model)
+    ax_h.plot(x_mm, r.film[j] * 1e9, label=model)
 for model, why in c.errors.items():
     print(f"{model} failed: {why}")
 ax_p.set(xlabel="x [mm]", ylabel="p [GPa]", title="Pressure along y = 0")

@@ -91,6 +91,8 @@ struct Answer {
     summary: String,
     report: String,
     fields: Vec<(String, Array2<f64>)>,
+    film: Array2<f64>,
+    pressure: Array2<f64>,
     x: Vec<f64>,
     y: Vec<f64>,
     time_series: Option<String>,
@@ -104,13 +106,16 @@ fn answer(o: &dyn ehl_workbench::Outcome) -> Result<Answer, String> {
         summary: output::summary(o).to_string(),
         report: o.report(),
         fields: o.fields(),
+        film: o.film().mapv(|h| s.h_si(h)),
+        pressure: o.pressure().mapv(|p| s.p_si(p)),
         x: g.xs().iter().map(|&v| s.x_si(v)).collect(),
         y: g.ys().iter().map(|&v| s.x_si(v)).collect(),
         time_series: rows.map(|r| serde_json::Value::Array(r).to_string()),
     })
 }
 
-/// `{"summary", "report", "fields": {name: (ny, nx) array}, "x", "y", "time_series"}`.
+/// `{"summary", "report", "fields": {name: (ny, nx) array}, "film", "pressure" (every model's
+/// standard two, SI), "x", "y", "time_series"}`.
 fn to_py<'py>(py: Python<'py>, a: Answer) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("summary", a.summary)?;
@@ -120,6 +125,8 @@ fn to_py<'py>(py: Python<'py>, a: Answer) -> PyResult<Bound<'py, PyDict>> {
         fields.set_item(name, f.into_pyarray(py))?;
     }
     d.set_item("fields", fields)?;
+    d.set_item("film", a.film.into_pyarray(py))?;
+    d.set_item("pressure", a.pressure.into_pyarray(py))?;
     d.set_item("x", PyArray1::from_vec(py, a.x))?;
     d.set_item("y", PyArray1::from_vec(py, a.y))?;
     d.set_item("time_series", a.time_series)?;

@@ -82,6 +82,8 @@ def test_fields_are_si_arrays_of_the_grids_shape_on_its_axes():
     # Pressure in Pa: Hertz's p_h at the centre (33² resolves it to 1 %).
     assert abs(p.max() / p_h - 1.0) < 0.01
     assert r.observables["max_pressure_pa"] == (r["max_pressure_pa"], "Pa")
+    # The standard pair: the dry contact's film is its gap, 0 where the solids touch.
+    assert np.array_equal(r.pressure, p) and r.film.shape == p.shape and r.film.min() == 0.0
     assert r.observables["central_film_m"][1] == "m"
 
 
