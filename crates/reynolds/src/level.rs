@@ -385,7 +385,7 @@ impl Level {
         self.set_inflow_theta();
     }
 
-    /// The supply at the inflow boundary for this time (a hole crossing it) [a²/R], keeping `θ`.
+    /// The supplied layer per row at the inflow boundary [a²/R] (`None`: flooded, the clamp).
     pub fn supply(&self) -> Option<&[f64]> {
         self.supply.as_deref()
     }
