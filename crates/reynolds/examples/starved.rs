@@ -2,7 +2,8 @@
 //! conditions (Table 1, u = 0.01 m/s, [-1.25, 1.25]²) on N², flooded (the clamp) and fed each
 //! supply, and prints the central film, `ρ̄(p_c) h_c` against the supply, `R` and the inlet
 //! meniscus on the centre line. `M20=1`: Moes' M = 20, L = 10 on [-4.5, 1.5] × [-3, 3] instead.
-//! `LOG=1` prints every cycle (residual, load error, central film, the oil unaccounted for).
+//! `LOG=1` prints every cycle (residual, load error, central film, the oil unaccounted for);
+//! `POIS=ratio` sets `relax.poiseuille_full_step`.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -23,7 +24,11 @@ fn main() {
     let delta = prm.scales.delta;
     let log = std::env::var("LOG").is_ok();
     let solve = |h_oil_nm: Option<f64>| {
-        let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
+        let mut settings = ReynoldsSettings::default();
+        if let Ok(v) = std::env::var("POIS") {
+            settings.relax.poiseuille_full_step = v.parse().expect("POIS: a ratio");
+        }
+        let mut s = ReynoldsSolver::new(grid, prm, settings);
         if let Some(h) = h_oil_nm {
             let hd = h * 1e-9 / delta;
             s.set_supply(Some(&move |_y| hd));

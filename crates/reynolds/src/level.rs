@@ -73,7 +73,7 @@ impl Default for RelaxSettings {
             omega_jd: 0.3,
             coefficient_lag: 0.0,
             meniscus_passes: 4,
-            poiseuille_full_step: 10.0,
+            poiseuille_full_step: 30.0,
         }
     }
 }
@@ -1005,8 +1005,10 @@ impl Level {
         // times (the open inlet and the sides) a full Gauss–Seidel step is stable, and the
         // pressures there (a few 1e-5 p_h, carrying the oil the menisci trade) settle twice as
         // fast: the seed's contact with 25 nm supplied, 257², 112 → 60 cycles; 100 nm 45 → 21;
-        // M = 20, L = 10 with 3 µm 112 → 56. At a ratio of 3 the 100 nm case of M = 20 stalled,
-        // at 1 the seed's 5 nm diverged: 10 keeps a factor 3 from the first failure.
+        // M = 20, L = 10 with 3 µm 112 → 57, and 25 nm on 513² converged (119 cycles) where it had
+        // stalled. The ratio: at 10 the seed's 5 nm on 513² kept a limit cycle, at 3 the 100 nm
+        // case of M = 20 stalled, at 1 the seed's 5 nm diverged on 257²; 30 and 100 gave the
+        // same cycles as 10 on 257² and converged on 513².
         let big = s.poiseuille_full_step;
         let poiseuille = |q: usize| {
             big > 0.0 && mass_conserving && {
