@@ -46,7 +46,8 @@ fn main() {
         let (j, i) = (grid.row_nearest(0.0), grid.col_nearest(0.0));
         let rho = prm.density.rho(s.pressure()[[j, i]]);
         let th = s.theta();
-        let meniscus = (0..=i).rev().find(|&k| th[[j, k]] < 1.0).map_or(grid.x(0), |k| grid.x(k + 1));
+        let meniscus =
+            (0..=i).rev().find(|&k| th[[j, k]] < 1.0).map_or(grid.x(0), |k| grid.x(k + 1));
         match &r {
             Ok(r) => println!(
                 "supply {h_oil_nm:?} nm: {} cycles, {:.2} s; h_c {:.3} nm, ρ̄ h_c {:.3} nm, meniscus {meniscus:.3} a",
