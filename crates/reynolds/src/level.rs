@@ -453,13 +453,11 @@ impl Level {
         self.op.apply(self.p.view(), self.film.view_mut());
         Zip::from(&mut self.film).and(&self.shape).for_each(|f, &s| *f += s + h00);
         if let Some(old) = before {
-            Zip::from(&mut self.theta).and(&self.p).and(&old).and(&self.film).for_each(
-                |t, &p, &h0, &h| {
-                    if p <= 0.0 && *t < 1.0 && h > 0.0 && h0 > 0.0 {
-                        *t = (*t * h0 / h).min(1.0);
-                    }
-                },
-            );
+            Zip::from(&mut self.theta)
+                .and(&self.p)
+                .and(&old)
+                .and(&self.film)
+                .for_each(|t, &p, &h0, &h| keep_oil(t, p, h0, h));
         }
         self.set_inflow_theta();
     }
@@ -467,11 +465,10 @@ impl Level {
     /// `H += dh` everywhere (a change of `H00`), partly filled points keeping their oil.
     pub fn shift_film(&mut self, dh: f64) {
         if self.mass_conserving() {
-            Zip::from(&mut self.theta).and(&self.p).and(&self.film).for_each(|t, &p, &h| {
-                if p <= 0.0 && *t < 1.0 && h > 0.0 && h + dh > 0.0 {
-                    *t = (*t * h / (h + dh)).min(1.0);
-                }
-            });
+            Zip::from(&mut self.theta)
+                .and(&self.p)
+                .and(&self.film)
+                .for_each(|t, &p, &h| keep_oil(t, p, h, h + dh));
         }
         self.film += dh;
         self.set_inflow_theta();
@@ -700,6 +697,14 @@ impl Level {
         self.update_film(h00);
     }
 
+    /// A point's own wedge coefficient through its elastic self-influence, and in a time step
+    /// the transient term's (`a0 ρ̄ K(0, 0)`), per `ρ̄`: what the Poiseuille diagonal is
+    /// compared with to choose a point's relaxation ([`Self::relax_line`] says why).
+    fn wedge_diag(&self) -> f64 {
+        self.speed * (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs() / self.h
+            + self.time_a0 * self.k(0, 0)
+    }
+
     /// Mass conserving: a second pass of line relaxation with the lines across the rolling
     /// direction (columns, from the inflow on, so that each sees its upstream neighbours' new
     /// film content), over the points where the Poiseuille term governs (the distributive
@@ -718,9 +723,7 @@ impl Level {
         let mut solve = vec![[0.0; 5]; m];
         let (mut r, mut rhs, mut delta) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
         let (mut kind, mut fixed, mut known) = (vec![0u8; m], vec![false; m], vec![0.0; m]);
-        let wedge_diag =
-            self.speed * (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs() / h
-                + self.time_a0 * self.k(0, 0);
+        let wedge_diag = self.wedge_diag();
         const FULL: u8 = 0;
         const PARTIAL: u8 = 1;
         const HELD: u8 = 2;
@@ -921,9 +924,7 @@ impl Level {
         // and the smoother amplified an error there from step to step (seed conditions, 257²,
         // one step a cell: the residual grew 1.37× a step and diverged after ~50 steps; more
         // sweeps diverged sooner).
-        let wedge_diag =
-            self.speed * (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs() / h
-                + self.time_a0 * self.k(0, 0);
+        let wedge_diag = self.wedge_diag();
         w.band.resize(m, [0.0; 5]);
         w.delta.resize(m, 0.0);
         Self::line_coefficients(prm, s.coefficient_lag > 0.0, rows, j, w);
@@ -1249,6 +1250,15 @@ impl Level {
             row[(d + 2) as usize] = a - w - transient * kk(0);
         }
         row
+    }
+}
+
+/// A partly filled point's film content `t` when its gap moves from `h0` to `h` [a²/R]: the
+/// oil `t h` it holds is kept (where `P = 0`; a full or loaded point, or a closed gap, keeps `t`).
+#[inline]
+fn keep_oil(t: &mut f64, p: f64, h0: f64, h: f64) {
+    if p <= 0.0 && *t < 1.0 && h > 0.0 && h0 > 0.0 {
+        *t = (*t * h0 / h).min(1.0);
     }
 }
 

@@ -230,9 +230,8 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     // The supply: the layer arriving at the inflow boundary (holes there at the start left
     // out of the steady solve: a steady contact has none; they enter as the march carries them).
     if let Some(sup) = &view.supply {
-        let (x_in, delta) = (grid.x(0), prm.scales.delta);
-        let uniform = ehl_core::Supply::uniform(sup.thickness_m);
-        solver.set_supply(Some(&|y| uniform.thickness_at(x_in, y, 0.0) / delta));
+        let h_oil = sup.thickness_m / prm.scales.delta;
+        solver.set_supply(Some(&|_| h_oil));
     }
     let setup_time_s = t0.elapsed().as_secs_f64();
     let spin = crate::progress::spinner("reynolds");
@@ -385,7 +384,8 @@ fn run_transient(
             .within(|| format!("scene `{}`", scene.name));
         }
     };
-    let x0 = dents.first().map_or(0.0, |d| d.x_start_a);
+    // The first feature's start (the first dent, else the first hole; 0 without any).
+    let x0 = scene.passing().first().map_or(0.0, |p| p.x_start_a);
     let centre = (g.row_nearest(0.0), g.col_nearest(0.0));
     let time_unit = s.a / u_m;
     let h_ref = s.h_si(solver.films().0);
@@ -394,11 +394,6 @@ fn run_transient(
     if let Some(sup) = &holes {
         solver.set_theta(|x, y, t| if sup.thickness_at(x, y, 0.0) > 0.0 { t } else { 0.0 });
     }
-    let x0 = if holes.is_some() && x0 == 0.0 {
-        scene.passing().first().map_or(0.0, |p| p.x_start_a)
-    } else {
-        x0
-    };
     let mut march = ReynoldsMarch {
         solver,
         dents,
