@@ -132,6 +132,9 @@ pub struct Level {
     k_line: [f64; 5],
     /// Each half-sweep's line buffers, reused from line to line.
     work: [LineWork; 2],
+    /// Rigid solids: no deformation (`W[P] = 0`, the kernel zero). Not a model of a real
+    /// contact: the check against the rigid isoviscous squeeze's analytic answer.
+    rigid: bool,
 }
 
 /// A level's pressure, film and law cache from row `first` on, lent to one half of a sweep,
@@ -343,6 +346,7 @@ impl Level {
             kd_line: [0.0; 5],
             k_line: [0.0; 5],
             work: Default::default(),
+            rigid: false,
             grid,
         };
         l.kd_line = std::array::from_fn(|di| l.kd(di as i64, 0));
@@ -364,6 +368,17 @@ impl Level {
                     + self.k(di + 1, dj)
                     + self.k(di, dj - 1)
                     + self.k(di, dj + 1))
+    }
+
+    /// Makes the solids rigid: the film is `H00 + X²/2 + Y²/2 + extra` with no deformation, and
+    /// the relaxation sees no elastic coupling (the kernel zero). For the analytic squeeze.
+    pub fn set_rigid(&mut self) {
+        self.rigid = true;
+        for row in &mut self.kernel {
+            row.fill(0.0);
+        }
+        self.kd_line = [0.0; 5];
+        self.k_line = [0.0; 5];
     }
 
     /// Rigid film `X²/2 + Y²/2 + extra(X, Y)` [a²/R]: a dent, a bump, or nothing.
@@ -450,7 +465,11 @@ impl Level {
         // fine grid then removed (M = 20, L = 10, 129², 1 µm supplied: the residual stalled at
         // ~0.3 with the force balance on, converged at 0.5 a cycle with `H00` held).
         let before = self.mass_conserving().then(|| self.film.clone());
-        self.op.apply(self.p.view(), self.film.view_mut());
+        if self.rigid {
+            self.film.fill(0.0);
+        } else {
+            self.op.apply(self.p.view(), self.film.view_mut());
+        }
         Zip::from(&mut self.film).and(&self.shape).for_each(|f, &s| *f += s + h00);
         if let Some(old) = before {
             Zip::from(&mut self.theta)
@@ -859,6 +878,11 @@ impl Level {
         };
         let zip = Zip::from(&mut self.laws).and(&self.p);
         if self.p.len() >= ehl_core::PAR_MIN_WORK { zip.par_for_each(at) } else { zip.for_each(at) }
+    }
+
+    /// Whether the laws lag the pressures.
+    pub fn lagged(&self) -> bool {
+        self.lagged
     }
 
     /// The pressure each point's laws are evaluated at: what a coarser grid's lagged laws

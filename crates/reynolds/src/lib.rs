@@ -14,5 +14,5 @@ pub use level::{Level, RelaxSettings};
 pub use params::{DensityLaw, ReynoldsParams, ViscosityLaw};
 pub use solver::{
     CycleLog, Diagnosis, Divergence, FailureKind, ReynoldsError, ReynoldsReport, ReynoldsSettings,
-    ReynoldsSolver, StopRule, TimeScheme,
+    ReynoldsSolver, SolverState, StopRule, TimeScheme,
 };

@@ -289,8 +289,24 @@ pub struct ReynoldsSolver {
     /// The settings in force for the solve or step under way: `settings`, with the laws lagged
     /// after a failed first attempt, or the time step's cycle and gain. Never written back.
     active: ReynoldsSettings,
-    /// `ρ̄H` of the last two time levels, newest first (transient runs).
+    /// `ρ̄H` of the last two time levels, newest first (transient runs) …
     rho_h: Vec<Array2<f64>>,
+    /// … and the step that led to the newest [a/u_ref] (the backward differences of unequal
+    /// steps need the step before).
+    last_dt: f64,
+}
+
+/// What a time step changes, kept to return to when an error-controlled step is rejected
+/// ([`ReynoldsSolver::save`], [`ReynoldsSolver::restore`]).
+#[derive(Clone, Debug)]
+pub struct SolverState {
+    p: Array2<f64>,
+    film: Array2<f64>,
+    theta: Array2<f64>,
+    coefficient_pressures: Option<Array2<f64>>,
+    h00: f64,
+    rho_h: Vec<Array2<f64>>,
+    last_dt: f64,
 }
 
 /// Mass conserving, the full-multigrid start begins on the coarsest grid with at least this
@@ -327,7 +343,8 @@ impl ReynoldsSolver {
             grids.push(c);
         }
         let levels: Vec<Level> = grids.into_iter().map(Level::new).collect();
-        let mut s = Self { levels, prm, h00: 0.0, settings, active: settings, rho_h: vec![] };
+        let mut s =
+            Self { levels, prm, h00: 0.0, settings, active: settings, rho_h: vec![], last_dt: 0.0 };
         s.start();
         s
     }
@@ -410,6 +427,60 @@ impl ReynoldsSolver {
         }
     }
 
+    /// Makes the solids rigid on every level (no elastic deformation): not a model of a real
+    /// contact, but the rigid isoviscous squeeze has an analytic answer to check against.
+    /// Call before solving.
+    pub fn set_rigid(&mut self) {
+        for l in &mut self.levels {
+            l.set_rigid();
+        }
+        let h00 = self.h00;
+        self.levels[0].update_film(h00);
+    }
+
+    /// A start at rest: the surfaces at `H00 = h00` [a²/R] with no pressure yet (a ball put down
+    /// on an oil film), the time history from that gap. Time steps follow, the load applied
+    /// from the first: the rigid squeeze's start, or a drop.
+    pub fn start_from_gap(&mut self, h00: f64) {
+        for l in &mut self.levels {
+            l.reset();
+        }
+        self.h00 = h00;
+        self.levels[0].update_film(h00);
+        self.levels[0].start_theta();
+        self.rho_h = vec![self.levels[0].rho_film(&self.prm)];
+        self.last_dt = 0.0;
+    }
+
+    /// The state a time step changes (finest grid, `H00`, the time history).
+    pub fn save(&self) -> SolverState {
+        let f = &self.levels[0];
+        SolverState {
+            p: f.p.clone(),
+            film: f.film.clone(),
+            theta: f.theta.clone(),
+            coefficient_pressures: f.lagged().then(|| f.coefficient_pressures()),
+            h00: self.h00,
+            rho_h: self.rho_h.clone(),
+            last_dt: self.last_dt,
+        }
+    }
+
+    /// Back to a state [`Self::save`] took.
+    pub fn restore(&mut self, s: SolverState) {
+        let prm = self.prm;
+        let f = &mut self.levels[0];
+        f.p = s.p;
+        f.film = s.film;
+        f.theta = s.theta;
+        if let Some(pc) = &s.coefficient_pressures {
+            f.set_coefficient_pressures(&prm, pc);
+        }
+        self.h00 = s.h00;
+        self.rho_h = s.rho_h;
+        self.last_dt = s.last_dt;
+    }
+
     /// Whether the solver conserves mass (has a supply).
     pub fn mass_conserving(&self) -> bool {
         self.levels[0].mass_conserving()
@@ -480,7 +551,8 @@ impl ReynoldsSolver {
     /// One time step of `dt` [a/u_ref] (the dent, if any, already moved by the caller): the
     /// time derivative by backward differences ([`TimeScheme`]), solved from the last state by
     /// cycles of `step_gamma` (1, V-cycles, by default). The steady solve before the first step
-    /// is `T = 0`; steps must be of equal size.
+    /// is `T = 0`; steps may differ in size (second order: the variable-step formula, ratio
+    /// `ω = dt / dt_prev`, which is the equal-step one at `ω = 1`).
     pub fn step(
         &mut self,
         dt: f64,
@@ -488,7 +560,12 @@ impl ReynoldsSolver {
     ) -> Result<ReynoldsReport, ReynoldsError> {
         let (a0, history) = match self.rho_h.as_slice() {
             [n] => (1.0 / dt, n.mapv(|v| -v / dt)),
-            [n, nm1, ..] => (1.5 / dt, (n * -2.0 + nm1 * 0.5) / dt),
+            [n, nm1, ..] => {
+                // ∂q/∂T ≈ [(1+2ω) q_(n+1) − (1+ω)² q_n + ω² q_(n−1)] / ((1+ω) dt).
+                let w = dt / self.last_dt;
+                let c = 1.0 / ((1.0 + w) * dt);
+                ((1.0 + 2.0 * w) * c, (n * -((1.0 + w) * (1.0 + w)) + nm1 * (w * w)) * c)
+            }
             [] => return Err(ReynoldsError::NoSteadyStart),
         };
         for l in &mut self.levels {
@@ -507,6 +584,7 @@ impl ReynoldsSolver {
             TimeScheme::Bdf1 => 1,
             TimeScheme::Bdf2 => 2,
         });
+        self.last_dt = dt;
         rep
     }
 

@@ -332,7 +332,22 @@ pub fn drive<T: Transient>(
                             .into(),
                     )
                 })?;
-                let s = model.step(dt, true).within(|| when(steps + 1, t))?;
+                // A step whose solve fails is tried again shorter (a quarter), from the state
+                // before it, down to a thousandth of the first step: a failure that persists
+                // there is the model's, and is reported as it came.
+                let s = match model.step(dt, true) {
+                    Ok(s) => s,
+                    Err(e) => {
+                        let floor = 1e-3 * first_dt(ph);
+                        if dt * 0.25 < floor {
+                            return Err(e).within(|| when(steps + 1, t));
+                        }
+                        rejected += 1;
+                        model.restore(saved);
+                        dt_next = dt * 0.25;
+                        continue;
+                    }
+                };
                 // No estimate (a multistep scheme's first steps): accepted, growth capped below.
                 let err = s.error_estimate.unwrap_or(0.0);
                 let factor =
