@@ -733,6 +733,7 @@ const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "dent-shallow-compare",
     "hole",
     "hole-compare",
+    "stop-compare",
     "reynolds-m20-l10",
     "reynolds-m20-l10-dent",
     "reynolds-seed"
