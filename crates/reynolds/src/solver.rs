@@ -574,9 +574,16 @@ impl ReynoldsSolver {
         self.levels[0].history = history;
         // A step's cycles: from the last state (no full-multigrid start), the step's cycle
         // and force-balance gain; the laws as the steady solve left them (lagged or not).
-        let a = self.active;
-        self.active =
-            ReynoldsSettings { fmg_cycles: 0, gamma: a.step_gamma, h00_gain: a.step_h00_gain, ..a };
+        // The settings as they are now (a caller may change them between steps), with the
+        // relaxation (the laws' lag) as the steady solve left it.
+        let (s, relax) = (self.settings, self.active.relax);
+        self.active = ReynoldsSettings {
+            fmg_cycles: 0,
+            gamma: s.step_gamma,
+            h00_gain: s.step_h00_gain,
+            relax,
+            ..s
+        };
         let rep = converged(self.cycles(log, 0, 0.0));
         let rho_h = self.levels[0].rho_film(&self.prm);
         self.rho_h.insert(0, rho_h);

@@ -1,0 +1,111 @@
+//! The pure squeeze (the surfaces at rest, the load held, the approach `H00` the unknown of the
+//! force balance) against the analytic rigid isoviscous squeeze: a sphere approaching a flat
+//! through an incompressible film of constant viscosity, the solids rigid.
+use ehl_core::{Grid, SEED_CONTACT, SEED_LUBRICANT};
+use ehl_reynolds::*;
+use std::f64::consts::PI;
+
+/// The radius [a] of the circle on which the film's pressure vanishes (see `squeeze`).
+const EDGE: f64 = 3.0;
+
+/// The gap `H(T)` [a²/R] of a rigid sphere squeezing an isoviscous, incompressible film whose
+/// pressure vanishes on a circle where the gap is `H + c` (`c = r_e²/2`): Reynolds' equation
+/// gives `p = 3 η V R (1/h² − 1/h_e²)` and `F = 6π η V R² (h_e − h)² / (h h_e²)`, so
+/// `dH/dT = −k H (H + c)² / c²`, which integrates to `ln(H/(H + c)) + c/(H + c) = const − kT`
+/// (`k = 4/(3λ̄)`: with `c → ∞` the unbounded film's `h0 exp(−F t / (6π η0 R²))` in Hertz
+/// units). Solved by Newton from the unbounded answer.
+fn circular_edge(h0: f64, c: f64, kt: f64) -> f64 {
+    let g = |h: f64| (h / (h + c)).ln() + c / (h + c);
+    let target = g(h0) - kt;
+    let mut h = h0 * (-kt).exp();
+    for _ in 0..60 {
+        let step = (g(h) - target) * h * (h + c) * (h + c) / (c * c);
+        h = (h - step).max(0.1 * h);
+        if step.abs() < 1e-14 * h {
+            break;
+        }
+    }
+    h
+}
+
+/// Squeezes from `H = 0.2` for one decade of the unbounded answer in 40 equal BDF2 steps on
+/// `n²`, the solids rigid, the laws constant: the film's relative error against
+/// [`circular_edge`] at every step.
+///
+/// The domain is `[−3.25, 3.25]²` with the gap raised by 20 `a²/R` outside the circle of radius
+/// 3: the pressure there is ~1/90 of the edge's (conductance `∝ H³`), so the film's pressure
+/// vanishes on that circle as the reference assumes. (A square domain's corners put it between
+/// the circle's answer and the unbounded one: +1.6 % and −1.3 % on 257²; a higher wall, 50,
+/// broke the line relaxation on the jump.)
+fn squeeze(n: usize) -> Vec<f64> {
+    let prm = ReynoldsParams::from_si(
+        &SEED_CONTACT,
+        &SEED_LUBRICANT,
+        0.02,
+        ViscosityLaw::Isoviscous,
+        DensityLaw::Incompressible,
+    );
+    let settings = ReynoldsSettings {
+        time_scheme: TimeScheme::Bdf2,
+        film_tolerance: 1e-7,
+        load_tolerance: 1e-7,
+        // The coarsest grid must hold the pressure zone (`√(2H)` wide, 0.2 a at the end).
+        coarsest_points: 33,
+        max_cycles: 400,
+        ..Default::default()
+    };
+    let mut s = ReynoldsSolver::new(Grid::square(n, EDGE + 0.25), prm, settings);
+    s.set_rigid();
+    s.set_extra_gap(|x, y| if x * x + y * y > EDGE * EDGE { 20.0 } else { 0.0 });
+    s.set_speed(0.0);
+    let h0 = 0.2;
+    s.start_from_gap(h0);
+    let k = 4.0 / (3.0 * prm.lambda_bar);
+    let steps = 40;
+    let dt = 10f64.ln() / k / steps as f64;
+    (1..=steps)
+        .map(|m| {
+            // The force balance's gain at 0.3 of the rigid squeeze's own stiffness
+            // `∂(∬P)/∂H00 = (3/2) π λ̄ / (2 ΔT H)` (BDF2's `1.5/ΔT`): the default gain is built
+            // on the Hertz compliance `1/π`, 6–60× too stiff a guess here, and cycles.
+            let stiffness = 1.5 * PI * prm.lambda_bar / (2.0 * dt * s.h00);
+            s.settings.step_h00_gain = (0.3 * PI / stiffness).min(0.1);
+            s.step(dt, &mut |_| {}).unwrap_or_else(|e| panic!("{n}²: step {m}: {e}"));
+            s.h00 / circular_edge(h0, 0.5 * EDGE * EDGE, k * m as f64 * dt) - 1.0
+        })
+        .collect()
+}
+
+#[test]
+fn a_rigid_sphere_squeezes_an_isoviscous_film_as_the_analytic_answer_says() {
+    // Measured: worst error 4.1 % on 129², 1.06 % on 257², both at the decade's end where the
+    // pressure zone is 4 and 8 cells wide; the error falls 3.9× a halving of the cells (second
+    // order, as the scheme). The grid-converged film (Richardson at the observed order) is
+    // within 0.28 % of the analytic one all along. Issue target: 1 % over a decade; on 257²
+    // alone the bound is 1.2 % (its discretisation error at the decade's end, 1.06 %).
+    let (coarse, fine) = (squeeze(129), squeeze(257));
+    let last = coarse.len() - 1;
+    let order = (coarse[last] / fine[last]).log2();
+    println!(
+        "rigid squeeze: error at the decade's end {:+.3e} (129²), {:+.3e} (257²); observed order {order:.2}",
+        coarse[last], fine[last]
+    );
+    assert!((1.6..2.4).contains(&order), "observed order {order:.2}");
+    let p = 2f64.powf(order);
+    let extrapolate = |c: f64, f: f64| f + (f - c) / (p - 1.0);
+    let worst =
+        coarse.iter().zip(&fine).map(|(c, f)| extrapolate(*c, *f).abs()).fold(0.0, f64::max);
+    println!("grid-converged (Richardson): worst error {worst:.2e}");
+    for (m, (c, f)) in coarse.iter().zip(&fine).enumerate() {
+        let extrapolated = extrapolate(*c, *f);
+        // 1 %, the issue's bound: a rate off by a constant factor (a missing 6π, λ̄ taken with
+        // the sum velocity) is off by tens of percent over the decade, a solver that lost the
+        // squeeze term entirely does not move at all.
+        assert!(
+            extrapolated.abs() < 0.01,
+            "step {}: {extrapolated:+.3e} ({c:+.3e}, {f:+.3e})",
+            m + 1
+        );
+        assert!(f.abs() < 0.012, "257², step {}: {f:+.3e}", m + 1);
+    }
+}
