@@ -50,37 +50,6 @@ fn a_supply_thicker_than_the_inlet_takes_gives_the_flooded_film() {
     assert!(!flooded.mass_conserving());
 }
 
-/// The oil through the domain's edges per unit time (Hertz units): what the supply brings in
-/// at the inflow face, and what leaves through the outflow face and the two sides, each from
-/// the discrete fluxes (Couette by the scheme's upwind face values, Poiseuille by the
-/// half-point `ε̄`).
-fn edge_flows(prm: &ReynoldsParams, s: &ReynoldsSolver) -> (f64, f64) {
-    let f = s.finest();
-    let (eps, rt) = f.coefficients(prm);
-    let (p, film) = (&f.p, &f.film);
-    let (ny, nx) = p.dim();
-    let h = f.h;
-    let q = |j: usize, i: usize| rt[[j, i]] * film[[j, i]];
-    let supplied: f64 = (1..ny - 1).map(|j| q(j, 0) * h).sum();
-    let (o, b) = (nx - 2, nx - 1);
-    let out_x: f64 = (1..ny - 1)
-        .map(|j| {
-            let couette = 1.5 * q(j, o) - 0.5 * q(j, o - 1);
-            let pois = -0.5 * (eps[[j, o]] + eps[[j, b]]) * (p[[j, b]] - p[[j, o]]) / h;
-            (couette + pois) * h
-        })
-        .sum();
-    let sides: f64 = (1..nx - 1)
-        .map(|i| {
-            let low = 0.5 * (eps[[1, i]] + eps[[0, i]]) * (p[[1, i]] - p[[0, i]]) / h;
-            let high =
-                0.5 * (eps[[ny - 2, i]] + eps[[ny - 1, i]]) * (p[[ny - 2, i]] - p[[ny - 1, i]]) / h;
-            (low + high) * h
-        })
-        .sum();
-    (supplied, out_x + sides)
-}
-
 #[test]
 fn the_oil_leaving_the_domain_is_the_oil_supplied() {
     // Steady and mass conserving: outflow plus side leakage equals the supply, to the solver's
@@ -90,7 +59,7 @@ fn the_oil_leaving_the_domain_is_the_oil_supplied() {
     // point by point: the net balance is tighter).
     for h_oil in [5.0, 10.0] {
         let (prm, s) = seed_solve(129, Some(h_oil));
-        let (supplied, left) = edge_flows(&prm, &s);
+        let (supplied, left) = common::edge_flows(&prm, &s);
         let tol = ReynoldsSettings::default().mass_tolerance;
         assert!(
             (left / supplied - 1.0).abs() < tol,

@@ -32,3 +32,43 @@ pub fn seed() -> ReynoldsParams {
         DensityLaw::DowsonHigginson,
     )
 }
+
+/// The oil through the domain's edges per unit time (Hertz units): what the supply brings in at
+/// the inflow face, and what leaves through the four faces, each from the discrete fluxes
+/// (Couette by the scheme's upwind face values at the surfaces' speed, Poiseuille by the
+/// half-point `ε̄`).
+pub fn edge_flows(prm: &ReynoldsParams, s: &ReynoldsSolver) -> (f64, f64) {
+    let f = s.finest();
+    let (eps, rt) = f.coefficients(prm);
+    let (p, film) = (&f.p, &f.film);
+    let (ny, nx) = p.dim();
+    let (h, u) = (f.h, f.speed);
+    let q = |j: usize, i: usize| rt[[j, i]] * film[[j, i]];
+    // Poiseuille flux from point a to its neighbour b, through their shared face.
+    let pois = |a: (usize, usize), b: (usize, usize)| -0.5 * (eps[a] + eps[b]) * (p[b] - p[a]) / h;
+    let supplied: f64 = (1..ny - 1).map(|j| u * q(j, 0) * h).sum();
+    let (o, b) = (nx - 2, nx - 1);
+    let out_x: f64 = (1..ny - 1)
+        .map(|j| {
+            let couette = u * (1.5 * q(j, o) - 0.5 * q(j, o - 1));
+            (couette + pois((j, o), (j, b)) + pois((j, 1), (j, 0))) * h
+        })
+        .sum();
+    let sides: f64 =
+        (1..nx - 1).map(|i| (pois((1, i), (0, i)) + pois((ny - 2, i), (ny - 1, i))) * h).sum();
+    (supplied, out_x + sides)
+}
+
+/// The oil in the domain, `Σ ρ̄θH h²` over the points the equations hold at (Hertz units).
+pub fn oil_held(prm: &ReynoldsParams, s: &ReynoldsSolver) -> f64 {
+    let f = s.finest();
+    let (ny, nx) = f.p.dim();
+    let m = f.rho_film(prm);
+    let mut sum = 0.0;
+    for j in 1..ny - 1 {
+        for i in 1..nx - 1 {
+            sum += m[[j, i]];
+        }
+    }
+    sum * f.h * f.h
+}
