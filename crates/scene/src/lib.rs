@@ -734,6 +734,7 @@ const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "hole",
     "hole-compare",
     "stop-compare",
+    "stop-start-compare",
     "reynolds-m20-l10",
     "reynolds-m20-l10-dent",
     "reynolds-seed"

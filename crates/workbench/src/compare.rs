@@ -293,6 +293,62 @@ impl Comparison {
         Ok(Some(f))
     }
 
+    /// After a stop: central and minimum film against the time since the surfaces stopped, on
+    /// log axes (the seed's Fig. 9 read as a decay), while they rest; `None` when the motion
+    /// never rests after rolling.
+    fn squeeze_figure(&self, dir: &Path, note: &str) -> Result<Option<PathBuf>> {
+        let Some(run) = &self.scene.run else { return Ok(None) };
+        let u = self.scene.conditions.rolling_velocity_m_s.unwrap_or(0.0);
+        let Ok(motion) = run.kinematics(u) else { return Ok(None) };
+        let runs: Vec<(String, &[(f64, ehl_core::Observables)])> = self
+            .entries
+            .iter()
+            .filter_map(|e| Some((e.name(), e.outcome.as_ref().ok()?.history()?)))
+            .collect();
+        // The stop: the first recorded time at rest (the state just as the surfaces stop).
+        let Some(t_stop) =
+            runs.first().and_then(|(_, h)| h.iter().map(|p| p.0).find(|&t| motion.speed(t) == 0.0))
+        else {
+            return Ok(None);
+        };
+        let series = |f: fn(&ehl_core::Observables) -> f64| -> Vec<Series> {
+            runs.iter()
+                .map(|(name, h)| {
+                    let pts = h
+                        .iter()
+                        .skip_while(|(t, _)| *t <= t_stop)
+                        .take_while(|(t, _)| motion.speed(*t) == 0.0)
+                        .filter(|(_, o)| f(o) > 0.0)
+                        .map(|(t, o)| ((t - t_stop) * 1e3, f(o) * 1e9))
+                        .collect();
+                    Series::new(name.clone(), pts, Mark::Line)
+                })
+                .collect()
+        };
+        let f = dir.join("comparison_squeeze.png");
+        plot::charts(
+            &f,
+            &[
+                Panel::new(
+                    "Central film after the stop",
+                    "time since the stop [ms]",
+                    "h_c [nm]",
+                    series(|o| o.central_film_m),
+                )
+                .log_log(),
+                Panel::new(
+                    "Minimum film after the stop (where positive)",
+                    "time since the stop [ms]",
+                    "h_min [nm]",
+                    series(|o| o.minimum_film_m),
+                )
+                .log_log(),
+            ],
+            note,
+        )?;
+        Ok(Some(f))
+    }
+
     fn figures(&self, dir: &Path) -> Result<Vec<PathBuf>> {
         let ok: Vec<(String, &dyn Outcome)> = self
             .entries
@@ -358,6 +414,7 @@ impl Comparison {
         )?;
         let mut files = vec![centre];
         files.extend(self.history_figure(dir, &note)?);
+        files.extend(self.squeeze_figure(dir, &note)?);
         // The first two lubricated models in the scene's order (the seed's: layer − Reynolds).
         let wet: Vec<&(String, &dyn Outcome)> = ok.iter().filter(|(_, o)| o.lubricated()).collect();
         if let [(name_a, a), (name_b, b), ..] = wet.as_slice() {
