@@ -119,6 +119,9 @@ pub enum Part {
     Reynolds,
     /// The starved Reynolds solve against the flooded one (`docs/measured/bench-starved.md`).
     Starved,
+    /// Reynolds time steps on the seed's contact, rolling and at rest after a stop
+    /// (`docs/measured/bench-steps.md`).
+    Steps,
 }
 
 pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
@@ -145,6 +148,9 @@ pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
     }
     if wanted(Part::Starved) {
         println!("wrote {}", crate::starvation::bench(max.min(257), 3)?.display());
+    }
+    if wanted(Part::Steps) {
+        steps(max.min(257))?;
     }
     Ok(())
 }
@@ -246,4 +252,100 @@ fn contact(out: &Path, max: usize) -> Result<()> {
         &[("Median wall times (`N = n²` points)", &t)],
     )?;
     Ok(())
+}
+
+/// Reynolds time steps in the seed's regime: the contact of Table 1 on its own domain
+/// `[−1.25, 1.25]²`, flooded and fed 25 nm, from the steady solve: 20 steps rolling at one step
+/// a cell, then 20 at rest (a sudden stop; steps of one cell's transit at the rolling speed,
+/// 0.26 ms, as error control starts them). Wall time and cycles per step, on 129² up to `max`.
+fn steps(max: usize) -> Result<std::path::PathBuf> {
+    use ehl_reynolds::{ReynoldsSettings, ReynoldsSolver};
+    let mut t = crate::measured::Table::new(&[
+        "n",
+        "supply",
+        "motion",
+        "step [s]",
+        "cycles a step",
+        "steady solve [s]",
+    ]);
+    let prm = ehl_reynolds::ReynoldsParams::from_si(
+        &ehl_core::SEED_CONTACT,
+        &ehl_core::SEED_LUBRICANT,
+        0.02,
+        ehl_reynolds::ViscosityLaw::Roelands,
+        ehl_reynolds::DensityLaw::DowsonHigginson,
+    );
+    for n in [129, 257].into_iter().filter(|&n| n <= max) {
+        for fed in [false, true] {
+            let grid = ehl_core::Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
+            let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
+            if fed {
+                let h_oil = 25e-9 / prm.scales.delta;
+                s.set_supply(Some(&move |_y| h_oil));
+            }
+            let supply = if fed { "25 nm" } else { "flooded" };
+            let failed = |t: &mut crate::measured::Table, what: String| {
+                println!("{n}² {supply}: {what}");
+                t.rows.push(vec![
+                    n.to_string(),
+                    supply.into(),
+                    what,
+                    "".into(),
+                    "".into(),
+                    "".into(),
+                ]);
+            };
+            let steady = match s.solve(&mut |_| {}) {
+                Ok(r) => r,
+                Err(e) => {
+                    failed(&mut t, format!("steady solve failed: {e}"));
+                    continue;
+                }
+            };
+            let dt = grid.dx();
+            for (motion, speed) in [("rolling", 1.0), ("at rest", 0.0)] {
+                s.set_speed(speed);
+                let (clock, mut cycles) = (Instant::now(), 0);
+                let mut ok = true;
+                for k in 0..20 {
+                    match s.step(dt, &mut |_| {}) {
+                        Ok(r) => cycles += r.cycles,
+                        Err(e) => {
+                            failed(&mut t, format!("{motion}: step {} failed: {e}", k + 1));
+                            ok = false;
+                            break;
+                        }
+                    }
+                }
+                if !ok {
+                    break;
+                }
+                let per = clock.elapsed().as_secs_f64() / 20.0;
+                println!(
+                    "{n}² {} {motion}: {per:.3} s a step, {:.1} cycles",
+                    if fed { "25 nm" } else { "flooded" },
+                    cycles as f64 / 20.0
+                );
+                t.rows.push(vec![
+                    n.to_string(),
+                    if fed { "25 nm".into() } else { "flooded".into() },
+                    motion.into(),
+                    format!("{per:.3}"),
+                    format!("{:.1}", cycles as f64 / 20.0),
+                    format!("{:.2}", steady.wall_time_s),
+                ]);
+            }
+        }
+    }
+    crate::measured::write(
+        "bench-steps",
+        "Reynolds time steps in the seed's regime",
+        &format!("cargo xtask bench --only steps --max-points {max}"),
+        "The seed's contact (Table 1, u1 = 0.01 m/s) on its own domain [-1.25, 1.25]² a, from \
+         the steady solve: 20 steps rolling at one step a cell, then 20 at rest after a sudden \
+         stop (steps of one cell's transit at the rolling speed, 0.26 ms on 129², as error \
+         control starts them); mean wall time and cycles a step. Issue 25's target: a step on \
+         257² in the seed's regime at 0.04 s.",
+        &[("Time steps", &t)],
+    )
 }

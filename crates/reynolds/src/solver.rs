@@ -7,7 +7,7 @@ use crate::level::{Level, RelaxSettings};
 use crate::params::ReynoldsParams;
 use ehl_core::grid::{inject, prolong};
 use ehl_core::{Grid, hertz};
-use ndarray::Array2;
+use ndarray::{Array2, Zip};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -81,6 +81,12 @@ pub struct ReynoldsSettings {
     pub fallback_lag: f64,
     /// Time discretisation of transient runs.
     pub time_scheme: TimeScheme,
+    /// A time step starts from the linear extrapolation of the last two states (pressure and
+    /// `H00`) rather than from the last state. Measured: at rest after a stop (the seed's
+    /// contact fed 25 nm, 129², steps of a cell's transit) 3.9 cycles a step against 5.4; a
+    /// dent passing `M = 20, L = 10` (129², one step a cell) 3.70 against 3.92. The answers
+    /// differ within the step's tolerances (the dent's peak pressure by 2e-4).
+    pub extrapolated_start: bool,
     /// The line relaxation's settings.
     pub relax: RelaxSettings,
     /// When a steady solve stops.
@@ -120,6 +126,7 @@ impl Default for ReynoldsSettings {
             fmg_cycles: 2,
             fallback_lag: 0.2,
             time_scheme: TimeScheme::Bdf1,
+            extrapolated_start: true,
             relax: RelaxSettings::default(),
             stop: StopRule::Strict,
         }
@@ -292,8 +299,11 @@ pub struct ReynoldsSolver {
     /// `ρ̄H` of the last two time levels, newest first (transient runs) …
     rho_h: Vec<Array2<f64>>,
     /// … and the step that led to the newest [a/u_ref] (the backward differences of unequal
-    /// steps need the step before).
+    /// steps need the step before) …
     last_dt: f64,
+    /// … and the pressure and `H00` before the newest step: a step starts from the linear
+    /// extrapolation of the last two ([`ReynoldsSettings::extrapolated_start`]).
+    before: Option<(Array2<f64>, f64)>,
 }
 
 /// What a time step changes, kept to return to when an error-controlled step is rejected
@@ -307,6 +317,7 @@ pub struct SolverState {
     h00: f64,
     rho_h: Vec<Array2<f64>>,
     last_dt: f64,
+    before: Option<(Array2<f64>, f64)>,
 }
 
 /// Mass conserving, the full-multigrid start begins on the coarsest grid with at least this
@@ -343,8 +354,16 @@ impl ReynoldsSolver {
             grids.push(c);
         }
         let levels: Vec<Level> = grids.into_iter().map(Level::new).collect();
-        let mut s =
-            Self { levels, prm, h00: 0.0, settings, active: settings, rho_h: vec![], last_dt: 0.0 };
+        let mut s = Self {
+            levels,
+            prm,
+            h00: 0.0,
+            settings,
+            active: settings,
+            rho_h: vec![],
+            last_dt: 0.0,
+            before: None,
+        };
         s.start();
         s
     }
@@ -365,6 +384,7 @@ impl ReynoldsSolver {
         self.levels[top].update_film(h00);
         self.levels[top].start_theta();
         self.rho_h.clear();
+        self.before = None;
     }
 
     /// The grid a solve starts on: the coarsest for a full-multigrid start, the finest without.
@@ -450,6 +470,7 @@ impl ReynoldsSolver {
         self.levels[0].start_theta();
         self.rho_h = vec![self.levels[0].rho_film(&self.prm)];
         self.last_dt = 0.0;
+        self.before = None;
     }
 
     /// The state a time step changes (finest grid, `H00`, the time history).
@@ -463,6 +484,7 @@ impl ReynoldsSolver {
             h00: self.h00,
             rho_h: self.rho_h.clone(),
             last_dt: self.last_dt,
+            before: self.before.clone(),
         }
     }
 
@@ -479,6 +501,7 @@ impl ReynoldsSolver {
         self.h00 = s.h00;
         self.rho_h = s.rho_h;
         self.last_dt = s.last_dt;
+        self.before = s.before;
     }
 
     /// Whether the solver conserves mass (has a supply).
@@ -572,6 +595,22 @@ impl ReynoldsSolver {
             l.time_a0 = a0;
         }
         self.levels[0].history = history;
+        let now = (self.levels[0].p.clone(), self.h00);
+        if let (true, Some((p_before, h00_before))) =
+            (self.settings.extrapolated_start, self.before.as_ref())
+        {
+            // The start: the last two states extrapolated to the new time (pressures kept
+            // non-negative, partly filled points left at `P = 0`).
+            let w = dt / self.last_dt;
+            let f = &mut self.levels[0];
+            Zip::from(&mut f.p).and(p_before).and(&f.theta).for_each(|p, &pb, &t| {
+                *p = if t < 1.0 { *p } else { (*p + w * (*p - pb)).max(0.0) };
+            });
+            let dh = w * (self.h00 - h00_before);
+            self.h00 += dh;
+            let h00 = self.h00;
+            self.levels[0].update_film(h00);
+        }
         // A step's cycles: from the last state (no full-multigrid start), the step's cycle
         // and force-balance gain; the laws as the steady solve left them (lagged or not).
         // The settings as they are now (a caller may change them between steps), with the
@@ -587,6 +626,7 @@ impl ReynoldsSolver {
         let rep = converged(self.cycles(log, 0, 0.0));
         let rho_h = self.levels[0].rho_film(&self.prm);
         self.rho_h.insert(0, rho_h);
+        self.before = Some(now);
         self.rho_h.truncate(match self.active.time_scheme {
             TimeScheme::Bdf1 => 1,
             TimeScheme::Bdf2 => 2,
