@@ -37,8 +37,17 @@ pub const CAVITATION_FLOOR: f64 = 1e-10;
 #[serde(deny_unknown_fields, default)]
 pub struct RelaxSettings {
     /// Points where (Poiseuille diagonal) / (wedge diagonal) falls below this relax
-    /// distributively.
+    /// distributively …
     pub distributive_threshold: f64,
+    /// … and the time term's part of that diagonal (its elastic self-coupling `a0 ρ̄ K(0, 0)`,
+    /// zero in a steady solve) counts with this threshold instead. Measured on the seed's
+    /// contact over `[−1.25, 1.25]²` on 257², steps of one cell: at 0.3, Gauss–Seidel steps
+    /// where the time term rivals the Poiseuille one made the V-cycle amplify the residual ~7× a
+    /// cycle (fed 25 nm, rolling; steps of two cells held) and the first step at rest after a
+    /// stop diverged (flooded and fed); at 1 every case converges (2–4 cycles a step); 0.5 and
+    /// 0.7 fail some. The cost: on 33² at a twentieth of a cell a step (`M = 20, L = 10`, a
+    /// dent, BDF2) the switch at 1 cycles with the load error at ~1e-6 (0.3 converges there).
+    pub transient_threshold: f64,
     /// Under-relaxation of Gauss–Seidel changes. At 0.7 the outlet pressure spike on 513²
     /// (M = 20, L = 10) keeps a period-2 limit cycle (load ±1.5e-5); 0.5 converges in 18
     /// cycles, 0.4 in 15.
@@ -69,6 +78,7 @@ impl Default for RelaxSettings {
     fn default() -> Self {
         Self {
             distributive_threshold: 0.3,
+            transient_threshold: 1.0,
             omega_gs: 0.4,
             omega_jd: 0.3,
             coefficient_lag: 0.0,
@@ -719,9 +729,25 @@ impl Level {
     /// A point's own wedge coefficient through its elastic self-influence, and in a time step
     /// the transient term's (`a0 ρ̄ K(0, 0)`), per `ρ̄`: what the Poiseuille diagonal is
     /// compared with to choose a point's relaxation ([`Self::relax_line`] says why).
+    /// What the Poiseuille diagonal is compared with to choose distributive relaxation: the
+    /// wedge diagonal's parts, each times its threshold (per unit `ρ̄`).
+    fn switch_diag(&self, s: &RelaxSettings) -> f64 {
+        let (wedge, transient) = self.diag_parts();
+        s.distributive_threshold * wedge + s.transient_threshold * transient
+    }
+
+    /// The wedge's and the time term's self-coefficients through the elastic self-influence,
+    /// per `ρ̄`.
+    fn diag_parts(&self) -> (f64, f64) {
+        let wedge = self.speed
+            * (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs()
+            / self.h;
+        (wedge, self.time_a0 * self.k(0, 0))
+    }
+
     fn wedge_diag(&self) -> f64 {
-        self.speed * (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs() / self.h
-            + self.time_a0 * self.k(0, 0)
+        let (wedge, transient) = self.diag_parts();
+        wedge + transient
     }
 
     /// Mass conserving: a second pass of line relaxation with the lines across the rolling
@@ -742,7 +768,7 @@ impl Level {
         let mut solve = vec![[0.0; 5]; m];
         let (mut r, mut rhs, mut delta) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
         let (mut kind, mut fixed, mut known) = (vec![0u8; m], vec![false; m], vec![0.0; m]);
-        let wedge_diag = self.wedge_diag();
+        let switch_diag = self.switch_diag(s);
         const FULL: u8 = 0;
         const PARTIAL: u8 = 1;
         const HELD: u8 = 2;
@@ -756,7 +782,7 @@ impl Level {
                 let dens = prm.density.rho(self.p[[j, i]]);
                 kind[q] = if self.p[[j, i]] <= 0.0 && (self.theta[[j, i]] < 1.0 || r[q] > 0.0) {
                     PARTIAL
-                } else if 4.0 * e[1][i] / (h * h) < s.distributive_threshold * dens * wedge_diag {
+                } else if 4.0 * e[1][i] / (h * h) < dens * switch_diag {
                     HELD
                 } else {
                     FULL
@@ -948,7 +974,7 @@ impl Level {
         // and the smoother amplified an error there from step to step (seed conditions, 257²,
         // one step a cell: the residual grew 1.37× a step and diverged after ~50 steps; more
         // sweeps diverged sooner).
-        let wedge_diag = self.wedge_diag();
+        let (wedge_diag, switch_diag) = (self.wedge_diag(), self.switch_diag(s));
         w.band.resize(m, [0.0; 5]);
         w.delta.resize(m, 0.0);
         Self::line_coefficients(prm, s.coefficient_lag > 0.0, rows, j, w);
@@ -990,7 +1016,7 @@ impl Level {
         w.dist.extend((lo..=hi).map(|i| {
             let q = i - lo;
             !(part(q) || q > 0 && part(q - 1) || q + 1 < m && part(q + 1))
-                && 4.0 * eps[1][i] / (h * h) < s.distributive_threshold * w.dens[i] * wedge_diag
+                && 4.0 * eps[1][i] / (h * h) < w.dens[i] * switch_diag
         }));
         for q in 0..m {
             w.band[q] = self.jacobian_row(eps, rho, q + lo, lo, &w.dist);
