@@ -301,7 +301,7 @@ fn a_start_after_a_stop_refills_the_reynolds_contact_in_one_transit_and_ends_whe
     assert!(dc.abs() < 5e-3 && dm.abs() < 5e-3, "central {dc:+.2e}, minimum {dm:+.2e}");
     // Sugimura et al. (1999): the film formed in the inlet at the start crosses the contact at
     // the entrainment speed. The squeezed inlet's thinner film reaches the centre (the central
-    // film's dip) about one transit `a/u` after the start: measured 0.96 (12.9 ms against
+    // film's dip) about one transit `a/u` after the start: measured 0.98 (13.2 ms against
     // 13.5 ms), the dip 7.6 nm against 9.6. Bound ±30 %: a cell's time error is 1 %, a film
     // carried at the sum velocity instead of the mean arrives at 0.5.
     let (t_start, transit) = (0.055, c.scales().a / 0.01);

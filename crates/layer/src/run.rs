@@ -91,11 +91,14 @@ pub struct Snapshot {
     pub p: Array2<f64>,
     /// Layer thickness [a²/R].
     pub l: Array2<f64>,
+    /// Separation of the surfaces, the layer plus the gap above it [a²/R].
+    pub film: Array2<f64>,
 }
 
 impl Snapshot {
     /// The snapshot of state `s`.
     pub fn of(m: &LayerModel, s: &LayerState) -> Self {
-        Snapshot { eps: s.eps.clone(), p: s.p.clone(), l: s.thickness(m) }
+        let l = s.thickness(m);
+        Snapshot { eps: s.eps.clone(), p: s.p.clone(), film: &l + &s.gap(m), l }
     }
 }

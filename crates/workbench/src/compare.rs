@@ -293,6 +293,51 @@ impl Comparison {
         Ok(Some(f))
     }
 
+    /// Every model's snapshots at the plan's snapshot times, pressure and film along `y = 0`
+    /// overlaid (the seed's Figs. 6 and 10 with every model); `None` without snapshots. Films
+    /// above three times the largest central film of any snapshot are the open gap: left off.
+    fn snapshot_figure(&self, dir: &Path, note: &str) -> Result<Option<PathBuf>> {
+        let ok: Vec<(String, &dyn Outcome)> = self
+            .entries
+            .iter()
+            .filter_map(|e| e.outcome.as_ref().ok().map(|o| (e.name(), o.as_ref())))
+            .filter(|(_, o)| !o.snapshots().is_empty())
+            .collect();
+        let Some((_, first)) = ok.first() else { return Ok(None) };
+        let (g, sc) = (first.grid().clone(), first.scales());
+        let (j, jc) = (g.row_nearest(0.0), g.col_nearest(0.0));
+        let nm = sc.delta * 1e9;
+        let cap = 3.0
+            * ok.iter()
+                .flat_map(|(_, o)| o.snapshots().into_iter().map(move |s| s.2[[j, jc]]))
+                .fold(0.0, f64::max)
+            * nm;
+        // A pair of panels per model (pressure, film), one series per snapshot time.
+        let mut panels = vec![];
+        for (name, o) in &ok {
+            let (mut pressures, mut films) = (vec![], vec![]);
+            for (t, p, h) in o.snapshots() {
+                let label = format!("t = {t:.4} s");
+                let line = |a: &ndarray::Array2<f64>, k: f64| -> Vec<(f64, f64)> {
+                    g.xs().iter().zip(a.row(j).iter()).map(|(&x, &v)| (x, v * k)).collect()
+                };
+                pressures.push(Series::new(label.clone(), line(p, 1.0), Mark::Line));
+                let film = line(&h, nm).into_iter().filter(|v| v.1 <= cap).collect();
+                films.push(Series::new(label, film, Mark::Line));
+            }
+            panels.push(Panel::new(
+                &format!("{name}: pressure along y = 0"),
+                "x / a",
+                "p / p_h",
+                pressures,
+            ));
+            panels.push(Panel::new(&format!("{name}: film along y = 0"), "x / a", "h [nm]", films));
+        }
+        let f = dir.join("comparison_snapshots.png");
+        plot::charts(&f, &panels, note)?;
+        Ok(Some(f))
+    }
+
     /// After a stop: central and minimum film against the time since the surfaces stopped, on
     /// log axes (the seed's Fig. 9 read as a decay), while they rest; `None` when the motion
     /// never rests after rolling.
@@ -415,6 +460,7 @@ impl Comparison {
         let mut files = vec![centre];
         files.extend(self.history_figure(dir, &note)?);
         files.extend(self.squeeze_figure(dir, &note)?);
+        files.extend(self.snapshot_figure(dir, &note)?);
         // The first two lubricated models in the scene's order (the seed's: layer − Reynolds).
         let wet: Vec<&(String, &dyn Outcome)> = ok.iter().filter(|(_, o)| o.lubricated()).collect();
         if let [(name_a, a), (name_b, b), ..] = wet.as_slice() {

@@ -378,12 +378,18 @@ pub fn drive<T: Transient>(
             },
         };
         phase_steps += 1;
-        // Into the next phase once this one's end is reached: within half the step just taken
-        // (a sum of a million equal steps misses the end by more than a relative 1e-12, never
-        // by half a step).
+        // Into the next phase once this one's end is reached: fixed steps within half the step
+        // just taken (a sum of a million equal steps misses the end by more than a relative
+        // 1e-12, never by half a step); controlled steps land on it. (Half a controlled step
+        // short counted as reached too, and a rest of 50 ms ended 1–3 ms early.)
         let t_now = elapsed(model);
         let reached = |end: f64| t_now >= end - 0.5 * (t_now - t);
-        if phase + 1 < plan.phases.len() && reached(plan.phases[phase].t1_s) {
+        let landed = |end: f64| t_now >= end - 1e-12 * end.abs().max(1e-300);
+        let phase_over = |ph: &Phase| match ph.steps {
+            Steps::Fixed { .. } => reached(ph.t1_s),
+            Steps::Controlled { .. } => landed(ph.t1_s),
+        };
+        if phase + 1 < plan.phases.len() && phase_over(&plan.phases[phase]) {
             phase += 1;
             phase_steps = 0;
             dt_next = first_dt(&plan.phases[phase]);
@@ -595,6 +601,39 @@ mod tests {
         let mut stuck = Relax { can_save: false, ..Relax::new(3.0) };
         let e = drive(&mut stuck, &p, &mut |_| {}).unwrap_err();
         assert!(format!("{e:#}").contains("return to its last state"), "{e:#}");
+    }
+
+    #[test]
+    fn controlled_steps_end_their_phase_on_its_end_not_half_a_step_short() {
+        // Error control up to t = 1, then equal steps of 0.1: the rest must last until 1
+        // exactly (half a controlled step short used to count as the end: a rest of 50 ms
+        // ended 1–3 ms early).
+        let p = Plan {
+            phases: vec![
+                Phase {
+                    t0_s: 0.0,
+                    t1_s: 1.0,
+                    steps: Steps::Controlled { dt0_s: 0.01, tolerance: 1e-3, order: 2.0 },
+                },
+                Phase { t0_s: 1.0, t1_s: f64::INFINITY, steps: Steps::Fixed { dt_s: 0.1 } },
+            ],
+            max_time_s: Some(1.5),
+            ..plan(Steps::Fixed { dt_s: 0.1 })
+        };
+        let mut m = Relax::new(1.0);
+        drive(&mut m, &p, &mut |_| {}).unwrap();
+        let mut t = 0.0;
+        let times: Vec<f64> = m
+            .steps_seen
+            .iter()
+            .map(|d| {
+                t += d;
+                t
+            })
+            .collect();
+        let k = times.iter().position(|&t| t >= 1.0 - 1e-12).unwrap();
+        assert!((times[k] - 1.0).abs() < 1e-12, "the rest ended at {}", times[k]);
+        assert!(m.steps_seen[k + 1..].iter().all(|&d| d == 0.1), "{:?}", &m.steps_seen[k..]);
     }
 
     #[test]

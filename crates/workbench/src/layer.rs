@@ -180,6 +180,10 @@ impl Outcome for LayerOutcome {
     fn history(&self) -> Option<&[(f64, Observables)]> {
         self.record.as_ref().map(|r| r.observed.as_slice())
     }
+    fn snapshots(&self) -> Vec<(f64, &Array2<f64>, Array2<f64>)> {
+        let Some(rec) = &self.record else { return vec![] };
+        rec.snapshots.iter().map(|(t, sn)| (*t, &sn.p, sn.film.clone())).collect()
+    }
     fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
         LayerOutcome::figures(self, dir, prefix)
     }

@@ -98,6 +98,11 @@ pub trait Outcome: AsAny + Send + 'static {
     fn history(&self) -> Option<&[(f64, Observables)]> {
         None
     }
+    /// A run in time's snapshots: the time [s], pressure `P` [p_h] and film [a²/R] at each
+    /// (what a comparison overlays at the same times).
+    fn snapshots(&self) -> Vec<(f64, &Array2<f64>, Array2<f64>)> {
+        vec![]
+    }
     /// Its own figures, written into `dir` with `prefix`; the files written.
     fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>;
     /// The terminal report.

@@ -206,6 +206,10 @@ impl Outcome for ReynoldsOutcome {
     fn history(&self) -> Option<&[(f64, Observables)]> {
         self.transient.as_ref().map(|t| t.observed.as_slice())
     }
+    fn snapshots(&self) -> Vec<(f64, &Array2<f64>, Array2<f64>)> {
+        let Some(t) = &self.transient else { return vec![] };
+        t.snapshots.iter().map(|(ts, _, p, h)| (*ts, p, h.clone())).collect()
+    }
     fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
         ReynoldsOutcome::figures(self, dir, prefix)
     }
