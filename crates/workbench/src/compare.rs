@@ -304,7 +304,7 @@ impl Comparison {
             .filter(|(_, o)| !o.snapshots().is_empty())
             .collect();
         let Some((_, first)) = ok.first() else { return Ok(None) };
-        let (g, sc) = (first.grid().clone(), first.scales());
+        let (g, sc) = (*first.grid(), first.scales());
         let (j, jc) = (g.row_nearest(0.0), g.col_nearest(0.0));
         let nm = sc.delta * 1e9;
         let cap = 3.0
