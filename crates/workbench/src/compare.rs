@@ -248,14 +248,18 @@ impl Comparison {
         any.then_some(s)
     }
 
+    /// Every model that ran in time, by name, with its history (time [s], observables).
+    fn histories(&self) -> Vec<(String, &[(f64, ehl_core::Observables)])> {
+        self.entries
+            .iter()
+            .filter_map(|e| Some((e.name(), e.outcome.as_ref().ok()?.history()?)))
+            .collect()
+    }
+
     /// Central and minimum film and maximum pressure against time, every model that ran in time.
     fn history_figure(&self, dir: &Path, note: &str) -> Result<Option<PathBuf>> {
         let p_h = self.scales().p_h;
-        let runs: Vec<(String, &[(f64, ehl_core::Observables)])> = self
-            .entries
-            .iter()
-            .filter_map(|e| Some((e.name(), e.outcome.as_ref().ok()?.history()?)))
-            .collect();
+        let runs = self.histories();
         if runs.is_empty() {
             return Ok(None);
         }
@@ -297,32 +301,33 @@ impl Comparison {
     /// overlaid (the seed's Figs. 6 and 10 with every model); `None` without snapshots. Films
     /// above three times the largest central film of any snapshot are the open gap: left off.
     fn snapshot_figure(&self, dir: &Path, note: &str) -> Result<Option<PathBuf>> {
-        let ok: Vec<(String, &dyn Outcome)> = self
+        // Each model's snapshots, taken once (they copy their films).
+        let models: Vec<(String, &dyn Outcome, Vec<_>)> = self
             .entries
             .iter()
             .filter_map(|e| e.outcome.as_ref().ok().map(|o| (e.name(), o.as_ref())))
-            .filter(|(_, o)| !o.snapshots().is_empty())
+            .map(|(name, o)| (name, o, o.snapshots()))
+            .filter(|m| !m.2.is_empty())
             .collect();
-        let Some((_, first)) = ok.first() else { return Ok(None) };
+        let Some((_, first, _)) = models.first() else { return Ok(None) };
         let (g, sc) = (*first.grid(), first.scales());
         let (j, jc) = (g.row_nearest(0.0), g.col_nearest(0.0));
         let nm = sc.delta * 1e9;
         let cap = 3.0
-            * ok.iter()
-                .flat_map(|(_, o)| o.snapshots().into_iter().map(move |s| s.2[[j, jc]]))
-                .fold(0.0, f64::max)
+            * models.iter().flat_map(|m| m.2.iter().map(|s| s.2[[j, jc]])).fold(0.0, f64::max)
             * nm;
+        let xs = g.xs();
+        let line = |a: &ndarray::Array2<f64>, k: f64| -> Vec<(f64, f64)> {
+            xs.iter().zip(a.row(j).iter()).map(|(&x, &v)| (x, v * k)).collect()
+        };
         // A pair of panels per model (pressure, film), one series per snapshot time.
         let mut panels = vec![];
-        for (name, o) in &ok {
+        for (name, _, snaps) in &models {
             let (mut pressures, mut films) = (vec![], vec![]);
-            for (t, p, h) in o.snapshots() {
+            for (t, p, h) in snaps {
                 let label = format!("t = {t:.4} s");
-                let line = |a: &ndarray::Array2<f64>, k: f64| -> Vec<(f64, f64)> {
-                    g.xs().iter().zip(a.row(j).iter()).map(|(&x, &v)| (x, v * k)).collect()
-                };
                 pressures.push(Series::new(label.clone(), line(p, 1.0), Mark::Line));
-                let film = line(&h, nm).into_iter().filter(|v| v.1 <= cap).collect();
+                let film = line(h, nm).into_iter().filter(|v| v.1 <= cap).collect();
                 films.push(Series::new(label, film, Mark::Line));
             }
             panels.push(Panel::new(
@@ -345,11 +350,7 @@ impl Comparison {
         let Some(run) = &self.scene.run else { return Ok(None) };
         let u = self.scene.conditions.rolling_velocity_m_s.unwrap_or(0.0);
         let Ok(motion) = run.kinematics(u) else { return Ok(None) };
-        let runs: Vec<(String, &[(f64, ehl_core::Observables)])> = self
-            .entries
-            .iter()
-            .filter_map(|e| Some((e.name(), e.outcome.as_ref().ok()?.history()?)))
-            .collect();
+        let runs = self.histories();
         // The stop: the first recorded time at rest (the state just as the surfaces stop).
         let Some(t_stop) =
             runs.first().and_then(|(_, h)| h.iter().map(|p| p.0).find(|&t| motion.speed(t) == 0.0))

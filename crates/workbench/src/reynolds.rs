@@ -76,16 +76,15 @@ pub struct TransientRecord {
     /// Whether features pass (the histories and snapshots are then told by position, else by
     /// time).
     pub passing: bool,
-    /// Time step [s] and in units of `a/u_m`.
     /// The standard observables after every step (time [s]).
     pub observed: Vec<(f64, Observables)>,
-    /// The step [s].
+    /// The first phase's step [s] (equal steps), or the first step error control tries.
     pub dt_s: f64,
     /// The step in the time unit `a/u_ref`.
     pub dt_a: f64,
     /// Wall time of the march [s].
     pub wall_time_s: f64,
-    /// Steps error control rejected, and the smallest and largest step taken [s].
+    /// Steps error control rejected (or retried after a failed solve).
     pub rejected_steps: usize,
     /// `(smallest, largest)` step [s].
     pub dt_range: (f64, f64),
@@ -247,11 +246,17 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
         let h_oil = sup.thickness_m / prm.scales.delta;
         solver.set_supply(Some(&|_| h_oil));
     }
-    // A march starts from the steady state at the speed before its motion starts.
-    if let Some(r) = run {
-        let motion = r.kinematics(0.5 * u_sum).within(|| format!("scene `{}`", scene.name))?;
-        solver.set_speed(motion.speed_before() / motion.reference_speed());
-    }
+    // A march's motion, on the mean velocity (under pure rolling a dent on the ball moves at
+    // it: the reference speed of the solver's scales, `λ̄` and the time unit `a/u_m`); it
+    // starts from the steady state at the speed before its motion starts.
+    let motion = match run {
+        Some(r) => {
+            let m = r.kinematics(0.5 * u_sum).within(|| format!("scene `{}`", scene.name))?;
+            solver.set_speed(m.speed_before() / m.reference_speed());
+            Some(m)
+        }
+        None => None,
+    };
     let setup_time_s = t0.elapsed().as_secs_f64();
     let spin = crate::progress::spinner("reynolds");
     // Nothing is written for a solve that did not converge: its error says what happened.
@@ -267,7 +272,10 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     let formulas =
         (hamrock_dowson_central(&contact, &lub, 0.5 * u_sum), nvm_central(&contact, &lub, u_sum));
     let transient = match run {
-        Some(r) => Some(run_transient(scene, r, &prm, &mut solver, dents, view.supply.clone())?),
+        Some(r) => {
+            let motion = motion.expect("built with the run");
+            Some(run_transient(scene, r, motion, &prm, &mut solver, dents, view.supply.clone())?)
+        }
         None => None,
     };
     let (fp, ff) = (solver.pressure(), solver.film());
@@ -421,17 +429,14 @@ impl Transient for ReynoldsMarch<'_> {
 fn run_transient(
     scene: &Scene,
     run: &ehl_scene::RunSpec,
+    motion: Kinematics,
     prm: &ReynoldsParams,
     solver: &mut ReynoldsSolver,
     dents: Vec<Dent>,
     supply: Option<ehl_core::Supply>,
 ) -> Result<TransientRecord> {
     let s = prm.scales;
-    let (_, u_sum) = scene.reynolds_conditions();
-    // Under pure rolling a dent on the ball moves at the mean velocity, the reference speed of
-    // the solver's scales (`λ̄`, the time unit `a/u_m`).
-    let u_m = 0.5 * u_sum;
-    let motion = run.kinematics(u_m).within(|| format!("scene `{}`", scene.name))?;
+    let u_m = motion.reference_speed();
     let g = solver.grid();
     // While the surfaces roll, steps per cell at the speed; at rest, error control from a
     // first step of one cell's transit at the reference speed (backward Euler: local error
