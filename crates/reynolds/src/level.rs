@@ -69,6 +69,9 @@ pub struct RelaxSettings {
     /// around the boundaries between full and partly filled gap (the menisci). 4 halved the
     /// cycles with 10 nm supplied on the seed's contact (257²: 47 → 21); 8 diverged with 5 nm.
     pub meniscus_passes: usize,
+    /// Mass conserving: after each sweep, a pass of line relaxation along the columns
+    /// ([`Level::relax_columns`] says why).
+    pub column_pass: bool,
     /// Mass conserving: points whose Poiseuille diagonal exceeds this many times the wedge's
     /// take full Gauss–Seidel steps (0: none).
     pub poiseuille_full_step: f64,
@@ -83,6 +86,7 @@ impl Default for RelaxSettings {
             omega_jd: 0.3,
             coefficient_lag: 0.0,
             meniscus_passes: 4,
+            column_pass: true,
             poiseuille_full_step: 30.0,
         }
     }
@@ -662,7 +666,9 @@ impl Level {
         });
         self.update_film(h00);
         if self.mass_conserving() && self.theta_free {
-            self.relax_columns(prm, h00, s);
+            if s.column_pass {
+                self.relax_columns(prm, h00, s);
+            }
             self.relax_menisci(prm, h00, s);
         }
         if self.lagged {

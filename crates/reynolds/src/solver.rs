@@ -87,6 +87,13 @@ pub struct ReynoldsSettings {
     /// dent passing `M = 20, L = 10` (129², one step a cell) 3.70 against 3.92. The answers
     /// differ within the step's tolerances (the dent's peak pressure by 2e-4).
     pub extrapolated_start: bool,
+    /// Mass conserving, in a time step: the steady solve's extra passes of the relaxation, along
+    /// the columns and around the menisci ([`RelaxSettings::column_pass`],
+    /// [`RelaxSettings::meniscus_passes`]). A steady solve needs them to move its menisci from
+    /// the start to where they settle, many cells; a step starts one step from its answer, and
+    /// without them (the default) it costs half as much and ends no further from the fully
+    /// converged march (measured in `docs/reynolds.md`, "Time steps without the extra passes").
+    pub step_extra_passes: bool,
     /// The line relaxation's settings.
     pub relax: RelaxSettings,
     /// When a steady solve stops.
@@ -127,6 +134,7 @@ impl Default for ReynoldsSettings {
             fallback_lag: 0.2,
             time_scheme: TimeScheme::Bdf1,
             extrapolated_start: true,
+            step_extra_passes: false,
             relax: RelaxSettings::default(),
             stop: StopRule::Strict,
         }
@@ -615,7 +623,11 @@ impl ReynoldsSolver {
         // and force-balance gain; the laws as the steady solve left them (lagged or not).
         // The settings as they are now (a caller may change them between steps), with the
         // relaxation (the laws' lag) as the steady solve left it.
-        let (s, relax) = (self.settings, self.active.relax);
+        let (s, mut relax) = (self.settings, self.active.relax);
+        if !s.step_extra_passes {
+            relax.meniscus_passes = 0;
+            relax.column_pass = false;
+        }
         self.active = ReynoldsSettings {
             fmg_cycles: 0,
             gamma: s.step_gamma,
