@@ -337,6 +337,7 @@ fn steps(max: usize) -> Result<std::path::PathBuf> {
             }
         }
     }
+    let passage = dent_passage(max.min(257), prm)?;
     crate::measured::write(
         "bench-steps",
         "Reynolds time steps in the seed's regime",
@@ -345,7 +346,112 @@ fn steps(max: usize) -> Result<std::path::PathBuf> {
          the steady solve: 20 steps rolling at one step a cell, then 20 at rest after a sudden \
          stop (steps of one cell's transit at the rolling speed, 0.26 ms on 129², as error \
          control starts them); mean wall time and cycles a step. Issue 25's target: a step on \
-         257² in the seed's regime at 0.04 s.",
-        &[("Time steps", &t)],
+         257² in the seed's regime at 0.04 s. Second table: the seed's shallow dent (31 nm, \
+         W = 0.1 a) passing the contact fed 25 nm, at one step a cell from x = −1.25 a to 1.25 a, \
+         with each variant's largest deviation from the same march converged tightly (film \
+         1e-6 a cycle, load 1e-6 of its own, oil 1e-4) over the passage, relative to each \
+         quantity's largest value: what a step's stopping rule leaves, accumulated. The last \
+         row is the time discretisation's error for scale (two steps a cell against one, both \
+         tight).",
+        &[("Time steps", &t), ("A dent passage: speed against accuracy", &passage)],
     )
+}
+
+/// The seed's shallow dent passing the seed's contact fed 25 nm on `n`², one step a cell:
+/// the default steps, the steps with the steady solve's extra mass-conserving passes, and
+/// looser or tighter V-cycles, each against the tightly converged march.
+fn dent_passage(n: usize, prm: ehl_reynolds::ReynoldsParams) -> Result<crate::measured::Table> {
+    use ehl_reynolds::{ReynoldsSettings, ReynoldsSolver};
+    let grid = ehl_core::Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
+    let dent = ehl_core::Dent { depth_m: 31.25e-9, width_a: 0.1, x_start_a: -1.25, y_a: 0.0 };
+    let h_oil = 25e-9 / prm.scales.delta;
+    // One march: the central and minimum film and the pressure maximum after every cell's
+    // travel, the wall time and cycles a step.
+    // The steady start as `steady` solves it, the steps with `steps`.
+    let march = |steady: ReynoldsSettings,
+                 steps: ReynoldsSettings,
+                 per_cell: usize|
+     -> Result<(Vec<[f64; 3]>, f64, f64)> {
+        let mut s = ReynoldsSolver::new(grid, prm, steady);
+        s.set_supply(Some(&move |_y| h_oil));
+        s.solve(&mut |_| {}).map_err(|e| anyhow::anyhow!("steady solve: {e}"))?;
+        s.settings = steps;
+        let dt = grid.dx() / per_cell as f64;
+        let cells = (2.5 / grid.dx()).round() as usize;
+        let (clock, mut cycles, mut out) = (Instant::now(), 0, vec![]);
+        for k in 1..=cells * per_cell {
+            let xc = -1.25 + k as f64 * dt;
+            let delta = prm.scales.delta;
+            s.set_extra_gap(move |x, y| dent.gap(x, y, xc, delta));
+            cycles += s
+                .step(dt, &mut |_| {})
+                .map_err(|e| anyhow::anyhow!("step {k} (dent at {xc:.3} a): {e}"))?
+                .cycles;
+            if k % per_cell == 0 {
+                let (hc, hmin) = s.films();
+                let pmax = s.pressure().iter().cloned().fold(0.0, f64::max);
+                out.push([hc, hmin, pmax]);
+            }
+        }
+        let steps = (cells * per_cell) as f64;
+        Ok((out, clock.elapsed().as_secs_f64() / steps, cycles as f64 / steps))
+    };
+    let tight = ReynoldsSettings {
+        film_tolerance: 1e-6,
+        load_tolerance: 1e-8,
+        mass_tolerance: 1e-4,
+        ..ReynoldsSettings::default()
+    };
+    let (reference, _, _) = march(tight, tight, 1)?;
+    let deviation = |run: &[[f64; 3]], q: usize| {
+        let top = reference.iter().map(|r| r[q].abs()).fold(0.0, f64::max);
+        let d = run.iter().zip(&reference).map(|(a, b)| (a[q] - b[q]).abs()).fold(0.0, f64::max);
+        format!("{:.2} %", 100.0 * d / top)
+    };
+    let mut t = crate::measured::Table::new(&[
+        "steps",
+        "step [s]",
+        "cycles a step",
+        "central film",
+        "minimum film",
+        "pressure maximum",
+    ]);
+    let d = ReynoldsSettings::default();
+    let variants: [(&str, ReynoldsSettings, usize); 5] = [
+        ("default (no extra passes)", d, 1),
+        (
+            "with the steady solve's extra passes (before)",
+            ReynoldsSettings { step_extra_passes: true, ..d },
+            1,
+        ),
+        ("V(1,1)", ReynoldsSettings { pre_sweeps: 1, ..d }, 1),
+        ("V(2,2)", ReynoldsSettings { post_sweeps: 2, ..d }, 1),
+        ("tight, two steps a cell: the time error", tight, 2),
+    ];
+    for (name, settings, per_cell) in variants {
+        let steady = if per_cell > 1 { tight } else { d };
+        let row = match march(steady, settings, per_cell) {
+            Ok((run, step, cycles)) => {
+                println!("{n}² dent passage, {name}: {step:.3} s a step, {cycles:.2} cycles");
+                vec![
+                    name.to_string(),
+                    format!("{step:.3}"),
+                    format!("{cycles:.2}"),
+                    deviation(&run, 0),
+                    deviation(&run, 1),
+                    deviation(&run, 2),
+                ]
+            }
+            Err(e) => vec![
+                name.to_string(),
+                format!("failed: {e}"),
+                "".into(),
+                "".into(),
+                "".into(),
+                "".into(),
+            ],
+        };
+        t.rows.push(row);
+    }
+    Ok(t)
 }
