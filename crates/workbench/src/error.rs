@@ -63,6 +63,42 @@ pub enum Diagnosis {
     Plan(String),
 }
 
+impl Diagnosis {
+    /// The kind of failure in a word or two, what a map of many runs counts: `film closed`
+    /// (the lubricated solution broke down where the film went negative), `stalled`, `limit
+    /// cycle`, `diverged`, `cycle limit` (still converging when the iterations ran out),
+    /// `unstable` (explicit steps past their limit), `contact solve` (the dry contact solver's
+    /// own failure) or `refused` (a run that cannot be set up as asked).
+    pub fn class(&self) -> &'static str {
+        use ehl_layer::LayerError as L;
+        use ehl_reynolds::{FailureKind as K, ReynoldsError as R};
+        match self {
+            Diagnosis::Contact(_) | Diagnosis::Layer(L::Contact { .. }) => "contact solve",
+            Diagnosis::Layer(L::Unstable { .. }) => "unstable",
+            Diagnosis::Layer(L::Steady { trend, .. }) => {
+                if trend.starts_with("stalled") {
+                    "stalled"
+                } else if trend.starts_with("growing") {
+                    "diverged"
+                } else {
+                    "cycle limit"
+                }
+            }
+            Diagnosis::Reynolds(R::Diverged { .. }) => "diverged",
+            Diagnosis::Reynolds(R::NotConverged(r)) => match r.diagnosis.as_ref().map(|d| d.kind) {
+                Some(K::FilmClosed) => "film closed",
+                Some(K::LimitCycle) => "limit cycle",
+                Some(K::Stalled) => "stalled",
+                Some(K::CycleLimit) | None => "cycle limit",
+            },
+            Diagnosis::Layer(L::Setup(_))
+            | Diagnosis::Reynolds(R::NoSteadyStart)
+            | Diagnosis::Motion(_)
+            | Diagnosis::Plan(_) => "refused",
+        }
+    }
+}
+
 /// The workbench's result.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
@@ -87,6 +123,12 @@ impl Error {
             Error::Model { diagnosis, .. } => Some(diagnosis),
             _ => None,
         }
+    }
+
+    /// The kind of failure ([`Diagnosis::class`]); `other` for an error that is not a model's
+    /// (a file, a figure).
+    pub fn class(&self) -> &'static str {
+        self.diagnosis().map_or("other", Diagnosis::class)
     }
 }
 

@@ -439,6 +439,20 @@ pub struct CellPanel {
     pub log_colour: bool,
     /// Significant digits of the value printed in each cell.
     pub digits: usize,
+    /// Categories instead of values (a map of outcomes): per cell a label and its colour;
+    /// empty for a map of values.
+    pub labels: Vec<Vec<Option<(String, Category)>>>,
+}
+
+/// How a cell of a map of outcomes is coloured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Category {
+    /// Converged, checks passed.
+    Good,
+    /// Converged, flagged by a check.
+    Doubtful,
+    /// Failed.
+    Bad,
 }
 
 /// Maps over two sweep parameters, one cell per point with its value printed, side by side.
@@ -499,6 +513,24 @@ pub fn cell_maps(
             .label_style((FONT, 13))
             .axis_desc_style((FONT, 15))
             .draw()?;
+        for (j, row) in panel.labels.iter().enumerate() {
+            for (i, c) in row.iter().enumerate() {
+                let Some((label, category)) = c else { continue };
+                let (x, y) = (i as f64, j as f64);
+                let cell = [(x - 0.5, y - 0.5), (x + 0.5, y + 0.5)];
+                let fill = match category {
+                    Category::Good => RGBColor(120, 190, 120),
+                    Category::Doubtful => RGBColor(240, 200, 90),
+                    Category::Bad => RGBColor(220, 110, 100),
+                };
+                chart.draw_series(std::iter::once(Rectangle::new(cell, fill.filled())))?;
+                chart.draw_series(std::iter::once(Text::new(
+                    label.clone(),
+                    (x - 0.42, y + 0.1),
+                    (FONT, 12).into_font().color(&BLACK),
+                )))?;
+            }
+        }
         for (j, row) in panel.values.iter().enumerate() {
             for (i, v) in row.iter().enumerate() {
                 let (x, y) = (i as f64, j as f64);

@@ -6,7 +6,7 @@
 use super::{ModelRecord, Plan, PointRecord, records, write_atomic};
 use crate::compare::model_name;
 use crate::error::{Result, io, output};
-use crate::plot::{self, CellPanel, Mark, Panel, Series};
+use crate::plot::{self, Category, CellPanel, Mark, Panel, Series};
 use ehl_core::Observables;
 use ehl_reynolds::formulas;
 use ehl_scene::Model;
@@ -134,6 +134,7 @@ pub fn results_json(plan: &Plan, recs: &[PointRecord]) -> Value {
             "flag": format!("a change beyond {} (relative) or a check that failed", plan.sweep.flag_change_above),
             "wall_time_s": "one thread per point",
         },
+        "robustness": robustness(plan, recs),
         "points": points,
     })
 }
@@ -165,7 +166,117 @@ pub fn table(plan: &Plan, recs: &[PointRecord]) -> String {
         t.push('\n');
     }
     t += "  (* flagged: the grid or domain check moved it beyond the limit; failures and flags in results.csv)\n";
+    for r in robustness(plan, recs) {
+        t += &format!("  {r}\n");
+    }
     t
+}
+
+/// How one model fared over a sweep: points converged with their checks passed, converged but
+/// flagged, and failed, by the kind of failure.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Robustness {
+    /// Which model.
+    pub model: Model,
+    /// Converged, checks passed (or not run).
+    pub converged: usize,
+    /// Converged, flagged by a check.
+    pub flagged: usize,
+    /// Failed, by kind (`film closed`, `stalled`, …).
+    pub failed: std::collections::BTreeMap<String, usize>,
+}
+
+impl std::fmt::Display for Robustness {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let failed: usize = self.failed.values().sum();
+        write!(
+            f,
+            "{}: {} converged, {} flagged, {failed} failed",
+            model_name(self.model),
+            self.converged,
+            self.flagged
+        )?;
+        if failed > 0 {
+            let kinds: Vec<String> = self.failed.iter().map(|(k, n)| format!("{n} {k}")).collect();
+            write!(f, " ({})", kinds.join(", "))?;
+        }
+        Ok(())
+    }
+}
+
+/// Each model's [`Robustness`] over the sweep's points, in the scene's model order.
+pub fn robustness(plan: &Plan, recs: &[PointRecord]) -> Vec<Robustness> {
+    let models = plan.points.first().map(|p| p.scene.models()).unwrap_or_default();
+    models
+        .iter()
+        .enumerate()
+        .map(|(k, &model)| {
+            let mut r = Robustness { model, converged: 0, flagged: 0, failed: Default::default() };
+            for m in recs.iter().map(|p| &p.models[k]) {
+                match (&m.observables, &m.flag) {
+                    (Some(_), None) => r.converged += 1,
+                    (Some(_), Some(_)) => r.flagged += 1,
+                    (None, _) => {
+                        *r.failed.entry(m.failure.clone().unwrap_or("other".into())).or_default() +=
+                            1
+                    }
+                }
+            }
+            r
+        })
+        .collect()
+}
+
+/// A point's outcome for one model, as a map of outcomes shows it.
+fn outcome_cell(m: &ModelRecord) -> (String, Category) {
+    match (&m.observables, &m.flag) {
+        (Some(_), None) => ("converged".into(), Category::Good),
+        (Some(_), Some(_)) => ("flagged".into(), Category::Doubtful),
+        (None, _) => (m.failure.clone().unwrap_or("failed".into()), Category::Bad),
+    }
+}
+
+/// The map of outcomes (`sweep_robustness.png`): per model, each point converged, flagged or
+/// failed (the kind written in the cell), with the counts in the panel's title.
+fn robustness_chart(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
+    let axes = &ctx.plan.sweep.parameters;
+    let n0 = axes[0].values().len();
+    let n1 = axes.get(1).map_or(1, |a| a.values().len());
+    let ticks = |a: Option<&ehl_scene::Axis>| -> Vec<String> {
+        a.map_or(vec![String::new()], |a| a.values().iter().map(|v| format!("{v}")).collect())
+    };
+    let counts = robustness(ctx.plan, ctx.recs);
+    let panels: Vec<CellPanel> = counts
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            let mut labels = vec![vec![None; n0]; n1];
+            for (i, r) in ctx.recs.iter().enumerate() {
+                labels[i % n1][i / n1] = Some(outcome_cell(&r.models[k]));
+            }
+            CellPanel {
+                title: c.to_string(),
+                values: vec![],
+                outline: vec![],
+                log_colour: false,
+                digits: 0,
+                labels,
+            }
+        })
+        .collect();
+    let label = |a: &ehl_scene::Axis| format!("{} [{}]", a.parameter.name(), a.parameter.unit());
+    let yl = axes.get(1).map(label).unwrap_or_default();
+    put(files, ctx.dir, "sweep_robustness.png", &|f| {
+        plot::cell_maps(
+            f,
+            &panels,
+            &ticks(axes.first()),
+            &ticks(axes.get(1)),
+            &label(&axes[0]),
+            &yl,
+            &ctx.note,
+        )
+    })
 }
 
 /// The last part of a parameter's field name, for narrow columns.
@@ -311,6 +422,7 @@ fn charts(dir: &Path, plan: &Plan, recs: &[PointRecord]) -> Result<Vec<PathBuf>>
     } else {
         two_parameters(&ctx, &mut files)?;
     }
+    robustness_chart(&ctx, &mut files)?;
     Ok(files)
 }
 
@@ -514,6 +626,7 @@ fn two_parameters(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
             outline: agree.clone(),
             log_colour: false,
             digits: 3,
+            labels: vec![],
         });
     }
     // Every indicator of every model beside it, with the same outline.
@@ -531,6 +644,7 @@ fn two_parameters(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
                 outline: agree.clone(),
                 log_colour: ind.log_scale,
                 digits: 3,
+                labels: vec![],
             });
         }
     }
@@ -549,6 +663,7 @@ fn two_parameters(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
             outline: vec![vec![false; n0]; n1],
             log_colour: true,
             digits: 2,
+            labels: vec![],
         });
     }
     let xl = format!("{} [{}]", a0.parameter.name(), a0.parameter.unit());

@@ -57,8 +57,12 @@ pub struct ModelRecord {
     pub lubricated: bool,
     /// The standard observables (SI); `None` when the model failed.
     pub observables: Option<Observables>,
-    /// Why it failed, when it did.
+    /// Why it failed, when it did …
     pub diagnosis: Option<String>,
+    /// … and the kind of failure ([`crate::error::Diagnosis::class`]: `film closed`,
+    /// `stalled`, …), what a map counts.
+    #[serde(default)]
+    pub failure: Option<String>,
     /// The model's premise indicators ([`crate::model::Outcome::indicators`]).
     #[serde(default)]
     pub indicators: std::collections::BTreeMap<String, crate::model::Indicator>,
@@ -328,14 +332,16 @@ fn point_line(sweep: &Sweep, r: &PointRecord) -> String {
 /// What a point keeps of a model's answer: its observables, whether it is lubricated, its
 /// indicators.
 type Answer = (Observables, bool, std::collections::BTreeMap<String, crate::model::Indicator>);
+/// A model's failure: its diagnosis and the kind ([`crate::Error::class`]).
+type Failed = (String, &'static str);
 
 /// Runs one model on one scene in the current (single-thread) pool; a failure is its
 /// diagnosis (the models report failures as errors: nothing on their paths panics).
-fn run_model(scene: &Scene) -> (Result<Answer, String>, f64) {
+fn run_model(scene: &Scene) -> (Result<Answer, Failed>, f64) {
     let t0 = Instant::now();
     let out = crate::run::run_scene(scene)
         .map(|o| (o.observables(), o.lubricated(), o.indicators().into_iter().collect()))
-        .map_err(|e| format!("{e:#}"));
+        .map_err(|e| (format!("{e:#}"), e.class()));
     (out, t0.elapsed().as_secs_f64())
 }
 
@@ -354,14 +360,14 @@ fn changes(a: &Observables, b: &Observables, lubricated: bool) -> [Option<f64>; 
     ]
 }
 
-fn check_record(scene: &Scene, run: &Result<Answer, String>) -> CheckRecord {
+fn check_record(scene: &Scene, run: &Result<Answer, Failed>) -> CheckRecord {
     CheckRecord {
         nx: scene.grid.nx,
         ny: scene.grid.ny,
         x_a: scene.domain.x_a,
         y_a: scene.domain.y_a,
         observables: run.as_ref().ok().map(|r| r.0),
-        diagnosis: run.as_ref().err().cloned(),
+        diagnosis: run.as_ref().err().map(|e| e.0.clone()),
         change: None,
     }
 }
@@ -383,7 +389,8 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                     model: m,
                     lubricated: main.as_ref().is_ok_and(|r| r.1),
                     observables: main.as_ref().ok().map(|r| r.0),
-                    diagnosis: main.as_ref().err().cloned(),
+                    diagnosis: main.as_ref().err().map(|e| e.0.clone()),
+                    failure: main.as_ref().err().map(|e| e.1.to_string()),
                     indicators: main.as_ref().map(|r| r.2.clone()).unwrap_or_default(),
                     wall_time_s,
                     grid_check: None,
