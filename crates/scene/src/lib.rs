@@ -735,6 +735,7 @@ const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "hole-compare",
     "stop-compare",
     "stop-start-compare",
+    "rolling-from-squeezed-compare",
     "reynolds-m20-l10",
     "reynolds-m20-l10-dent",
     "reynolds-seed"
@@ -1068,9 +1069,9 @@ impl Scene {
         if r.method() == Method::March {
             ck.first_refusal(
                 &[
-                    (r.start != Some(StartState::SteadyRolling), "run.start", format!("{:?}", r.start), "steady-rolling"),
+                    (!matches!(r.start, Some(StartState::SteadyRolling | StartState::Squeezed)), "run.start", format!("{:?}", r.start), "steady-rolling or squeezed"),
                 ],
-                |allowed| format!("must be {allowed} for the Reynolds model (its march starts from its steady solve at the speed before the motion starts)"),
+                |allowed| format!("must be {allowed} for the Reynolds model (its march starts from its steady solve at the speed the motion starts with; squeezed: then stopped and left at rest until the squeeze is steady)"),
             )?;
         }
         let marching = self.run.as_ref().is_some_and(|r| r.method == Some(Method::March));

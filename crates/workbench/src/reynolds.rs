@@ -9,7 +9,7 @@ use ehl_core::observe::Observables;
 use ehl_core::{Dent, Grid, HertzScales, Kinematics, hertz};
 use ehl_reynolds::formulas::{hamrock_dowson_central, nvm_central};
 use ehl_reynolds::{ReynoldsParams, ReynoldsReport, ReynoldsSolver};
-use ehl_scene::{ReynoldsView, Scene};
+use ehl_scene::{ReynoldsView, Scene, StartState};
 use ndarray::{Array2, Zip};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -92,6 +92,9 @@ pub struct TransientRecord {
     pub finished: bool,
     /// Why it stopped, in words.
     pub stop_reason: String,
+    /// A squeezed start: how long the contact rested after steady rolling [s], in how many
+    /// steps, and why the rest ended.
+    pub squeezed_rest: Option<(f64, usize, String)>,
 }
 
 /// The registered Reynolds model.
@@ -252,7 +255,14 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     let motion = match run {
         Some(r) => {
             let m = r.kinematics(0.5 * u_sum).within(|| format!("scene `{}`", scene.name))?;
-            solver.set_speed(m.speed_before() / m.reference_speed());
+            // A squeezed start rolled at the scene's speed before it stopped; a steady-rolling
+            // one rolls at the speed before its motion starts.
+            let before = if r.start == Some(StartState::Squeezed) {
+                1.0
+            } else {
+                m.speed_before() / m.reference_speed()
+            };
+            solver.set_speed(before);
             Some(m)
         }
         None => None,
@@ -274,7 +284,13 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     let transient = match run {
         Some(r) => {
             let motion = motion.expect("built with the run");
-            Some(run_transient(scene, r, motion, &prm, &mut solver, dents, view.supply.clone())?)
+            let rest = (r.start == Some(StartState::Squeezed))
+                .then(|| squeeze_start(scene, r, u_sum, &prm, &mut solver, &dents, &view.supply))
+                .transpose()?;
+            let mut t =
+                run_transient(scene, r, motion, &prm, &mut solver, dents, view.supply.clone())?;
+            t.squeezed_rest = rest;
+            Some(t)
         }
         None => None,
     };
@@ -295,6 +311,47 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
         transient,
     })
 }
+
+/// The squeezed start: the steady solve at the speed the motion starts with (the surfaces
+/// rolled before they were squeezed), a sudden stop, and rest under the load until the squeeze
+/// is steady by the scene's own rule (its tolerance, its window in time), at most
+/// [`SQUEEZE_START_MAX_S`]: the Reynolds film's counterpart of the layer model's steady squeeze.
+/// The trapped film drains for as long as one waits (its lobes closed, the centre sealed), so
+/// "steady" is the scene's tolerance over its window, not a limit reached.
+fn squeeze_start(
+    scene: &Scene,
+    r: &ehl_scene::RunSpec,
+    u_sum: f64,
+    prm: &ReynoldsParams,
+    solver: &mut ReynoldsSolver,
+    dents: &[Dent],
+    supply: &Option<ehl_core::Supply>,
+) -> Result<(f64, usize, String)> {
+    let rest = ehl_scene::RunSpec {
+        start: Some(StartState::SteadyRolling),
+        motion: ehl_scene::Motion::Squeeze,
+        features: vec![],
+        snapshots_s: vec![],
+        snapshots_a: vec![],
+        stop: ehl_scene::StopSettings {
+            until_features_passed: false,
+            until_feature_at_a: None,
+            max_time_s: Some(SQUEEZE_START_MAX_S),
+            ..r.stop
+        },
+        ..r.clone()
+    };
+    let mut at_rest = scene.clone();
+    at_rest.run = Some(rest.clone());
+    let motion = rest.kinematics(0.5 * u_sum).within(|| format!("scene `{}`", scene.name))?;
+    let t = run_transient(&at_rest, &rest, motion, prm, solver, dents.to_vec(), supply.clone())
+        .within(|| "the squeezed start (at rest after steady rolling)".to_string())?;
+    Ok((t.observed.last().map_or(0.0, |o| o.0), t.rows.len().saturating_sub(1), t.stop_reason))
+}
+
+/// The longest rest a squeezed start takes [s]: the seed's time to its steady squeeze (Sect.
+/// 4.2, about 5 s).
+const SQUEEZE_START_MAX_S: f64 = 5.0;
 
 /// Puts the dents (depths in m) into the solver's rigid film with their centres moved by
 /// `travel` [a] from their start, in units of `a²/R`: the core's dent, the layer model's too.
@@ -504,6 +561,7 @@ fn run_transient(
         dt_range: rec.dt_range,
         finished: rec.finished,
         stop_reason: rec.stop_reason,
+        squeezed_rest: None,
     })
 }
 
@@ -583,6 +641,10 @@ impl ReynoldsOutcome {
                     "rejected_steps": t.rejected_steps,
                     "dt_range": [q(t.dt_range.0, "s"), q(t.dt_range.1, "s")],
                     "finished": t.finished, "stop_reason": t.stop_reason,
+                    "squeezed_start": t.squeezed_rest.as_ref().map(|(ts, n, why)| json!({
+                        "what": "steady rolling, a sudden stop, and rest under the load before the scene's motion",
+                        "rest": q(*ts, "s"), "steps": n, "ended": why,
+                    })),
                 })
             }),
         })
