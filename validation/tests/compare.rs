@@ -17,6 +17,18 @@ fn observables(c: &Comparison, m: Model) -> ehl_core::Observables {
     }
 }
 
+/// A built-in comparison run without figures, every model converged, and a model's history
+/// (time [s], observables after each step).
+fn run_marching(name: &str, model: Model) -> (Comparison, Vec<(f64, ehl_core::Observables)>) {
+    let mut scene = ehl_scene::builtin(name).unwrap();
+    scene.outputs.figures = false;
+    let c = compare::run(&scene);
+    assert!(c.all_converged(), "{}", c.table());
+    let e = c.entries.iter().find(|e| e.model == model).unwrap();
+    let h = e.outcome.as_ref().unwrap().history().expect("a run in time").to_vec();
+    (c, h)
+}
+
 /// `v` to `digits` significant figures, for snapshots of what the grid supports.
 fn sig(v: f64, digits: i32) -> String {
     if v == 0.0 {
@@ -284,12 +296,7 @@ fn after_a_stop_the_reynolds_film_traps_its_oil_while_the_layer_squeezes_out() {
 fn a_start_after_a_stop_refills_the_reynolds_contact_in_one_transit_and_ends_where_it_began() {
     // The built-in stop-start-compare (129², one step a cell): steady rolling, a stop at 5 ms,
     // 50 ms at rest, a sudden start back to 0.01 m/s, rolling until steady.
-    let mut scene = ehl_scene::builtin("stop-start-compare").unwrap();
-    scene.outputs.figures = false;
-    let c = compare::run(&scene);
-    assert!(c.all_converged(), "{}", c.table());
-    let e = c.entries.iter().find(|e| e.model == Model::Reynolds).unwrap();
-    let h = e.outcome.as_ref().unwrap().history().unwrap().to_vec();
+    let (c, h) = run_marching("stop-start-compare", Model::Reynolds);
     let (start, end) = (h[0].1, h.last().unwrap().1);
     // The steady rule ended it (not the time limit), at the steady solve it started from:
     // measured +0.05 % (central) and 0.0 % (minimum film). Bound 0.5 %: the steady rule's own
@@ -328,12 +335,7 @@ fn a_start_after_a_stop_refills_the_reynolds_contact_in_one_transit_and_ends_whe
 fn a_squeezed_start_traps_the_reynolds_oil_and_rolling_refills_it_in_one_transit() {
     // The built-in rolling-from-squeezed-compare (129², one step a cell): the Reynolds contact
     // rolled steadily, stopped and rested up to 5 s (its squeezed start), then rolls again.
-    let mut scene = ehl_scene::builtin("rolling-from-squeezed-compare").unwrap();
-    scene.outputs.figures = false;
-    let c = compare::run(&scene);
-    assert!(c.all_converged(), "{}", c.table());
-    let e = c.entries.iter().find(|e| e.model == Model::Reynolds).unwrap();
-    let h = e.outcome.as_ref().unwrap().history().unwrap().to_vec();
+    let (c, h) = run_marching("rolling-from-squeezed-compare", Model::Reynolds);
     let (start, end) = (h[0].1, h.last().unwrap().1);
     // The squeeze closed the side lobes (minimum film −2.8 nm at the start against 2.0 nm
     // rolling) and trapped the centre: 9.60 nm against the 9.64 nm it rolls at. A start that

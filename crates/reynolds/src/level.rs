@@ -70,7 +70,7 @@ pub struct RelaxSettings {
     /// cycles with 10 nm supplied on the seed's contact (257²: 47 → 21); 8 diverged with 5 nm.
     pub meniscus_passes: usize,
     /// Mass conserving: after each sweep, a pass of line relaxation along the columns
-    /// ([`Level::relax_columns`] says why).
+    /// (the column pass, `relax_columns`, says why).
     pub column_pass: bool,
     /// Mass conserving: points whose Poiseuille diagonal exceeds this many times the wedge's
     /// take full Gauss–Seidel steps (0: none).
