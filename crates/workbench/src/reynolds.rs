@@ -312,8 +312,8 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     })
 }
 
-/// The squeezed start: the steady solve at the speed the motion starts with (the surfaces
-/// rolled before they were squeezed), a sudden stop, and rest under the load until the squeeze
+/// The squeezed start: the steady solve at the scene's speed (the surfaces rolled before they
+/// were squeezed; the caller solved it), a sudden stop, and rest under the load until the squeeze
 /// is steady by the scene's own rule (its tolerance, its window in time), at most
 /// [`SQUEEZE_START_MAX_S`]: the Reynolds film's counterpart of the layer model's steady squeeze.
 /// The trapped film drains for as long as one waits (its lobes closed, the centre sealed), so
