@@ -52,6 +52,14 @@ pub struct ReynoldsSettings {
     /// stopped at 1.1e-6 (tolerance 1e-6) as the dent crossed `x = 0.87–0.92 a`, with 30
     /// coarsest-grid sweeps too; at 0.1 all 224 steps converge.
     pub step_h00_gain: f64,
+    /// The cycle limit of a time step. A step that has not converged by then fails, and error
+    /// control tries it shorter. Accepted steps take at most 14 cycles in every march measured
+    /// (the seed's stop on 257²: 844 steps, 2.1 a step; the dent passage: 9 at most). With the
+    /// steady limit (`max_cycles`) a failing step ran until the stall watch could judge it (81
+    /// cycles, mass conserving): on 257² the stop's 0.5 s at rest took 294 s, 0.34 s a step;
+    /// at 30, 152 s with the same steps and answer. (The rigid squeeze check, whose force
+    /// balance has a deliberately weak gain, sets its own.)
+    pub step_max_cycles: usize,
     /// Coarsest grid (points per side, at least).
     pub coarsest_points: usize,
     /// Converged when the central film changes by less than this (relative) per cycle …
@@ -124,6 +132,7 @@ impl Default for ReynoldsSettings {
             gamma: 2,
             step_gamma: 1,
             step_h00_gain: 0.1,
+            step_max_cycles: 30,
             coarsest_points: 17,
             film_tolerance: 1e-4,
             load_tolerance: 1e-6,
@@ -630,6 +639,7 @@ impl ReynoldsSolver {
         }
         self.active = ReynoldsSettings {
             fmg_cycles: 0,
+            max_cycles: s.step_max_cycles,
             gamma: s.step_gamma,
             h00_gain: s.step_h00_gain,
             relax,

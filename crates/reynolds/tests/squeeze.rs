@@ -54,6 +54,8 @@ fn squeeze(n: usize) -> Vec<f64> {
         // The coarsest grid must hold the pressure zone (`√(2H)` wide, 0.2 a at the end).
         coarsest_points: 33,
         max_cycles: 400,
+        // Its steps converge slowly under the weak force-balance gain below: the same limit.
+        step_max_cycles: 400,
         ..Default::default()
     };
     let mut s = ReynoldsSolver::new(Grid::square(n, EDGE + 0.25), prm, settings);
