@@ -1,7 +1,7 @@
 //! Timings of the contact core: deformation apply, dry solve from a flat start, warm-started
 //! solves after a small change of the gap (what the layer model does every time step).
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use ehl_core::dry::extrapolate;
 use ehl_core::{DryProblem, DrySettings, DrySolver, Grid, Start};
 use ndarray::Array2;
@@ -349,7 +349,7 @@ fn steps(max: usize) -> Result<std::path::PathBuf> {
          257² in the seed's regime at 0.04 s. Second table: the seed's shallow dent (31 nm, \
          W = 0.1 a) passing the contact fed 25 nm, at one step a cell from x = −1.25 a to 1.25 a, \
          with each variant's largest deviation from the same march converged tightly (film \
-         1e-6 a cycle, load 1e-6 of its own, oil 1e-4) over the passage, relative to each \
+         1e-6 a cycle, load 1e-8, oil 1e-4) over the passage, relative to each \
          quantity's largest value: what a step's stopping rule leaves, accumulated. The last \
          row is the time discretisation's error for scale (two steps a cell against one, both \
          tight).",
@@ -359,15 +359,18 @@ fn steps(max: usize) -> Result<std::path::PathBuf> {
 
 /// The seed's shallow dent passing the seed's contact fed 25 nm on `n`², one step a cell:
 /// the default steps, the steps with the steady solve's extra mass-conserving passes, and
-/// looser or tighter V-cycles, each against the tightly converged march.
+/// looser or tighter V-cycles, each against the tightly converged march. The dent and the
+/// supply are `dent-shallow-compare`'s.
 fn dent_passage(n: usize, prm: ehl_reynolds::ReynoldsParams) -> Result<crate::measured::Table> {
     use ehl_reynolds::{ReynoldsSettings, ReynoldsSolver};
     let grid = ehl_core::Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
-    let dent = ehl_core::Dent { depth_m: 31.25e-9, width_a: 0.1, x_start_a: -1.25, y_a: 0.0 };
-    let h_oil = 25e-9 / prm.scales.delta;
-    // One march: the central and minimum film and the pressure maximum after every cell's
-    // travel, the wall time and cycles a step.
-    // The steady start as `steady` solves it, the steps with `steps`.
+    let scene = ehl_scene::builtin("dent-shallow-compare")?;
+    let dent = scene.dents()?[0];
+    let supply = scene.supply.as_ref().context("dent-shallow-compare has a supply")?;
+    let h_oil = supply.thickness_m / prm.scales.delta;
+    // One march, its steady start solved with `steady` and its steps with `steps`: the central
+    // and minimum film and the pressure maximum after every cell's travel, the wall time and
+    // cycles a step.
     let march = |steady: ReynoldsSettings,
                  steps: ReynoldsSettings,
                  per_cell: usize|
@@ -380,7 +383,7 @@ fn dent_passage(n: usize, prm: ehl_reynolds::ReynoldsParams) -> Result<crate::me
         let cells = (2.5 / grid.dx()).round() as usize;
         let (clock, mut cycles, mut out) = (Instant::now(), 0, vec![]);
         for k in 1..=cells * per_cell {
-            let xc = -1.25 + k as f64 * dt;
+            let xc = dent.x_start_a + k as f64 * dt;
             let delta = prm.scales.delta;
             s.set_extra_gap(move |x, y| dent.gap(x, y, xc, delta));
             cycles += s

@@ -29,7 +29,7 @@
 //! Coarser grids are solved first and interpolated up (nested iteration).
 
 use crate::model::{LayerModel, LayerState};
-use crate::stepper::LayerError;
+use crate::stepper::{LayerError, SteadyFailure};
 use ehl_core::grid::prolong;
 use ehl_core::{Start, check_finite};
 use ndarray::{Array2, Zip};
@@ -232,20 +232,25 @@ pub fn rolling_steady(
         }
         (p, eps, sub) = (p_loc, eps_loc, sub_loc);
         if it >= settings.max_iterations || stalled(&report.history) {
+            let (kind, trend) = if it < settings.max_iterations {
+                (
+                    SteadyFailure::Stalled,
+                    format!(
+                        "stalled: no mismatch below the best so far ({:.2e}) in the last {STALL_WINDOW} iterations",
+                        report.history.iter().cloned().fold(f64::INFINITY, f64::min)
+                    ),
+                )
+            } else {
+                trend(&report.history)
+            };
             return Err(LayerError::Steady {
                 iteration: it,
                 residual: worst,
                 tolerance: settings.strain_tolerance,
                 x: m.grid.x(at.1),
                 y: m.grid.y(at.0),
-                trend: if it < settings.max_iterations {
-                    format!(
-                        "stalled: no mismatch below the best so far ({:.2e}) in the last {STALL_WINDOW} iterations",
-                        report.history.iter().cloned().fold(f64::INFINITY, f64::min)
-                    )
-                } else {
-                    trend(&report.history)
-                },
+                trend,
+                kind,
             });
         }
     };
@@ -283,22 +288,32 @@ fn stalled(history: &[f64]) -> bool {
     }
 }
 
-/// How the strain mismatch behaved over the last iterations, for a diagnosis.
-fn trend(history: &[f64]) -> String {
+/// How the strain mismatch behaved over the last iterations, for a diagnosis: the kind and
+/// the words.
+fn trend(history: &[f64]) -> (SteadyFailure, String) {
     let n = history.len();
     if n < 10 {
-        return "too few iterations to judge".into();
+        return (SteadyFailure::IterationLimit, "too few iterations to judge".into());
     }
     let (old, new) = (history[n - 10], history[n - 1]);
     if new > old {
-        format!(
-            "growing over the last 10 iterations ({old:.2e} -> {new:.2e}): the iteration diverges"
+        (
+            SteadyFailure::Diverging,
+            format!(
+                "growing over the last 10 iterations ({old:.2e} -> {new:.2e}): the iteration diverges"
+            ),
         )
     } else if new > 0.5 * old {
-        format!("stalled over the last 10 iterations ({old:.2e} -> {new:.2e})")
+        (
+            SteadyFailure::Stalled,
+            format!("stalled over the last 10 iterations ({old:.2e} -> {new:.2e})"),
+        )
     } else {
-        format!(
-            "still falling ({old:.2e} -> {new:.2e} over the last 10 iterations): allow more iterations"
+        (
+            SteadyFailure::IterationLimit,
+            format!(
+                "still falling ({old:.2e} -> {new:.2e} over the last 10 iterations): allow more iterations"
+            ),
         )
     }
 }
@@ -554,6 +569,7 @@ mod tests {
         let ramp = |from: f64, to: f64| -> Vec<f64> {
             (0..12).map(|k| from * (to / from).powf(k as f64 / 11.0)).collect()
         };
+        let trend = |h: &[f64]| trend(h).1;
         assert!(trend(&[1e-3; 9]).contains("too few"));
         assert!(trend(&ramp(1e-4, 1e-3)).contains("diverges"), "{}", trend(&ramp(1e-4, 1e-3)));
         assert!(trend(&ramp(1e-3, 8e-4)).contains("stalled"), "{}", trend(&ramp(1e-3, 8e-4)));

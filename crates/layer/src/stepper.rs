@@ -77,12 +77,25 @@ pub enum LayerError {
         x: f64,
         /// Where: `y` [a].
         y: f64,
-        /// What the recent iterations did (stall, slow, cycle).
+        /// What the recent iterations did (stall, slow, cycle) …
         trend: String,
+        /// … and that as a kind, for whoever counts failures.
+        kind: SteadyFailure,
     },
     #[error("{0}")]
     /// A model that cannot be run as asked (no rolling, a feature in a steady solve).
     Setup(String),
+}
+
+/// How a direct steady solve failed to converge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SteadyFailure {
+    /// No new best mismatch over the stall window, or flat over the last iterations.
+    Stalled,
+    /// The mismatch grows.
+    Diverging,
+    /// Still falling (or too few iterations to judge) when the limit came.
+    IterationLimit,
 }
 
 /// What one step cost, and its error estimate where the scheme gives one.

@@ -75,15 +75,11 @@ impl Diagnosis {
         match self {
             Diagnosis::Contact(_) | Diagnosis::Layer(L::Contact { .. }) => "contact solve",
             Diagnosis::Layer(L::Unstable { .. }) => "unstable",
-            Diagnosis::Layer(L::Steady { trend, .. }) => {
-                if trend.starts_with("stalled") {
-                    "stalled"
-                } else if trend.starts_with("growing") {
-                    "diverged"
-                } else {
-                    "cycle limit"
-                }
-            }
+            Diagnosis::Layer(L::Steady { kind, .. }) => match kind {
+                ehl_layer::SteadyFailure::Stalled => "stalled",
+                ehl_layer::SteadyFailure::Diverging => "diverged",
+                ehl_layer::SteadyFailure::IterationLimit => "cycle limit",
+            },
             Diagnosis::Reynolds(R::Diverged { .. }) => "diverged",
             Diagnosis::Reynolds(R::NotConverged(r)) => match r.diagnosis.as_ref().map(|d| d.kind) {
                 Some(K::FilmClosed) => "film closed",

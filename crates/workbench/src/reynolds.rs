@@ -92,9 +92,19 @@ pub struct TransientRecord {
     pub finished: bool,
     /// Why it stopped, in words.
     pub stop_reason: String,
-    /// A squeezed start: how long the contact rested after steady rolling [s], in how many
-    /// steps, and why the rest ended.
-    pub squeezed_rest: Option<(f64, usize, String)>,
+    /// A squeezed start's rest, before the scene's motion.
+    pub squeezed_rest: Option<SqueezedRest>,
+}
+
+/// The rest of a squeezed start: steady rolling, a sudden stop, and rest under the load.
+#[derive(Clone, Debug)]
+pub struct SqueezedRest {
+    /// How long the contact rested [s] …
+    pub rest_s: f64,
+    /// … in how many steps …
+    pub steps: usize,
+    /// … and why the rest ended (steady, or the time limit).
+    pub ended: String,
 }
 
 /// The registered Reynolds model.
@@ -326,7 +336,7 @@ fn squeeze_start(
     solver: &mut ReynoldsSolver,
     dents: &[Dent],
     supply: &Option<ehl_core::Supply>,
-) -> Result<(f64, usize, String)> {
+) -> Result<SqueezedRest> {
     let rest = ehl_scene::RunSpec {
         start: Some(StartState::SteadyRolling),
         motion: ehl_scene::Motion::Squeeze,
@@ -346,7 +356,11 @@ fn squeeze_start(
     let motion = rest.kinematics(0.5 * u_sum).within(|| format!("scene `{}`", scene.name))?;
     let t = run_transient(&at_rest, &rest, motion, prm, solver, dents.to_vec(), supply.clone())
         .within(|| "the squeezed start (at rest after steady rolling)".to_string())?;
-    Ok((t.observed.last().map_or(0.0, |o| o.0), t.rows.len().saturating_sub(1), t.stop_reason))
+    Ok(SqueezedRest {
+        rest_s: t.observed.last().map_or(0.0, |o| o.0),
+        steps: t.rows.len().saturating_sub(1),
+        ended: t.stop_reason,
+    })
 }
 
 /// The longest rest a squeezed start takes [s]: the seed's time to its steady squeeze (Sect.
@@ -641,9 +655,9 @@ impl ReynoldsOutcome {
                     "rejected_steps": t.rejected_steps,
                     "dt_range": [q(t.dt_range.0, "s"), q(t.dt_range.1, "s")],
                     "finished": t.finished, "stop_reason": t.stop_reason,
-                    "squeezed_start": t.squeezed_rest.as_ref().map(|(ts, n, why)| json!({
+                    "squeezed_start": t.squeezed_rest.as_ref().map(|r| json!({
                         "what": "steady rolling, a sudden stop, and rest under the load before the scene's motion",
-                        "rest": q(*ts, "s"), "steps": n, "ended": why,
+                        "rest": q(r.rest_s, "s"), "steps": r.steps, "ended": r.ended,
                     })),
                 })
             }),
