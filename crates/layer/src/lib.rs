@@ -13,5 +13,7 @@ pub mod transport;
 pub use laws::{DamperReading, LawParameters, LawSet, ModulusLaw};
 pub use model::{LayerModel, LayerSpec, LayerState, Monitor, SEED_LAYER, SEED_SUPPLY_THICKNESS_M};
 pub use run::{Snapshot, SqueezeReport, squeeze_steady, uniform_state};
-pub use steady::{SteadyReport, SteadySettings, rolling_steady, strain_residual};
+pub use steady::{
+    CYCLE_BOUND, SteadyCycle, SteadyReport, SteadySettings, rolling_steady, strain_residual,
+};
 pub use stepper::{LayerError, Scheme, SteadyFailure, Stepper, stability_estimate};

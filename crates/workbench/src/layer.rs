@@ -147,6 +147,14 @@ impl ContactModel for Layer {
 }
 
 impl Outcome for LayerOutcome {
+    fn caveat(&self) -> Option<String> {
+        self.steady.as_ref().and_then(|r| r.cycle).map(|c| {
+            format!(
+                "steady solve settled on a cycle (strain mismatch up to {:.1e}, at x = {:.3} a, y = {:.3} a): over its last {} iterations the central film moved by {:.1e} and the maximum pressure by {:.1e} (relative)",
+                c.mismatch, c.at_a[0], c.at_a[1], c.window, c.central_film_spread, c.max_pressure_spread
+            )
+        })
+    }
     fn scene(&self) -> &Scene {
         &self.scene
     }
@@ -584,6 +592,9 @@ fn layer_report(o: &LayerOutcome) -> String {
             p.strain_residual,
             p.wall_time_s
         );
+    }
+    if let Some(c) = Outcome::caveat(o) {
+        let _ = writeln!(out, "  not converged: {c}");
     }
     if let Some(r) = &o.record {
         let _ = writeln!(

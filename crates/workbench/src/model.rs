@@ -72,6 +72,12 @@ pub trait Outcome: AsAny + Send + 'static {
     fn indicators(&self) -> Vec<(String, Indicator)> {
         vec![]
     }
+    /// Why the answer, though returned, is not converged to the solver's tolerance (a solve that
+    /// settled on a cycle, with how much the cycle moves the answer), for a sweep to flag and a
+    /// report to state; `None` when it converged.
+    fn caveat(&self) -> Option<String> {
+        None
+    }
     /// The contact and the rolling speed [m/s] the model ran (the scene's; the Reynolds
     /// model's Moes input resolves them).
     fn conditions_used(&self) -> (ehl_core::Contact, f64) {

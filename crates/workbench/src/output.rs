@@ -175,7 +175,7 @@ pub const SUMMARY_SCHEMA: &str = "ehl-summary/1";
 
 /// The keys of `summary.json` every model writes, in the same shape: what a reader can take
 /// from any model's summary without knowing which model wrote it.
-pub const SHARED_KEYS: [&str; 11] = [
+pub const SHARED_KEYS: [&str; 12] = [
     "schema",
     "scene",
     "model",
@@ -185,6 +185,7 @@ pub const SHARED_KEYS: [&str; 11] = [
     "grid",
     "observables",
     "indicators",
+    "caveat",
     "timings",
     "details",
 ];
@@ -220,6 +221,8 @@ pub fn summary(outcome: &dyn Outcome) -> Value {
         },
         "observables": serde_json::to_value(outcome.observables()).unwrap_or(Value::Null),
         "indicators": indicators,
+        // Why the answer is returned though not converged (`null` when converged).
+        "caveat": outcome.caveat(),
         "timings": {
             "total_wall_time": q(outcome.wall_time_s(), "s"),
             "threads": rayon::current_num_threads(),

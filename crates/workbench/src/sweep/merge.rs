@@ -165,7 +165,7 @@ pub fn table(plan: &Plan, recs: &[PointRecord]) -> String {
         }
         t.push('\n');
     }
-    t += "  (* flagged: the grid or domain check moved it beyond the limit; failures and flags in results.csv)\n";
+    t += "  (* flagged: the solver settled on a cycle, or the grid or domain check moved it beyond the limit; failures and flags in results.csv)\n";
     for r in robustness(plan, recs) {
         t += &format!("  {r}\n");
     }
@@ -455,11 +455,7 @@ fn one_parameter(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
                 .filter_map(|(r, mr)| obs(mr).map(|o| (r.values[0], o.central_film_m * 1e9)))
                 .collect();
             if !flagged.is_empty() {
-                hc.push(Series::new(
-                    format!("{name}: flagged (grid/domain)"),
-                    flagged,
-                    Mark::Points,
-                ));
+                hc.push(Series::new(format!("{name}: flagged"), flagged, Mark::Points));
             }
         }
         let failed: Vec<&(&PointRecord, &ModelRecord)> =

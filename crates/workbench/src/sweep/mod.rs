@@ -74,8 +74,9 @@ pub struct ModelRecord {
     pub domain_check: Option<CheckRecord>,
     /// Wall time of both checks [s].
     pub check_wall_time_s: f64,
-    /// Why the point's answer is not to be trusted as it stands (a check's change beyond the
-    /// sweep's limit, or a check that failed); `None` when both checks pass.
+    /// Why the point's answer is not to be trusted as it stands (the solver's caveat, a check's
+    /// change beyond the sweep's limit, or a check that failed); `None` when the solver
+    /// converged and both checks pass (or were not asked for).
     pub flag: Option<String>,
 }
 
@@ -331,7 +332,14 @@ fn point_line(sweep: &Sweep, r: &PointRecord) -> String {
 
 /// What a point keeps of a model's answer: its observables, whether it is lubricated, its
 /// indicators.
-type Answer = (Observables, bool, std::collections::BTreeMap<String, crate::model::Indicator>);
+/// A model's answer: its observables, whether it is lubricated, its indicators, and its caveat
+/// ([`crate::model::Outcome::caveat`]).
+type Answer = (
+    Observables,
+    bool,
+    std::collections::BTreeMap<String, crate::model::Indicator>,
+    Option<String>,
+);
 /// A model's failure: its diagnosis and the kind ([`crate::Error::class`]).
 type Failed = (String, &'static str);
 
@@ -340,7 +348,9 @@ type Failed = (String, &'static str);
 fn run_model(scene: &Scene) -> (Result<Answer, Failed>, f64) {
     let t0 = Instant::now();
     let out = crate::run::run_scene(scene)
-        .map(|o| (o.observables(), o.lubricated(), o.indicators().into_iter().collect()))
+        .map(|o| {
+            (o.observables(), o.lubricated(), o.indicators().into_iter().collect(), o.caveat())
+        })
         .map_err(|e| (format!("{e:#}"), e.class()));
     (out, t0.elapsed().as_secs_f64())
 }
@@ -398,7 +408,8 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                     check_wall_time_s: 0.0,
                     flag: None,
                 };
-                if let Ok((ob, lub, _)) = &main
+                let caveat = main.as_ref().ok().and_then(|r| r.3.clone());
+                if let Ok((ob, lub, ..)) = &main
                     && sweep.checks
                 {
                     let (gs, ds) = (adapt::grid_check(&one), adapt::domain_check(&one));
@@ -415,6 +426,11 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                     rec.grid_check = Some(gc);
                     rec.domain_check = Some(dc);
                 }
+                // The solver's own caveat flags the point first, checks or none.
+                rec.flag = match (caveat, rec.flag.take()) {
+                    (Some(c), Some(f)) => Some(format!("{c}; {f}")),
+                    (c, f) => c.or(f),
+                };
                 rec
             })
             .collect();
