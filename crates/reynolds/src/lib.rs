@@ -14,5 +14,5 @@ pub use level::{Level, RelaxSettings};
 pub use params::{DensityLaw, ReynoldsParams, ViscosityLaw};
 pub use solver::{
     CycleLog, Diagnosis, Divergence, FailureKind, ReynoldsError, ReynoldsReport, ReynoldsSettings,
-    ReynoldsSolver, SolverState, StopRule, TimeScheme,
+    ReynoldsSolver, SETTLED_BOUND, Settled, SolverState, StopRule, TimeScheme,
 };

@@ -71,8 +71,9 @@ impl Comparison {
         HertzScales::new(&self.scene.conditions.contact())
     }
 
-    /// The table as JSON: per model the observables (SI), wall time, converged or the diagnosis;
-    /// the conditions and the Hertz scales.
+    /// The table as JSON: per model the observables (SI), wall time, converged (answered) or the
+    /// diagnosis, and the caveat of an answer returned unconverged (`null` otherwise); the
+    /// conditions and the Hertz scales.
     pub fn to_json(&self) -> Value {
         let s = self.scales();
         let g = self.scene.grid();
@@ -91,6 +92,7 @@ impl Comparison {
                         "contact_extent_x_m": ob.contact_extent_x_m,
                         "contact_extent_y_m": ob.contact_extent_y_m,
                         "load_error": ob.load_error, "wall_time_s": e.wall_time_s,
+                        "caveat": o.caveat(),
                     })
                 }
                 Err(d) => json!({
@@ -136,6 +138,7 @@ impl Comparison {
                     "load_error": ob.map(|o| o.load_error),
                     "wall_time_s": e.wall_time_s,
                     "diagnosis": e.outcome.as_ref().err().map(|d| d.to_string()),
+                    "caveat": e.outcome.as_ref().ok().and_then(|o| o.caveat()),
                 })
             })
             .collect();
@@ -188,6 +191,11 @@ impl Comparison {
                 Err(d) => {
                     t += &format!("  {:<16} FAILED after {:.2} s: {d}\n", e.name(), e.wall_time_s)
                 }
+            }
+        }
+        for e in &self.entries {
+            if let Some(c) = e.outcome.as_ref().ok().and_then(|o| o.caveat()) {
+                t += &format!("  {}: not converged: {c}\n", e.name());
             }
         }
         t

@@ -149,6 +149,22 @@ impl ContactModel for Reynolds {
 }
 
 impl Outcome for ReynoldsOutcome {
+    fn caveat(&self) -> Option<String> {
+        let r = &self.report;
+        r.settled.map(|st| {
+            format!(
+                "steady solve {} with its answer settled: over its last {} cycles the central film moved by {:.1e} and the minimum film by {:.1e} (relative), force balance within {:.1e}",
+                match r.diagnosis.as_ref().map(|d| d.kind) {
+                    Some(ehl_reynolds::FailureKind::LimitCycle) => "in a limit cycle",
+                    _ => "stalled",
+                },
+                st.window,
+                st.central_film_spread,
+                st.minimum_film_spread,
+                st.load_error
+            )
+        })
+    }
     fn scene(&self) -> &Scene {
         &self.scene
     }
@@ -634,6 +650,7 @@ impl ReynoldsOutcome {
                 "cycles": self.report.cycles,
                 "lagged_laws": self.report.lagged_laws,
                 "first_attempt": self.report.first_attempt,
+                "settled": self.report.settled,
                 "final_residual": last.residual,
                 "final_load_error": last.load_error,
                 "history": self.report.history,
@@ -941,16 +958,20 @@ fn reynolds_report(o: &ReynoldsOutcome) -> String {
     let s = &o.prm.scales;
     let _ = writeln!(
         out,
-        "scene {} ({}x{}): converged in {} cycles, {:.2} s (setup {:.2} s); M = {:.2}, L = {:.3}",
+        "scene {} ({}x{}): {} in {} cycles, {:.2} s (setup {:.2} s); M = {:.2}, L = {:.3}",
         o.scene.name,
         o.grid.nx,
         o.grid.ny,
+        if o.report.converged { "converged" } else { "settled" },
         o.report.cycles,
         o.report.wall_time_s,
         o.setup_time_s,
         o.prm.moes.m,
         o.prm.moes.l
     );
+    if let Some(c) = Outcome::caveat(o) {
+        let _ = writeln!(out, "  not converged: {c}");
+    }
     if o.scene.reynolds.as_ref().is_some_and(|r| r.moes.is_some()) {
         let (c, u_sum) = o.scene.reynolds_conditions();
         let _ = writeln!(
