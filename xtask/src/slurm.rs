@@ -57,6 +57,7 @@ const SWEEP: &str = r#"{
   "name": "slurm-check",
   "description": "4 points of the seed comparison on 65^2: the cluster path's check, not a study.",
   "scene": "seed-65.json",
+  "resolve": false,
   "parameters": [
     { "parameter": "conditions.rolling_velocity_m_s", "values": [0.01, 0.05] },
     { "parameter": "conditions.load_n", "values": [10, 20] }

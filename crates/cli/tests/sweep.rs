@@ -10,7 +10,8 @@ fn ehl() -> Command {
     Command::new(env!("CARGO_BIN_EXE_ehl"))
 }
 
-/// The seed comparison on 65² (coarse: a test, not a study) over 8 speeds, in `dir`.
+/// The seed comparison on 65² (coarse: a test, not a study; no grid rule) over 8 speeds, in
+/// `dir`.
 fn fixture(dir: &Path) -> PathBuf {
     let mut scene: serde_json::Value =
         serde_json::from_str(&ehl_scene::builtin("seed").unwrap().to_json()).unwrap();
@@ -20,7 +21,7 @@ fn fixture(dir: &Path) -> PathBuf {
     let sweep = dir.join("speed.json");
     std::fs::write(
         &sweep,
-        r#"{"name": "speed", "scene": "seed-65.json",
+        r#"{"name": "speed", "scene": "seed-65.json", "resolve": false,
             "parameters": [{"parameter": "conditions.rolling_velocity_m_s", "log": [0.002, 1.0], "points": 8}]}"#,
     )
     .unwrap();

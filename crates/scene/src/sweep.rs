@@ -23,6 +23,11 @@ pub struct Sweep {
     /// on by default; off runs every point on the scene's own domain and grid.
     #[serde(default = "yes")]
     pub adapt: bool,
+    /// With `adapt`, also refine each point's cells to what its thinnest film needs (the grid
+    /// rule, `ehl_workbench::sweep::adapt`): on by default; off keeps the scene's cells (a coarse
+    /// map on purpose).
+    #[serde(default = "yes")]
+    pub resolve: bool,
     /// Rerun each point on half the points and on a larger domain to measure how much its answer
     /// still depends on them: on by default.
     #[serde(default = "yes")]

@@ -195,7 +195,7 @@ impl Comparison {
         }
         for e in &self.entries {
             if let Some(c) = e.outcome.as_ref().ok().and_then(|o| o.caveat()) {
-                t += &format!("  {}: not converged: {c}\n", e.name());
+                t += &format!("  {}: caveat: {c}\n", e.name());
             }
         }
         t

@@ -594,7 +594,7 @@ fn layer_report(o: &LayerOutcome) -> String {
         );
     }
     if let Some(c) = Outcome::caveat(o) {
-        let _ = writeln!(out, "  not converged: {c}");
+        let _ = writeln!(out, "  caveat: {c}");
     }
     if let Some(r) = &o.record {
         let _ = writeln!(

@@ -23,6 +23,11 @@ pub trait ContactModel: Sync {
     fn inlet_distance(&self, _scene: &Scene) -> f64 {
         0.0
     }
+    /// The largest cell [a] this model's answer exists on for the scene's conditions (sweeps
+    /// refine a point's grid to it); infinite: any grid will do.
+    fn cell_needed(&self, _scene: &Scene) -> f64 {
+        f64::INFINITY
+    }
 }
 
 /// Any outcome as `Any`, so a caller that needs one model's own fields can downcast.

@@ -124,7 +124,22 @@ impl ContactModel for ReynoldsFlooded {
     fn inlet_distance(&self, scene: &Scene) -> f64 {
         Reynolds.inlet_distance(scene)
     }
+    fn cell_needed(&self, scene: &Scene) -> f64 {
+        Reynolds.cell_needed(scene)
+    }
 }
+
+/// The grid rule's constant: cells no larger than this times `H_c^{2/3}` [a] (`H_c` the NVM
+/// central film in Hertz units). Measured where the film's existence turns on the cell (pure
+/// rolling, Table 1's lubricant, flooded), in units of `H_c^{2/3}`: the seed (10 mm/s, 20 N,
+/// `M = 2223, L = 2.49`) converges at 0.25 (257²) and stalls at 0.50 (129²); 2 mm/s, 80 N
+/// (`M = 29729, L = 1.67`) converges at 0.25 (1025², minimum film +0.50 nm), to a negative
+/// minimum film at 0.51 (513²), and its film closes at 1.0 (257²); 5 mm/s, 10 N converges at
+/// 0.48. Half the cell where existence ends: every flooded point of `seed-speed-load` whose film
+/// closed on 65² asks for more than 65² by this rule, and at light load it is up to 3× finer
+/// than needed (5–30 mm/s at 5 N converge on 65²). It is a rule for an answer, not for its
+/// accuracy: at 10 mm/s, 20 N the central film still moves 4 % from 257² to 513².
+pub const CELLS_PER_FILM: f64 = 0.25;
 
 impl ContactModel for Reynolds {
     fn kind(&self) -> ehl_scene::Model {
@@ -146,12 +161,25 @@ impl ContactModel for Reynolds {
         let h = HertzScales::new(&c).h_dimless(nvm_central(&c, &l.lubricant(), u_sum));
         1.0 + 2.0 * (ehl_reynolds::formulas::starvation_boundary(h) - 1.0)
     }
+    /// [`CELLS_PER_FILM`] times the Nijenbanning–Venner–Moes central film in Hertz units to the
+    /// power 2/3: the width of the side lobes' constriction, where the film is thinnest, over
+    /// which the gap outside a Hertzian contact rises by the film (`g ∝ (x − a)^{3/2}`).
+    fn cell_needed(&self, scene: &Scene) -> f64 {
+        let (Some(l), (c, u_sum)) = (&scene.lubricant, scene.reynolds_conditions()) else {
+            return f64::INFINITY;
+        };
+        if !(u_sum > 0.0) {
+            return f64::INFINITY;
+        }
+        let h = HertzScales::new(&c).h_dimless(nvm_central(&c, &l.lubricant(), u_sum));
+        CELLS_PER_FILM * h.powf(2.0 / 3.0)
+    }
 }
 
 impl Outcome for ReynoldsOutcome {
     fn caveat(&self) -> Option<String> {
         let r = &self.report;
-        r.settled.map(|st| {
+        let settled = r.settled.map(|st| {
             format!(
                 "steady solve {} with its answer settled: over its last {} cycles the central film moved by {:.1e} and the minimum film by {:.1e} (relative), force balance within {:.1e}",
                 match r.diagnosis.as_ref().map(|d| d.kind) {
@@ -163,7 +191,24 @@ impl Outcome for ReynoldsOutcome {
                 st.minimum_film_spread,
                 st.load_error
             )
-        })
+        });
+        // A converged answer whose film went below zero somewhere (the solids overlap there):
+        // the grid does not resolve the thinnest film (2 mm/s, 80 N on 513²: -0.14 nm at the
+        // side lobe; +0.50 nm on the 1025² the grid rule asks for).
+        let ob = self.observables();
+        let negative = (ob.minimum_film_m < 0.0).then(|| {
+            format!(
+                "the minimum film is negative ({:.3e} m at x = {:.3e} m, y = {:.3e} m): the grid does not resolve the thinnest film (a sweep's grid rule asks for cells <= {:.4} a here)",
+                ob.minimum_film_m,
+                ob.minimum_film_at_m.0,
+                ob.minimum_film_at_m.1,
+                Reynolds.cell_needed(&self.scene)
+            )
+        });
+        match (settled, negative) {
+            (Some(a), Some(b)) => Some(format!("{a}; {b}")),
+            (a, b) => a.or(b),
+        }
     }
     fn scene(&self) -> &Scene {
         &self.scene
@@ -970,7 +1015,7 @@ fn reynolds_report(o: &ReynoldsOutcome) -> String {
         o.prm.moes.l
     );
     if let Some(c) = Outcome::caveat(o) {
-        let _ = writeln!(out, "  not converged: {c}");
+        let _ = writeln!(out, "  caveat: {c}");
     }
     if o.scene.reynolds.as_ref().is_some_and(|r| r.moes.is_some()) {
         let (c, u_sum) = o.scene.reynolds_conditions();

@@ -21,6 +21,13 @@
 //! grows symmetrically with `x`. A point that needs nothing more than the scene runs on the
 //! scene's own domain and grid.
 //!
+//! **The grid rule** (with the sweep's `resolve`, on by default). Each model states the largest
+//! cell its answer exists on (`ContactModel::cell_needed`); the point's cells are refined to the
+//! smallest, the domain kept. The Reynolds solver's is `0.25 H_c^{2/3}` `a` (`H_c` the NVM
+//! central film in Hertz units, `ehl_workbench::reynolds::CELLS_PER_FILM` says how it was
+//! measured): the side lobes' constriction, where the film is thinnest and where it closed on
+//! coarser grids at low speed and high load. The layer and the dry contact need none.
+//!
 //! **The checks.** The rule is a published estimate, not a proof, so each point is run twice
 //! more for each model, at half the points per side: once on the same domain (against the point's
 //! own run: the grid's share), once at the same coarse cells on a domain whose inlet distance is
@@ -68,20 +75,35 @@ pub fn multigrid_count(n: usize) -> usize {
     best
 }
 
-/// The point's scene with the domain and grid the rule asks for, and what changed (`None` when
-/// the scene's own already suffice).
-pub fn adapt(scene: &Scene) -> (Scene, Option<String>) {
+/// The largest cell [a] the models of `scene` need ([`crate::model::ContactModel::cell_needed`]):
+/// the smallest any of them asks for; infinite when none does.
+pub fn cell_needed(scene: &Scene) -> f64 {
+    scene
+        .models()
+        .into_iter()
+        .filter_map(|m| crate::run::model(m).ok())
+        .map(|m| m.cell_needed(scene))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The point's scene with the domain and grid the rules ask for (the grid rule only when
+/// `resolve`), and what changed (`None` when the scene's own already suffice).
+pub fn adapt(scene: &Scene, resolve: bool) -> (Scene, Option<String>) {
     let inlet = inlet_needed(scene);
-    let d = scene.domain;
-    if -d.x_a[0] >= inlet {
+    let cell = if resolve { cell_needed(scene) } else { f64::INFINITY };
+    let (d, g) = (scene.domain, scene.grid);
+    let dx = (d.x_a[1] - d.x_a[0]) / (g.nx - 1) as f64;
+    let dy = (d.y_a[1] - d.y_a[0]) / (g.ny - 1) as f64;
+    let (longer, finer) = (-d.x_a[0] < inlet, cell < dx.max(dy));
+    if !longer && !finer {
         return (scene.clone(), None);
     }
     let mut s = scene.clone();
-    let dx = (d.x_a[1] - d.x_a[0]) / (scene.grid.nx - 1) as f64;
-    let x_min = -inlet;
+    let x_min = if longer { -inlet } else { d.x_a[0] };
     let len = d.x_a[1] - x_min;
     // 1e-9: a length that is a whole number of cells up to rounding keeps its count.
-    let nx = multigrid_count((len / dx - 1e-9).ceil() as usize + 1);
+    let count = |len: f64, cell: f64| multigrid_count((len / cell - 1e-9).ceil() as usize + 1);
+    let nx = count(len, dx.min(cell));
     if square(scene) {
         let grow = 0.5 * (len - (d.x_a[1] - d.x_a[0]));
         s.domain = Domain { x_a: [x_min, d.x_a[1]], y_a: [d.y_a[0] - grow, d.y_a[1] + grow] };
@@ -89,11 +111,21 @@ pub fn adapt(scene: &Scene) -> (Scene, Option<String>) {
     } else {
         s.domain.x_a[0] = x_min;
         s.grid.nx = nx;
+        s.grid.ny = count(d.y_a[1] - d.y_a[0], dy.min(cell));
     }
-    let what = format!(
-        "inlet at {x_min:.3} a, {}x{} over [{:.3}, {:.3}] x [{:.3}, {:.3}] a",
-        s.grid.nx, s.grid.ny, s.domain.x_a[0], s.domain.x_a[1], s.domain.y_a[0], s.domain.y_a[1]
+    let mut what = format!(
+        "{}{}x{} over [{:.3}, {:.3}] x [{:.3}, {:.3}] a",
+        if longer { format!("inlet at {x_min:.3} a, ") } else { String::new() },
+        s.grid.nx,
+        s.grid.ny,
+        s.domain.x_a[0],
+        s.domain.x_a[1],
+        s.domain.y_a[0],
+        s.domain.y_a[1]
     );
+    if finer {
+        what += &format!(" (cells <= {cell:.4} a for the thinnest film)");
+    }
     (s, Some(what))
 }
 
@@ -160,7 +192,7 @@ mod tests {
         // 1 + 2 (m* − 1) = 1.367 a; the layer (2 l0 = 0.0262 a²/R) needs only ~1.06 a.
         let x = inlet_needed(&seed);
         assert!((x - 1.367).abs() < 2e-3, "{x}");
-        let (s, what) = adapt(&seed);
+        let (s, what) = adapt(&seed, true);
         assert!(what.is_some());
         assert!((s.domain.x_a[0] + x).abs() < 1e-12 && s.domain.x_a[1] == 1.25);
         // 2.617 a at <= 2.5/256 a per cell: 268 cells, rounded up to 289 points (9·32 + 1).
@@ -169,14 +201,14 @@ mod tests {
         // A scene that already reaches far enough is kept as it is.
         let mut wide = seed.clone();
         wide.domain = ehl_scene::Domain { x_a: [-1.5, 1.0], y_a: [-1.25, 1.25] };
-        assert_eq!(adapt(&wide), (wide.clone(), None));
+        assert_eq!(adapt(&wide, true), (wide.clone(), None));
     }
 
     #[test]
     fn a_fast_point_gets_a_longer_inlet_at_no_coarser_cells() {
         let seed = ehl_scene::builtin("seed").unwrap();
         let fast = seed.with_parameter(ehl_scene::Parameter::RollingVelocity, 1.0).unwrap();
-        let (s, what) = adapt(&fast);
+        let (s, what) = adapt(&fast, true);
         assert!(what.is_some());
         // NVM at 1 m/s: H ≈ 0.175 a²/R, m* ≈ 2.11, inlet ≈ 3.23 a.
         assert!(s.domain.x_a[0] < -3.1 && s.domain.x_a[0] > -3.35, "{:?}", s.domain);
@@ -185,6 +217,44 @@ mod tests {
         let dy = (s.domain.y_a[1] - s.domain.y_a[0]) / (s.grid.ny - 1) as f64;
         assert!(dx <= 2.5 / 256.0 + 1e-12 && (dx - dy).abs() < 1e-12, "{dx} {dy}");
         s.validate("test").unwrap();
+    }
+
+    #[test]
+    fn the_grid_rule_refines_where_the_film_is_thin_and_keeps_the_seed_s_cells() {
+        let seed = ehl_scene::builtin("seed").unwrap();
+        let at = |u: f64, w: f64| {
+            seed.with_parameter(ehl_scene::Parameter::RollingVelocity, u)
+                .and_then(|s| s.with_parameter(ehl_scene::Parameter::Load, w))
+                .unwrap()
+        };
+        // The seed's own cells (2.5/256 a) are finer than its rule (0.25 · 0.00781^(2/3) =
+        // 0.00985 a): only the inlet grows, as without the rule.
+        assert_eq!(adapt(&seed, true), adapt(&seed, false));
+        // 2 mm/s, 80 N: H_c = 9.4e-4, cells <= 0.0024 a: 1025 points over ~2.5 a (measured: the
+        // film closes on 257², goes negative on 513², is +0.50 nm on 1025²).
+        let (s, what) = adapt(&at(0.002, 80.0), true);
+        assert!(s.grid.nx >= 1025 && s.grid.nx == s.grid.ny, "{what:?}");
+        assert!(what.unwrap().contains("thinnest film"));
+        s.validate("test").unwrap();
+        // Off, the scene's cells stay.
+        assert_eq!(adapt(&at(0.002, 80.0), false).0.grid.nx, 257);
+    }
+
+    #[test]
+    fn the_grid_rule_s_grid_holds_a_film_the_coarse_grid_closed() {
+        // The seed at 10 mm/s, 20 N, flooded, on 65² (cells 0.039 a, 4× the rule's): the film
+        // closes in the side lobes. On the grid the rule gives it, it converges with every film
+        // positive. A rule that asked too little fails here.
+        let mut coarse =
+            ehl_scene::builtin("seed").unwrap().for_model(ehl_scene::Model::ReynoldsFlooded);
+        coarse.grid = ehl_scene::GridSpec { nx: 65, ny: 65 };
+        let err = crate::run::run_scene(&coarse).err().expect("65² closes the film");
+        assert!(format!("{err:#}").contains("film closed"), "{err:#}");
+        let (fine, _) = adapt(&coarse, true);
+        assert!(fine.grid.nx >= 257, "{:?}", fine.grid);
+        let o = crate::run::run_scene(&fine).expect("the rule's grid holds the film");
+        let ob = o.observables();
+        assert!(ob.minimum_film_m > 0.0 && o.caveat().is_none(), "{ob:?}");
     }
 
     #[test]

@@ -129,7 +129,7 @@ impl Plan {
             .enumerate()
             .map(|(index, (values, scene))| {
                 let (scene, adapted) =
-                    if sweep.adapt { adapt::adapt(&scene) } else { (scene, None) };
+                    if sweep.adapt { adapt::adapt(&scene, sweep.resolve) } else { (scene, None) };
                 scene.validate(&format!("sweep {} point {index} (adapted)", sweep.name))?;
                 let mut scene = scene;
                 scene.name = format!("{}-{index:05}", sweep.name);
