@@ -40,12 +40,12 @@ use ehl_scene::{Domain, GridSpec, Scene};
 /// The inlet distance [a] the models of `scene` need: the largest any of them asks for
 /// ([`crate::model::ContactModel::inlet_distance`]); 0 when none does.
 pub fn inlet_needed(scene: &Scene) -> f64 {
-    scene
-        .models()
-        .into_iter()
-        .filter_map(|m| crate::run::model(m).ok())
-        .map(|m| m.inlet_distance(scene))
-        .fold(0.0, f64::max)
+    models(scene).map(|m| m.inlet_distance(scene)).fold(0.0, f64::max)
+}
+
+/// The registered models `scene` lists.
+fn models(scene: &Scene) -> impl Iterator<Item = &'static dyn crate::model::ContactModel> {
+    scene.models().into_iter().filter_map(|m| crate::run::model(m).ok())
 }
 
 /// Whether the Reynolds solver's shape rules apply (square cells, `nx = ny`).
@@ -78,12 +78,7 @@ pub fn multigrid_count(n: usize) -> usize {
 /// The largest cell [a] the models of `scene` need ([`crate::model::ContactModel::cell_needed`]):
 /// the smallest any of them asks for; infinite when none does.
 pub fn cell_needed(scene: &Scene) -> f64 {
-    scene
-        .models()
-        .into_iter()
-        .filter_map(|m| crate::run::model(m).ok())
-        .map(|m| m.cell_needed(scene))
-        .fold(f64::INFINITY, f64::min)
+    models(scene).map(|m| m.cell_needed(scene)).fold(f64::INFINITY, f64::min)
 }
 
 /// The point's scene with the domain and grid the rules ask for (the grid rule only when
