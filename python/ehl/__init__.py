@@ -88,7 +88,9 @@ class Result:
     two fields every model defines, arrays ``(ny, nx)`` on ``x``, ``y`` [m]; ``fields``: every
     field the model writes, ``{name: array (ny, nx)}``, SI (units in the names). ``history``: for a marching run, ``{column: array}`` (times and the
     model's quantities, SI, units in the names), else ``None``. ``summary``: the ``summary.json``
-    the command line writes. ``report``: the text it prints.
+    the command line writes. ``report``: the text it prints. ``caveat``: why an answer returned
+    is not converged to the solver's tolerance (a steady solve that settled on a cycle, with its
+    bound; a film negative somewhere), else ``None``.
     """
 
     def __init__(self, raw: Dict[str, Any]):
@@ -102,6 +104,7 @@ class Result:
         rows = json.loads(raw["time_series"]) if raw["time_series"] is not None else None
         self.history: Optional[Dict[str, np.ndarray]] = _columns(rows) if rows else None
         self.model: str = self.summary.get("model", "")
+        self.caveat: Optional[str] = self.summary.get("caveat")
 
     @property
     def observables(self) -> Dict[str, tuple]:

@@ -87,6 +87,15 @@ def test_fields_are_si_arrays_of_the_grids_shape_on_its_axes():
     assert r.observables["central_film_m"][1] == "m"
 
 
+def test_an_answer_returned_unconverged_says_why():
+    # The seed's Reynolds case on 129² stalls at a force balance of 1.1e-6 against 1e-6 with its
+    # answer settled: returned, with the caveat the command line prints (settled in the summary).
+    r = ehl.run("reynolds-seed", grid=129)
+    assert r.caveat is not None and "settled" in r.caveat, r.caveat
+    assert r.summary["caveat"] == r.caveat and r["central_film_m"] > 0.0
+    assert ehl.run("hertz", grid=33).caveat is None
+
+
 def test_a_marching_run_gives_its_history_as_arrays():
     r = ehl.run("rolling-from-uniform", grid=33)
     h = r.history
