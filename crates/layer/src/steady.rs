@@ -234,8 +234,10 @@ fn solve(
     // Per finest-grid iteration: the central layer, the maximum pressure and the approach, what
     // a stall's cycle is judged by.
     let mut answers: Vec<[f64; 3]> = vec![];
-    // The mismatches measured on contact solves held to the accepting tolerance.
+    // The mismatches that count (measured on contact solves as tight as the gap they stand
+    // for, below), and where the last of them was largest.
     let mut honest: Vec<f64> = vec![];
+    let mut honest_at = (0, 0);
     let centre = (m.grid.ny / 2, m.grid.nx / 2);
     let residual = loop {
         it += 1;
@@ -305,6 +307,7 @@ fn solve(
         // of the last mismatch's gap, and the next mismatch is of its order).
         if tol <= accept.max(l0_max * worst) {
             honest.push(worst);
+            honest_at = at;
         }
         answers.push([
             supply[centre] * (1.0 - eps_c[centre]),
@@ -318,7 +321,8 @@ fn solve(
             break worst;
         }
         let stall = stalled(&honest);
-        let at_a = [m.grid.x(at.1), m.grid.y(at.0)];
+        let place = if honest.is_empty() { at } else { honest_at };
+        let at_a = [m.grid.x(place.1), m.grid.y(place.0)];
         let cyc = stall.then(|| cycle(&honest, &answers, supply[centre], at_a));
         if let Some(c) = cyc.filter(|c| start_only || c.spread() < CYCLE_BOUND) {
             // A coarser grid's start is not reported: the finest grid's solve is judged.
@@ -344,8 +348,8 @@ fn solve(
                 iteration: it,
                 residual: honest.last().copied().unwrap_or(worst),
                 tolerance: settings.strain_tolerance,
-                x: m.grid.x(at.1),
-                y: m.grid.y(at.0),
+                x: at_a[0],
+                y: at_a[1],
                 trend,
                 kind,
             });

@@ -106,7 +106,9 @@ pub fn adapt(scene: &Scene, resolve: bool) -> (Scene, Option<String>) {
     } else {
         s.domain.x_a[0] = x_min;
         s.grid.nx = nx;
-        s.grid.ny = count(d.y_a[1] - d.y_a[0], dy.min(cell));
+        if finer {
+            s.grid.ny = count(d.y_a[1] - d.y_a[0], dy.min(cell));
+        }
     }
     let mut what = format!(
         "{}{}x{} over [{:.3}, {:.3}] x [{:.3}, {:.3}] a",
