@@ -152,28 +152,24 @@ impl ContactModel for Reynolds {
     /// the film is still ~3 % short (measured: the sweep's domain check moved `h_c` by +3.0 % at
     /// every speed of `seed-speed`), so `1 + 2 (m* − 1)` (0.5 % short at 1 + 1.8 (m* − 1), 0.2 m/s).
     fn inlet_distance(&self, scene: &Scene) -> f64 {
-        let (Some(l), (c, u_sum)) = (&scene.lubricant, scene.reynolds_conditions()) else {
-            return 0.0;
-        };
-        if !(u_sum > 0.0) {
-            return 0.0;
-        }
-        let h = HertzScales::new(&c).h_dimless(nvm_central(&c, &l.lubricant(), u_sum));
-        1.0 + 2.0 * (ehl_reynolds::formulas::starvation_boundary(h) - 1.0)
+        nvm_film(scene)
+            .map_or(0.0, |h| 1.0 + 2.0 * (ehl_reynolds::formulas::starvation_boundary(h) - 1.0))
     }
     /// [`CELLS_PER_FILM`] times the Nijenbanning–Venner–Moes central film in Hertz units to the
     /// power 2/3: the width of the side lobes' constriction, where the film is thinnest, over
     /// which the gap outside a Hertzian contact rises by the film (`g ∝ (x − a)^{3/2}`).
     fn cell_needed(&self, scene: &Scene) -> f64 {
-        let (Some(l), (c, u_sum)) = (&scene.lubricant, scene.reynolds_conditions()) else {
-            return f64::INFINITY;
-        };
-        if !(u_sum > 0.0) {
-            return f64::INFINITY;
-        }
-        let h = HertzScales::new(&c).h_dimless(nvm_central(&c, &l.lubricant(), u_sum));
-        CELLS_PER_FILM * h.powf(2.0 / 3.0)
+        nvm_film(scene).map_or(f64::INFINITY, |h| CELLS_PER_FILM * h.powf(2.0 / 3.0))
     }
+}
+
+/// The Nijenbanning–Venner–Moes central film of the scene's rolling contact in Hertz units
+/// [a²/R]; `None` without a lubricant or rolling.
+fn nvm_film(scene: &Scene) -> Option<f64> {
+    let (Some(l), (c, u_sum)) = (&scene.lubricant, scene.reynolds_conditions()) else {
+        return None;
+    };
+    (u_sum > 0.0).then(|| HertzScales::new(&c).h_dimless(nvm_central(&c, &l.lubricant(), u_sum)))
 }
 
 impl Outcome for ReynoldsOutcome {
