@@ -434,7 +434,8 @@ macro_rules! builtin_sweeps {
     };
 }
 
-const SWEEPS: &[(&str, &str)] = builtin_sweeps!("seed-speed", "seed-speed-load", "seed-supply", "reynolds-thin");
+const SWEEPS: &[(&str, &str)] =
+    builtin_sweeps!("seed-speed", "seed-speed-load", "seed-supply", "reynolds-thin");
 
 /// Names of the built-in sweeps.
 pub fn builtin_sweep_names() -> Vec<&'static str> {
