@@ -3,6 +3,7 @@
 //! `H = H00 + X²/2 + Y²/2 + W[P]` (the shared core's deformation operator on every level),
 //! `∬ P = 2π/3`, `P ≥ 0`.
 
+pub mod extrapolate;
 pub mod formulas;
 /// The lubricant laws, written once in the core.
 pub use ehl_core::laws;

@@ -2,6 +2,7 @@
 //! relaxation on every level, the elastic film through each level's own FFT deformation
 //! operator, and the force balance driving `H00` between cycles.
 
+use crate::extrapolate::ModeExtrapolation;
 use crate::formulas::{moes_to_hertz_film, nvm_central_moes};
 use crate::level::{Level, RelaxSettings};
 use crate::params::ReynoldsParams;
@@ -102,6 +103,11 @@ pub struct ReynoldsSettings {
     /// without them (the default) it costs half as much and ends no further from the fully
     /// converged march (measured in `docs/reynolds.md`, "Time steps without the extra passes").
     pub step_extra_passes: bool,
+    /// Mass conserving, steady: the largest factor of a jump along the solve's slow mode when
+    /// one mode governs its cycles (the meniscus ring and the pressure inside it; the module
+    /// [`crate::extrapolate`] says how it is found and what it gained); 0: no jumps. Time steps
+    /// never jump (they start a step from their answer and stop within a few cycles).
+    pub mode_extrapolation: f64,
     /// The line relaxation's settings.
     pub relax: RelaxSettings,
     /// When a steady solve stops.
@@ -144,6 +150,7 @@ impl Default for ReynoldsSettings {
             time_scheme: TimeScheme::Bdf1,
             extrapolated_start: true,
             step_extra_passes: false,
+            mode_extrapolation: 10.0,
             relax: RelaxSettings::default(),
             stop: StopRule::Strict,
         }
@@ -232,6 +239,9 @@ pub struct ReynoldsReport {
     /// A steady solve that stalled (or cycled) with its answer settled: returned, not converged
     /// (`converged` false, `diagnosis` says why), with how little the answer still moved.
     pub settled: Option<Settled>,
+    /// Jumps along the slow mode that the answer's cycles took and kept (mass conserving,
+    /// steady: [`ReynoldsSettings::mode_extrapolation`]).
+    pub mode_jumps: usize,
 }
 
 /// How a stalled steady solve's answer settled over its last cycles ([`SETTLED_BOUND`]).
@@ -702,6 +712,7 @@ impl ReynoldsSolver {
             max_cycles: s.step_max_cycles,
             gamma: s.step_gamma,
             h00_gain: s.step_h00_gain,
+            mode_extrapolation: 0.0,
             relax,
             ..s
         };
@@ -1041,6 +1052,7 @@ impl ReynoldsSolver {
             .unwrap_or_else(Instant::now);
         let mut history = vec![];
         let mut cycle = cycles_before;
+        let mut mode_jumps = 0;
         if self.active.fmg_cycles > 0 {
             let mass_conserving = self.levels[0].mass_conserving();
             for l in (1..=self.fmg_top()).rev() {
@@ -1051,19 +1063,25 @@ impl ReynoldsSolver {
                 let most =
                     if mass_conserving { STARVED_FMG_MAX_CYCLES } else { self.active.fmg_cycles };
                 let mut prev = f64::NAN;
+                let mut jumps = ModeExtrapolation::new(self.active.mode_extrapolation);
                 for k in 0..most {
                     cycle += 1;
                     let rec = self.logged_cycle(l, cycle, t0)?;
+                    let (h00, moved) =
+                        jumps.after_cycle(&mut self.levels[l], self.h00, rec.residual);
+                    self.h00 = h00;
                     log(&rec);
                     history.push(rec);
                     let settled = ((rec.central_film - prev) / rec.central_film).abs() < 1e-3
                         && rec.load_error.abs() < 1e-4
                         && rec.mass_defect < 3.0 * self.active.mass_tolerance;
-                    prev = rec.central_film;
-                    if mass_conserving && k + 1 >= self.active.fmg_cycles && settled {
+                    // After a jump the record is not the state's: judge the next cycle.
+                    prev = if moved { f64::NAN } else { rec.central_film };
+                    if mass_conserving && k + 1 >= self.active.fmg_cycles && settled && !moved {
                         break;
                     }
                 }
+                mode_jumps += jumps.jumps;
                 let p = prolong(&self.levels[l].p);
                 let theta = prolong(&self.levels[l].theta);
                 let h00 = self.h00;
@@ -1078,11 +1096,19 @@ impl ReynoldsSolver {
         let coarse_hc = history.last().map(|c: &CycleLog| c.central_film);
         let mut prev_hc = f64::NAN;
         let mut stalled = false;
+        let mut jumps = ModeExtrapolation::new(self.active.mode_extrapolation);
         for _ in 0..self.active.max_cycles {
             cycle += 1;
             let rec = self.logged_cycle(0, cycle, t0)?;
+            let (h00, moved) = jumps.after_cycle(&mut self.levels[0], self.h00, rec.residual);
+            self.h00 = h00;
             log(&rec);
             history.push(rec);
+            if moved {
+                // The record is not the state's after a jump: the next cycle judges it.
+                prev_hc = f64::NAN;
+                continue;
+            }
             let hc = rec.central_film;
             let settled = ((hc - prev_hc) / hc).abs() < self.active.film_tolerance;
             let mass = rec.mass_defect <= self.active.mass_tolerance;
@@ -1106,6 +1132,7 @@ impl ReynoldsSolver {
                     lagged_laws: self.active.relax.coefficient_lag,
                     first_attempt: None,
                     settled: None,
+                    mode_jumps: mode_jumps + jumps.jumps,
                 });
             }
             prev_hc = hc;
@@ -1131,6 +1158,7 @@ impl ReynoldsSolver {
             lagged_laws: self.active.relax.coefficient_lag,
             first_attempt: None,
             settled: None,
+            mode_jumps: mode_jumps + jumps.jumps,
         })
     }
 }
