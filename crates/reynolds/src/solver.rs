@@ -53,6 +53,15 @@ pub struct ReynoldsSettings {
     /// stopped at 1.1e-6 (tolerance 1e-6) as the dent crossed `x = 0.87–0.92 a`, with 30
     /// coarsest-grid sweeps too; at 0.1 all 224 steps converge.
     pub step_h00_gain: f64,
+    /// Sweeps before the coarse-grid correction in a time step. 2, as in a steady solve, by
+    /// default; 1 is a quarter cheaper on the seed's contact, but the rigid isoviscous squeeze
+    /// (`tests/squeeze.rs`, 129²) then cycles at its first step (the load error changing sign
+    /// every cycle, residual 5e3). Measured on the seed's contact, 257²,
+    /// `cargo xtask bench --only steps`, 2 → 1: the shallow dent's passage fed 25 nm 0.046 →
+    /// 0.034 s a step (1.14 → 1.16 cycles), its largest deviations from the tight march 0.60 →
+    /// 0.95 % (central film), 0.08 → 0.19 % (minimum film), 0.23 → 0.43 % (pressure maximum);
+    /// rolling 0.032 → 0.025 s; at rest after a stop 0.121 → 0.076 s (3.65 → 3.25 cycles).
+    pub step_pre_sweeps: usize,
     /// The cycle limit of a time step. A step that has not converged by then fails, and error
     /// control tries it shorter. Accepted steps take at most 14 cycles in every march measured
     /// (the seed's stop on 257²: 844 steps, 2.1 a step; the dent passage: 9 at most). With the
@@ -142,6 +151,7 @@ impl Default for ReynoldsSettings {
             step_gamma: 1,
             step_h00_gain: 0.1,
             step_max_cycles: 30,
+            step_pre_sweeps: 2,
             coarsest_points: 17,
             film_tolerance: 1e-4,
             load_tolerance: 1e-6,
@@ -732,18 +742,23 @@ impl ReynoldsSolver {
             max_cycles: s.step_max_cycles,
             gamma: s.step_gamma,
             h00_gain: s.step_h00_gain,
+            pre_sweeps: s.step_pre_sweeps,
             mode_extrapolation: 0.0,
             relax,
             ..s
         };
-        // The first cycle's film change is judged against the start, so that a step whose
-        // start was already its answer takes one cycle, not two. Measured on the seed's contact
-        // over [−1.25, 1.25]² (257², one step a cell, `cargo xtask bench --only steps`):
-        // rolling steadily, fed 25 nm or flooded, 2.0 → 1.0 cycles a step (0.064 → 0.031 s);
-        // the shallow dent's passage 4.22 → 4.02 cycles, and its largest deviations from the
-        // tightly converged march 1.88 → 1.56 % (central film), 0.16 → 0.13 % (minimum film),
-        // 0.85 → 0.81 % (pressure maximum): no less accurate.
-        let start_hc = self.films().0;
+        // Rolling, the first cycle's film change is judged against the start, so that a step
+        // whose start was already its answer takes one cycle, not two. Measured on the seed's
+        // contact over [−1.25, 1.25]² (257², one step a cell, `cargo xtask bench --only
+        // steps`): rolling steadily, fed 25 nm or flooded, 2.0 → 1.0 cycles a step (0.064 →
+        // 0.031 s); the shallow dent's passage 4.22 → 4.02 cycles, and its largest deviations
+        // from the tightly converged march 1.88 → 1.56 % (central film), 0.16 → 0.13 %
+        // (minimum film), 0.85 → 0.81 % (pressure maximum): no less accurate. At rest the
+        // trapped film drains by less than the stop rule's 1e-4 a step, and one-cycle steps
+        // let it drift: `stop-compare`'s film after 5 s at rest was 9.636 nm against 9.591 nm
+        // converged tightly (film 1e-6, load 1e-8) and 9.604 nm with two cycles at least, so
+        // at rest the first cycle is never the last.
+        let start_hc = if self.levels[0].speed != 0.0 { self.films().0 } else { f64::NAN };
         let rep = converged(self.cycles(log, 0, 0.0, start_hc));
         let rho_h = self.levels[0].rho_film(&self.prm);
         self.rho_h.insert(0, rho_h);
