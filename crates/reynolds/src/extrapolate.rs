@@ -20,9 +20,10 @@
 //! `g / (1 − g)`, at most `cap` (pressures kept non-negative, film contents in `[0, 1]` and
 //! full where the gap is loaded); the cycles then go on from there. Measured on the seed's
 //! contact with 25 nm (to the same tolerances): 257², 60 → 33 cycles (4.5 → 2.4 s), and the
-//! central film it stops at 6e-6 from the converged one instead of 4e-4; 513², 119 → 52 cycles
-//! (32 → 11 s). A full step (cap 20–40) overshot at the side menisci: their residual grew 100×
-//! for several cycles before it fell (same cycle counts, no gain), hence the cap of 10. A jump
+//! central film it stops at 2.7e-4 from the converged one (oil 1000× tighter) instead of 4.3e-4
+//! (15 nm: 51 → 31 cycles, 2e-6 instead of 8.9e-4); 513², 119 → 52 cycles (32 → 11 s). A
+//! fuller step (cap 20–40) overshot at the side menisci: their residual grew 100× for several
+//! cycles before it fell, for no real gain (32 cycles against 33), hence the cap of 10. A jump
 //! after which the residual grows tenfold is undone, and the solve goes on without jumps.
 
 use crate::level::Level;

@@ -756,7 +756,7 @@ impl ReynoldsSolver {
         // (minimum film), 0.85 → 0.81 % (pressure maximum): no less accurate. At rest the
         // trapped film drains by less than the stop rule's 1e-4 a step, and one-cycle steps
         // let it drift: `stop-compare`'s film after 5 s at rest was 9.636 nm against 9.591 nm
-        // converged tightly (film 1e-6, load 1e-8) and 9.604 nm with two cycles at least, so
+        // converged tightly (film 1e-6, load 1e-8) and 9.606 nm with two cycles at least, so
         // at rest the first cycle is never the last.
         let start_hc = if self.levels[0].speed != 0.0 { self.films().0 } else { f64::NAN };
         let rep = converged(self.cycles(log, 0, 0.0, start_hc));

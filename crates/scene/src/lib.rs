@@ -1040,6 +1040,20 @@ impl Scene {
                 ));
             }
         }
+        if !(1..=4).contains(&s.step_pre_sweeps) {
+            return Err(ck.err(
+                "reynolds.solver.step_pre_sweeps",
+                s.step_pre_sweeps.to_string(),
+                "1 to 4 (sweeps before a time step's coarse-grid correction)",
+            ));
+        }
+        if !(0.0..=100.0).contains(&s.mode_extrapolation) {
+            return Err(ck.err(
+                "reynolds.solver.mode_extrapolation",
+                format!("{}", s.mode_extrapolation),
+                "0 (no jumps) to 100 (the largest factor of a jump along the slow mode)",
+            ));
+        }
         if s.stop == ehl_reynolds::StopRule::Discretisation && s.fmg_cycles == 0 {
             return Err(ck.err(
                 "reynolds.solver.stop",
@@ -1651,6 +1665,23 @@ mod tests {
         Scene::from_json(&with("{\"stop\": \"discretisation\"}"), "test").unwrap();
         let m = refused(&with("{\"stop\": \"discretisation\", \"fmg_cycles\": 0}"));
         assert!(m.contains("reynolds.solver.stop") && m.contains("fmg_cycles"), "{m}");
+    }
+
+    #[test]
+    fn step_sweeps_and_slow_mode_jumps_are_range_checked() {
+        let text = BUILTINS.iter().find(|b| b.0 == "reynolds-m20-l10").unwrap().1;
+        let with = |solver: &str| {
+            text.replace(
+                "\"viscosity\": \"roelands\",",
+                &format!("\"solver\": {solver}, \"viscosity\": \"roelands\","),
+            )
+        };
+        Scene::from_json(&with("{\"step_pre_sweeps\": 1, \"mode_extrapolation\": 0}"), "t")
+            .unwrap();
+        let m = refused(&with("{\"step_pre_sweeps\": 0}"));
+        assert!(m.contains("reynolds.solver.step_pre_sweeps") && m.contains("1 to 4"), "{m}");
+        let m = refused(&with("{\"mode_extrapolation\": -1}"));
+        assert!(m.contains("reynolds.solver.mode_extrapolation") && m.contains("0 (no"), "{m}");
     }
 
     #[test]
