@@ -1165,8 +1165,16 @@ impl Level {
             for &(i, jj, d) in &w.applied {
                 let krow = &self.kernel[jn.abs_diff(jj)];
                 let (lo, hi) = (i.saturating_sub(NEAR), (i + NEAR).min(nx - 1));
-                for ii in lo..=hi {
-                    film[ii] += d * krow[ii.abs_diff(i)];
+                // `film[ii] += d K(|ii − i|)` for `ii` in `lo ..= hi`, as two slices (upstream,
+                // the kernel read backwards; from `i` on, forwards): the same sums, bit for bit,
+                // vectorised and without an index check per point. Measured over the seed's dent
+                // passage (257²): this loop held ~30 % of the line relaxation's samples, and the
+                // relaxation's share of the run fell from 44 % to 40 % (steps ~3 % faster).
+                for (f, &k) in film[lo..i].iter_mut().zip(krow[1..=i - lo].iter().rev()) {
+                    *f += d * k;
+                }
+                for (f, &k) in film[i..=hi].iter_mut().zip(&krow[..=hi - i]) {
+                    *f += d * k;
                 }
             }
         }
