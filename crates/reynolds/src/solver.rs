@@ -401,8 +401,9 @@ pub struct ReynoldsSolver {
     /// … and the step that led to the newest [a/u_ref] (the backward differences of unequal
     /// steps need the step before) …
     last_dt: f64,
-    /// … and the pressure and `H00` before the newest step: a step starts from the linear
-    /// extrapolation of the last two ([`ReynoldsSettings::extrapolated_start`]).
+    /// … and the pressure and `H00` before the newest step: a step starts from the last state
+    /// plus the last step's change, the pressure's carried with the surfaces
+    /// ([`ReynoldsSettings::extrapolated_start`]).
     before: Option<(Array2<f64>, f64)>,
 }
 
