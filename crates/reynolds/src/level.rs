@@ -72,6 +72,9 @@ pub struct RelaxSettings {
     /// Mass conserving: after each sweep, a pass of line relaxation along the columns
     /// (the column pass, `relax_columns`, says why).
     pub column_pass: bool,
+    /// Under-relaxation of the gap's changes where the solids touch. The line solve sees the
+    /// elastic response of the line's nearest five points only, less than the whole line's.
+    pub omega_contact: f64,
     /// Mass conserving: points whose Poiseuille diagonal exceeds this many times the wedge's
     /// take full Gauss–Seidel steps (0: none).
     pub poiseuille_full_step: f64,
@@ -87,6 +90,7 @@ impl Default for RelaxSettings {
             coefficient_lag: 0.0,
             meniscus_passes: 4,
             column_pass: true,
+            omega_contact: 0.7,
             poiseuille_full_step: 30.0,
         }
     }
@@ -149,6 +153,12 @@ pub struct Level {
     /// Rigid solids: no deformation (`W[P] = 0`, the kernel zero). Not a model of a real
     /// contact: the check against the rigid isoviscous squeeze's analytic answer.
     rigid: bool,
+    /// Where the solids touch: the film closed (`H = 0`), the point's equation the gap's
+    /// (`H = 0`, its pressure the contact's) instead of Reynolds'. Decided before each sweep
+    /// ([`Self::update_contact`]) and held through it.
+    pub contact: Array2<bool>,
+    /// Whether closed films become contact (off: the film may go negative, as before).
+    pub touch: bool,
 }
 
 /// A level's pressure, film and law cache from row `first` on, lent to one half of a sweep,
@@ -361,6 +371,8 @@ impl Level {
             k_line: [0.0; 5],
             work: Default::default(),
             rigid: false,
+            contact: Array2::from_elem(grid.shape(), false),
+            touch: false,
             grid,
         };
         l.kd_line = std::array::from_fn(|di| l.kd(di as i64, 0));
@@ -569,15 +581,65 @@ impl Level {
     /// Residual `f − L(P)` (zero on the boundary; with the clamp also at cavitated points of
     /// the finest grid, whose equation is dropped; mass conserving, every point's equation
     /// holds, with `θ` its unknown where `P = 0`).
+    /// Where the solids touch, the gap's equation is not Reynolds' and is not counted: the
+    /// residual there is 0 (what the cycle's record, the oil balance and the stall watch read).
     pub fn residual(&self, prm: &ReynoldsParams) -> Array2<f64> {
+        let mut r = self.residual_with_contact(prm);
+        if self.touch {
+            Zip::from(&mut r).and(&self.contact).for_each(|r, &c| {
+                if c {
+                    *r = 0.0
+                }
+            });
+        }
+        r
+    }
+
+    /// [`Self::residual`] with the gap's residual `f − H` where the solids touch.
+    fn residual_with_contact(&self, prm: &ReynoldsParams) -> Array2<f64> {
         let all = self.mass_conserving();
         self.map_operator(prm, |j, i, l| {
-            if all || self.p[[j, i]] > 0.0 || self.rhs[[j, i]] != 0.0 {
+            if all || self.p[[j, i]] > 0.0 || self.rhs[[j, i]] != 0.0 || self.contact[[j, i]] {
                 self.rhs[[j, i]] - l
             } else {
                 0.0
             }
         })
+    }
+
+    /// The points where the solids touch, decided before a sweep: a point whose film has
+    /// closed (`H ≤ 0`) joins; a point in contact stays while it carries pressure (the line
+    /// solve lets go of it, `P = 0`, when holding the gap closed would take a negative
+    /// pressure: the gap opens there).
+    ///
+    /// Only the top grid of a cycle decides: a coarser grid holds the finer grid's points
+    /// (injected), whose equations its right-hand side was built with; a coarse point that
+    /// joined on its own would take the Reynolds right-hand side for a gap.
+    fn update_contact(&mut self) {
+        if !self.touch || !self.theta_free {
+            return;
+        }
+        let (ny, nx) = self.p.dim();
+        for j in 1..ny - 1 {
+            for i in 1..nx - 1 {
+                let c = &mut self.contact[[j, i]];
+                *c = self.film[[j, i]] <= 0.0 || (*c && self.p[[j, i]] > 0.0);
+            }
+        }
+    }
+
+    /// The load the contact carries (`∬ P` over the points where the solids touch) and the
+    /// area it covers [a²].
+    pub fn contact_load_and_area(&self) -> (f64, f64) {
+        let h2 = self.h * self.h;
+        let (mut load, mut n) = (0.0, 0usize);
+        Zip::from(&self.p).and(&self.contact).for_each(|&p, &c| {
+            if c {
+                load += p;
+                n += 1;
+            }
+        });
+        (load * h2, n as f64 * h2)
     }
 
     /// The residual a coarser grid is given: [`Self::residual`], but mass conserving only where
@@ -587,10 +649,10 @@ impl Level {
     /// 129², 1 µm supplied: the residual stalled at 0.2, while relaxation alone converged at
     /// 0.99 a sweep). The flooded clamp drops cavitated points' residuals the same way.
     pub fn residual_to_restrict(&self, prm: &ReynoldsParams) -> Array2<f64> {
-        let mut r = self.residual(prm);
+        let mut r = self.residual_with_contact(prm);
         if self.mass_conserving() {
-            Zip::from(&mut r).and(&self.p).for_each(|r, &p| {
-                if p <= 0.0 {
+            Zip::from(&mut r).and(&self.p).and(&self.contact).for_each(|r, &p, &c| {
+                if p <= 0.0 && !c {
                     *r = 0.0
                 }
             });
@@ -614,6 +676,7 @@ impl Level {
     /// on the number of threads.
     pub fn relax(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
         let (ny, nx) = self.p.dim();
+        self.update_contact();
         self.laws_for(prm);
         self.lagged = s.coefficient_lag > 0.0;
         self.lend(|this, lent| {
@@ -786,7 +849,9 @@ impl Level {
                 let (p, film) = self.rows(j);
                 r[q] = self.rhs[[j, i]] - self.op_line(e, row_of(&rt, j), p, film, i, j);
                 let dens = prm.density.rho(self.p[[j, i]]);
-                kind[q] = if self.p[[j, i]] <= 0.0 && (self.theta[[j, i]] < 1.0 || r[q] > 0.0) {
+                kind[q] = if self.contact[[j, i]] {
+                    HELD
+                } else if self.p[[j, i]] <= 0.0 && (self.theta[[j, i]] < 1.0 || r[q] > 0.0) {
                     PARTIAL
                 } else if 4.0 * e[1][i] / (h * h) < dens * switch_diag {
                     HELD
@@ -797,7 +862,7 @@ impl Level {
             for q in 0..m {
                 let j = q + 1;
                 let e = [row_of(&eps, j - 1), row_of(&eps, j), row_of(&eps, j + 1)];
-                let (ee, ew, en, es) = Self::half_points(e, i);
+                let (ee, ew, en, es) = self.half_points(e, i);
                 let rtj = |ii: usize| rt[[j, ii]];
                 let (r0, r1, r2) =
                     (w0 * rtj(i) / h, w1 * rtj(i - 1) / h, w2 * rtj(i.max(2) - 2) / h);
@@ -940,6 +1005,7 @@ impl Level {
             a.fill(0.0);
         }
         self.theta.fill(1.0);
+        self.contact.fill(false);
         self.set_inflow_theta();
         self.time_a0 = 0.0;
         self.laws.fill([f64::NAN; 3]);
@@ -1010,22 +1076,43 @@ impl Level {
         w.r.clear();
         w.r.extend((lo..=hi).map(|i| rhs[i] - self.op_line(eps, rho, p, film, i, j)));
         w.partial.clear();
-        w.partial.extend(
-            (lo..=hi).map(|i| {
-                mass_conserving && p[1][i] <= 0.0 && (w.theta[i] < 1.0 || w.r[i - lo] > 0.0)
-            }),
-        );
+        let touching = |i: usize| self.contact[[j, i]];
+        w.partial.extend((lo..=hi).map(|i| {
+            mass_conserving
+                && !touching(i)
+                && p[1][i] <= 0.0
+                && (w.theta[i] < 1.0 || w.r[i - lo] > 0.0)
+        }));
         // Which points distribute (by the density: not a partly filled point, nor a point
         // beside one on the line, whose change the distribution would spread onto it).
         let part = |q: usize| w.partial[q];
         w.dist.clear();
+        // Where the solids touch the change distributes always: the gap's equation is the
+        // limit `ε̄ → 0` of Reynolds', the elastic response to a point change reaches across
+        // the whole contact, and with the far field a sweep late (the film is recomputed after
+        // it) point changes that close each gap overshoot by the kernel's sum over the contact
+        // (17², the seed's start: the load doubled in one sweep). A distributed change's
+        // response is local.
         w.dist.extend((lo..=hi).map(|i| {
             let q = i - lo;
             !(part(q) || q > 0 && part(q - 1) || q + 1 < m && part(q + 1))
-                && 4.0 * eps[1][i] / (h * h) < w.dens[i] * switch_diag
+                && (touching(i) || 4.0 * eps[1][i] / (h * h) < w.dens[i] * switch_diag)
         }));
         for q in 0..m {
-            w.band[q] = self.jacobian_row(eps, rho, q + lo, lo, &w.dist);
+            w.band[q] = if touching(q + lo) {
+                // The gap's row: its change through the elastic response to the line's
+                // pressure changes (a film-content unknown moves no gap).
+                std::array::from_fn(|c| {
+                    let qc = q as i64 + c as i64 - 2;
+                    if qc < 0 || qc >= m as i64 || w.partial[qc as usize] {
+                        return 0.0;
+                    }
+                    let k = if w.dist[qc as usize] { &self.kd_line } else { &self.k_line };
+                    k[(c as i64 - 2).unsigned_abs() as usize]
+                })
+            } else {
+                self.jacobian_row(eps, rho, q + lo, lo, &w.dist)
+            };
         }
         for q in (0..m).filter(|&q| w.partial[q]) {
             // ∂L_i/∂θ_q for the rows i = q, q+1, q+2 the upwind stencil reaches (first order
@@ -1041,6 +1128,9 @@ impl Level {
                 let row = q + back;
                 if row >= m {
                     break;
+                }
+                if touching(row + lo) {
+                    continue;
                 }
                 let weight =
                     if row + lo >= 2 { [1.5, -2.0, 0.5][back] } else { [1.5, -1.5, 0.0][back] };
@@ -1076,6 +1166,8 @@ impl Level {
         let omega = |q: usize| {
             if partial[q] {
                 1.0
+            } else if touching(q + lo) {
+                s.omega_contact
             } else if dist[q] {
                 s.omega_jd
             } else if poiseuille(q) {
@@ -1219,14 +1311,15 @@ impl Level {
 
     /// `ε̄` averaged to the half points east, west, north, south of `i` (rows `j−1, j, j+1`).
     #[inline]
-    fn half_points(eps: [&[f64]; 3], i: usize) -> (f64, f64, f64, f64) {
+    fn half_points(&self, eps: [&[f64]; 3], i: usize) -> (f64, f64, f64, f64) {
         let e = eps[1][i];
-        (
-            0.5 * (e + eps[1][i + 1]),
-            0.5 * (e + eps[1][i - 1]),
-            0.5 * (e + eps[2][i]),
-            0.5 * (e + eps[0][i]),
-        )
+        // With contact (time steps), a closed gap (`ε̄ = 0`, `H ≤ 0`) passes no oil through its
+        // faces: where the solids touch, the pressure is the contact's, and the mean with an
+        // open neighbour's `ε̄` would drive a flow out of a closed gap. Open on both sides, or
+        // without contact (steady solves, unchanged), the mean.
+        let touch = self.touch;
+        let half = |n: f64| if touch && (e == 0.0 || n == 0.0) { 0.0 } else { 0.5 * (e + n) };
+        (half(eps[1][i + 1]), half(eps[1][i - 1]), half(eps[2][i]), half(eps[0][i]))
     }
 
     /// The discrete operator `L(P)` at `(i, j)`, given `ε̄` on rows `j−1, j, j+1`, `ρ̄` on row
@@ -1242,8 +1335,12 @@ impl Level {
         i: usize,
         j: usize,
     ) -> f64 {
+        if self.contact[[j, i]] {
+            // Where the solids touch the equation is the gap's: `H = 0` on the finest grid.
+            return film[i];
+        }
         let h = self.h;
-        let (ee, ew, en, es) = Self::half_points(eps, i);
+        let (ee, ew, en, es) = self.half_points(eps, i);
         let pc = p[1][i];
         let a = (ee * (p[1][i + 1] - pc) - ew * (pc - p[1][i - 1]) + en * (p[2][i] - pc)
             - es * (pc - p[0][i]))
@@ -1280,7 +1377,7 @@ impl Level {
         // spacing instead of divisions change its last digits, not the solution.
         let (inv_h, inv_h2) = (1.0 / self.h, 1.0 / (self.h * self.h));
         let m = dist.len();
-        let (ee, ew, en, es) = Self::half_points(eps, i);
+        let (ee, ew, en, es) = self.half_points(eps, i);
         // Poiseuille stencil coefficients of P at i − 3 … i + 3 (same line) in L_i.
         let pois = [0.0, 0.0, ew * inv_h2, -(ee + ew + en + es) * inv_h2, ee * inv_h2, 0.0, 0.0];
         // Wedge: −∂(ρH)_x/∂δ; the film at the point `back` cells upstream of i changes by

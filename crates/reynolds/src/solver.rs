@@ -8,7 +8,7 @@ use crate::level::{Level, RelaxSettings};
 use crate::params::ReynoldsParams;
 use ehl_core::grid::{inject, prolong};
 use ehl_core::{Grid, hertz};
-use ndarray::Array2;
+use ndarray::{Array2, Zip};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -115,6 +115,19 @@ pub struct ReynoldsSettings {
     /// without them (the default) it costs half as much and ends no further from the fully
     /// converged march (measured in `docs/reynolds.md`, "Time steps without the extra passes").
     pub step_extra_passes: bool,
+    /// In time steps, where the film closes the solids touch (`H = 0`, the pressure there the
+    /// contact's, `≥ 0`; the point lets go when holding the gap shut would take a negative
+    /// pressure) instead of the film going negative: the side lobes and the exit constriction
+    /// after a stop, squeezed shut, and the dry band they leave when rolling starts again. A
+    /// rolling step decides its contact anew from its closed films (the set of the last step
+    /// is let go, its points full: `θ = 1`, which carries no oil while `H = 0`); holding the
+    /// set from step to step instead, the first rolling steps after a stop failed to converge
+    /// (`stop-start-compare`, `rolling-from-squeezed-compare`). Steady solves never touch: in
+    /// steady rolling a positive film exists on a grid fine enough (2 mm/s, 80 N: closed on
+    /// 257², +0.50 nm on 1025²), so a film that closes there is the grid's (the sweeps' grid
+    /// rule), and contact rows in the steady full-multigrid start turned the seed's flooded
+    /// contact into a dry one (98 % of the load on contact on 129²).
+    pub contact: bool,
     /// Mass conserving, steady: the largest factor of a jump along the solve's slow mode when
     /// one mode governs its cycles (the meniscus ring and the pressure inside it; the module
     /// [`crate::extrapolate`] says how it is found and what it gained); 0: no jumps. Time steps
@@ -163,6 +176,7 @@ impl Default for ReynoldsSettings {
             time_scheme: TimeScheme::Bdf1,
             extrapolated_start: true,
             step_extra_passes: false,
+            contact: true,
             mode_extrapolation: 10.0,
             relax: RelaxSettings::default(),
             stop: StopRule::Strict,
@@ -414,6 +428,7 @@ pub struct SolverState {
     p: Array2<f64>,
     film: Array2<f64>,
     theta: Array2<f64>,
+    contact: Array2<bool>,
     coefficient_pressures: Option<Array2<f64>>,
     h00: f64,
     rho_h: Vec<Array2<f64>>,
@@ -475,6 +490,7 @@ impl ReynoldsSolver {
     fn start(&mut self) {
         for l in &mut self.levels {
             l.reset();
+            l.touch = false;
         }
         let hc = moes_to_hertz_film(nvm_central_moes(&self.prm.moes), &self.prm.moes);
         self.h00 = self.starved_film_estimate(hc) - 1.0;
@@ -581,6 +597,7 @@ impl ReynoldsSolver {
             p: f.p.clone(),
             film: f.film.clone(),
             theta: f.theta.clone(),
+            contact: f.contact.clone(),
             coefficient_pressures: f.lagged().then(|| f.coefficient_pressures()),
             h00: self.h00,
             rho_h: self.rho_h.clone(),
@@ -596,6 +613,7 @@ impl ReynoldsSolver {
         f.p = s.p;
         f.film = s.film;
         f.theta = s.theta;
+        f.contact = s.contact;
         if let Some(pc) = &s.coefficient_pressures {
             f.set_coefficient_pressures(&prm, pc);
         }
@@ -603,6 +621,14 @@ impl ReynoldsSolver {
         self.rho_h = s.rho_h;
         self.last_dt = s.last_dt;
         self.before = s.before;
+    }
+
+    /// Where the solids touch on the finest grid: the share of the load the contact carries
+    /// and the area it covers [a²] (0 and 0 where the film is open everywhere).
+    pub fn contact(&self) -> (f64, f64) {
+        let f = &self.levels[0];
+        let (load, area) = f.contact_load_and_area();
+        (load / f.load().max(f64::MIN_POSITIVE), area)
     }
 
     /// Whether the solver conserves mass (has a supply).
@@ -692,8 +718,21 @@ impl ReynoldsSolver {
             }
             [] => return Err(ReynoldsError::NoSteadyStart),
         };
+        // Contact ([`ReynoldsSettings::contact`]): at rest the set is held from the last step;
+        // rolling (or without contact) it is let go, and the step's sweeps decide it anew.
+        let renew = !self.settings.contact || self.levels[0].speed != 0.0;
         for l in &mut self.levels {
             l.time_a0 = a0;
+            l.touch = self.settings.contact;
+            if renew {
+                // A point let go keeps its pressure, full of oil (`θ = 1`: loaded).
+                Zip::from(&mut l.theta).and(&l.contact).for_each(|t, &c| {
+                    if c {
+                        *t = 1.0
+                    }
+                });
+                l.contact.fill(false);
+            }
         }
         self.levels[0].history = history;
         let now = (self.levels[0].p.clone(), self.h00);
@@ -782,9 +821,16 @@ impl ReynoldsSolver {
         let (prm, s) = (self.prm, self.active);
         let last = self.levels.len() - 1;
         if l == last {
+            // Where the solids touch, twice the gain. Measured on `stop-compare` (129², the
+            // seed's stop, the side lobes closed): with the gain of the film alone the force
+            // balance held a period-2 cycle of ±1.5e-6 (tolerance 1e-6) with the contact set
+            // unchanged, 14 solves failed and were retried shorter (305 steps, 17 s); with
+            // twice the gain 218 steps, 12 s; half the gain: 5503 steps.
+            let touching = self.levels[l].touch && self.levels[l].contact.iter().any(|&c| c);
+            let gain = if touching { 2.0 * s.h00_gain } else { s.h00_gain };
             for _ in 0..s.coarse_sweeps {
                 self.levels[l].relax(&prm, self.h00, &s.relax);
-                let dh = s.h00_gain * (self.levels[l].load() - target) / PI;
+                let dh = gain * (self.levels[l].load() - target) / PI;
                 self.h00 += dh;
                 self.levels[l].shift_film(dh);
             }
@@ -802,17 +848,39 @@ impl ReynoldsSolver {
             self.levels[l + 1].set_coefficient_pressures(&prm, &pc);
         }
         let theta_hat = inject(&self.levels[l].theta);
+        let fluid = Zip::from(&r)
+            .and(&self.levels[l].contact)
+            .map_collect(|&r, &t| if t { 0.0 } else { r });
+        // The coarse grid starts touching where the fine grid touches (its own closed films
+        // join at its sweeps).
+        let contact_hat = {
+            let c = &self.levels[l].contact;
+            let (ny, nx) = c.dim();
+            Array2::from_shape_fn(((ny - 1) / 2 + 1, (nx - 1) / 2 + 1), |(j, i)| c[[2 * j, 2 * i]])
+        };
         let target_c = {
             let c = &mut self.levels[l + 1];
             c.p = p_hat.clone();
             // The coarse grid holds the fine grid's film content and corrects pressures only:
             // where the gap is partly filled it keeps `P = 0`.
             c.theta = theta_hat.clone();
+            c.contact = contact_hat;
             c.theta_free = false;
             c.rhs.fill(0.0);
             c.update_film(self.h00);
             let lc = c.operator(&prm);
-            c.rhs = lc + restrict_full_weighting(&r);
+            // Where the solids touch the residual is a gap's, elsewhere Reynolds': the two
+            // are not mixed. A coarse point in contact takes the fine gap's residual at its
+            // own place; the others the full weighting of the fine Reynolds residuals (a fine
+            // gap's residual of 1e-3 a²/R beside Reynolds' of 1e2 gave a coarse gap a
+            // pressure change of thousands of p_h: the start on 33² exploded).
+            let mut rr = restrict_full_weighting(&fluid);
+            Zip::indexed(&mut rr).and(&c.contact).for_each(|(j, i), v, &t| {
+                if t {
+                    *v = r[[2 * j, 2 * i]];
+                }
+            });
+            c.rhs = lc + rr;
             target + c.load() - load_f
         };
         for _ in 0..s.gamma {
@@ -836,13 +904,25 @@ impl ReynoldsSolver {
             // resolve the cavitation boundary, and a correction at a cavitated point, or at a
             // loaded point beside one, moves that boundary every cycle (on 257² this kept a
             // period-2 limit cycle in the load at ±1.2e-4, with residuals of order one at
-            // near-zero pressures on the outlet boundary). Relaxation fixes those points.
+            // near-zero pressures on the outlet boundary). Relaxation fixes those points. The
+            // same for a point where the solids touch or beside one: the coarse grid holds the
+            // gap's equation only at its own injected points, and its correction there kept a
+            // period-2 cycle in the central film (5.0670/5.0686e-3 a²/R) with the contact set
+            // unchanged over 30 cycles (`stop-compare`, 129², 0.04 s after the stop; 910 steps
+            // and 50 s with the correction, 305 and 17 s without).
             let p0 = f.p.clone();
             let (ny, nx) = p0.dim();
             for j in 1..ny - 1 {
                 for i in 1..nx - 1 {
                     let p = p0[[j, i]];
+                    let c = &f.contact;
+                    let touching = c[[j, i]]
+                        || c[[j, i - 1]]
+                        || c[[j, i + 1]]
+                        || c[[j - 1, i]]
+                        || c[[j + 1, i]];
                     let inside = p > 0.0
+                        && !touching
                         && p0[[j, i - 1]] > 0.0
                         && p0[[j, i + 1]] > 0.0
                         && p0[[j - 1, i]] > 0.0
@@ -877,7 +957,7 @@ impl ReynoldsSolver {
             .film
             .indexed_iter()
             .fold(((0, 0), f64::INFINITY), |a, (ix, &v)| if v < a.1 { (ix, v) } else { a });
-        if hmin < 0.0 {
+        if hmin < 0.0 && !f.touch {
             let text = format!(
                 "the film closed at cycle {}: H = {hmin:.3e} a²/R at (x = {:.3} a, y = {:.3} a) where P = {:.3} p_h; the lubricated solution broke down: the film is too thin for cells of {:.4} a (a finer grid or a narrower domain resolves thinner films)",
                 last.cycle,
@@ -1031,7 +1111,12 @@ impl ReynoldsSolver {
             l.history.fill(0.0);
         }
         let t0 = Instant::now();
-        self.active = self.settings;
+        // Steady: no contact ([`ReynoldsSettings::contact`]).
+        self.active = ReynoldsSettings { contact: false, ..self.settings };
+        for l in &mut self.levels {
+            l.touch = false;
+            l.contact.fill(false);
+        }
         let first = self.cycles(log, 0, 0.0, f64::NAN);
         let theta = self.active.fallback_lag;
         let given_up = match &first {
@@ -1138,9 +1223,16 @@ impl ReynoldsSolver {
                 f.update_film(h00);
             }
         }
+        for lv in &mut self.levels {
+            lv.touch = self.active.contact;
+        }
         // The central film of the grid below, where the full-multigrid start left it.
         let coarse_hc = history.last().map(|c: &CycleLog| c.central_film);
         let mut prev_hc = start_hc;
+        let film_floor = {
+            let hc = moes_to_hertz_film(nvm_central_moes(&self.prm.moes), &self.prm.moes);
+            1e-2 * self.starved_film_estimate(hc)
+        };
         let mut stalled = false;
         let mut jumps = ModeExtrapolation::new(self.active.mode_extrapolation);
         for _ in 0..self.active.max_cycles {
@@ -1156,7 +1248,11 @@ impl ReynoldsSolver {
                 continue;
             }
             let hc = rec.central_film;
-            let settled = ((hc - prev_hc) / hc).abs() < self.active.film_tolerance;
+            // Relative to the central film, or to a hundredth of the supplied contact's film
+            // where the centre has closed (a dry band passing after a stop: `H_c` 1e-10 a²/R,
+            // whose relative change no cycle settles).
+            let settled =
+                ((hc - prev_hc) / hc.abs().max(film_floor)).abs() < self.active.film_tolerance;
             let mass = rec.mass_defect <= self.active.mass_tolerance;
             let strict = settled && rec.load_error.abs() < self.active.load_tolerance && mass;
             let discretisation = match (self.active.stop, coarse_hc) {
