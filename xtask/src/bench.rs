@@ -421,14 +421,18 @@ fn dent_passage(n: usize, prm: ehl_reynolds::ReynoldsParams) -> Result<crate::me
     ]);
     let d = ReynoldsSettings::default();
     let variants: [(&str, ReynoldsSettings, usize); 5] = [
-        ("default: V(2,1), no extra passes", d, 1),
+        ("default: V(1,1) rolling (V(2,1) at rest), no extra passes", d, 1),
         (
             "with the steady solve's extra passes",
             ReynoldsSettings { step_extra_passes: true, ..d },
             1,
         ),
-        ("V(1,1)", ReynoldsSettings { step_pre_sweeps: 1, ..d }, 1),
-        ("V(2,2)", ReynoldsSettings { post_sweeps: 2, ..d }, 1),
+        (
+            "V(2,1) (`step_pre_sweeps: 2`, the default before)",
+            ReynoldsSettings { step_pre_sweeps: 2, ..d },
+            1,
+        ),
+        ("V(2,2)", ReynoldsSettings { step_pre_sweeps: 2, post_sweeps: 2, ..d }, 1),
         ("tight, two steps a cell: the time error", tight, 2),
     ];
     for (name, settings, per_cell) in variants {
