@@ -733,6 +733,7 @@ const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "dent-shallow-compare",
     "hole",
     "hole-compare",
+    "hole-starved-compare",
     "stop-compare",
     "stop-start-compare",
     "rolling-from-squeezed-compare",
