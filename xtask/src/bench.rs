@@ -122,6 +122,9 @@ pub enum Part {
     /// Reynolds time steps on the seed's contact, rolling and at rest after a stop
     /// (`docs/measured/bench-steps.md`).
     Steps,
+    /// The seed's stop on 257², the Reynolds side to its steady squeeze
+    /// (`docs/measured/bench-squeeze.md`).
+    Squeeze,
 }
 
 pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
@@ -151,6 +154,9 @@ pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
     }
     if wanted(Part::Steps) {
         steps(max.min(257))?;
+    }
+    if wanted(Part::Squeeze) {
+        squeeze(max.min(257))?;
     }
     Ok(())
 }
@@ -354,6 +360,73 @@ fn steps(max: usize) -> Result<std::path::PathBuf> {
          row is the time discretisation's error for scale (two steps a cell against one, both \
          tight).",
         &[("Time steps", &t), ("A dent passage: speed against accuracy", &passage)],
+    )
+}
+
+/// The seed's stop (`stop-compare`, fed 25 nm: steady rolling, a sudden stop at 5 ms, rest
+/// under the load until the scene's steady rule or 5 s), the Reynolds side alone on `n`²,
+/// with the relaxation's threshold at rest as it was (1) and as the scene sets it: wall time of the whole
+/// run (steady solve and march), steps, rejected steps, and where the squeeze ends. Issue 25's
+/// target: the full squeeze on 257² in 2 min.
+fn squeeze(n: usize) -> Result<std::path::PathBuf> {
+    use ehl_workbench::reynolds::run_reynolds;
+    let mut t = crate::measured::Table::new(&[
+        "n",
+        "threshold at rest",
+        "wall [s]",
+        "steps",
+        "rejected",
+        "cycles a step",
+        "end [s]",
+        "lobes closed at [s]",
+        "central film at the end [nm]",
+        "contact's share of the load",
+    ]);
+    let base = ehl_scene::load("stop-compare")?.for_model(ehl_scene::Model::Reynolds);
+    let own = base.reynolds.as_ref().map_or(1.0, |r| r.solver.relax.transient_threshold_at_rest);
+    for threshold in [1.0, own] {
+        let mut scene = base.clone();
+        scene.grid = ehl_scene::GridSpec { nx: n, ny: n };
+        if let Some(r) = scene.reynolds.as_mut() {
+            r.solver.relax.transient_threshold_at_rest = threshold;
+        }
+        let clock = Instant::now();
+        let o = run_reynolds(&scene)?;
+        let wall = clock.elapsed().as_secs_f64();
+        let Some(tr) = &o.transient else { anyhow::bail!("stop-compare did not march") };
+        let steps = tr.rows.len().saturating_sub(1);
+        let cycles: usize = tr.rows.iter().map(|r| r.cycles).sum();
+        let closed = tr.rows.iter().find(|r| r.minimum_film_m <= 0.0).map(|r| r.t_s);
+        let end = tr.rows.last().map_or(0.0, |r| r.t_s);
+        let last = tr.rows.last();
+        println!(
+            "{n}² stop, threshold at rest {threshold}: {wall:.1} s, {steps} steps ({} rejected)",
+            tr.rejected_steps
+        );
+        t.rows.push(vec![
+            n.to_string(),
+            format!("{threshold}"),
+            format!("{wall:.1}"),
+            steps.to_string(),
+            tr.rejected_steps.to_string(),
+            format!("{:.2}", cycles as f64 / steps.max(1) as f64),
+            format!("{end:.3}"),
+            closed.map_or("open".into(), |t| format!("{t:.3}")),
+            last.map_or(String::new(), |r| format!("{:.3}", r.central_film_m * 1e9)),
+            last.map_or(String::new(), |r| format!("{:.1e}", r.contact_load_share)),
+        ]);
+    }
+    crate::measured::write(
+        "bench-squeeze",
+        "The seed's stop on 257²: the Reynolds squeeze to its end",
+        &format!("cargo xtask bench --only squeeze --max-points {n}"),
+        "stop-compare's Reynolds side alone (Table 1, fed 25 nm, [-1.25, 1.25]² a): the steady \
+         solve, 5 ms rolling at two steps a cell, a sudden stop, then error-controlled steps \
+         (tolerance 1e-3) at rest until the scene's steady rule (1e-3 over 0.5 s) or 5 s. The \
+         relaxation's threshold for the time term at rest \
+         (`reynolds.solver.relax.transient_threshold_at_rest`) as it was (1) and as the scene sets it. \
+         Issue 25's target: the full squeeze on 257² within 2 min.",
+        &[("The full squeeze", &t)],
     )
 }
 

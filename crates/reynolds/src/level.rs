@@ -48,6 +48,24 @@ pub struct RelaxSettings {
     /// 0.7 fail some. The cost: on 33² at a twentieth of a cell a step (`M = 20, L = 10`, a
     /// dent, BDF2) the switch at 1 cycles with the load error at ~1e-6 (0.3 converges there).
     pub transient_threshold: f64,
+    /// … and at rest (no wedge term: the time term's coupling is the whole of it) with this
+    /// one. At rest the coupling falls as the step grows (`a0 = 1/ΔT`), and points where it
+    /// was still a fifth of the Poiseuille term took Gauss–Seidel steps at the threshold of 1:
+    /// the seed's stop on 257² (fed 25 nm) cycled with period 2, growing 1.2× a cycle, in
+    /// steps over 2.5e-4 s, so error control, held back by those failures, kept the steps near
+    /// 1.2 ms (the squeeze to its steady end: 1676 steps, 192 rejected, 234 s). Over its first
+    /// 0.1 s: at 1, 374 steps and 32 failed solves; 3, 169 and 6; 10, 129 and 1; 30, 133 and 1;
+    /// 100, 145 and 4. The whole squeeze at 3: 675 steps, 104 s; at 10: 558 steps, 91 s. The
+    /// price is a slower contraction per cycle, which a step's stop rule (the film's change per
+    /// cycle) reads as converged earlier: against the same march converged tightly (first
+    /// 0.5 s), the central film is within 0.16 % at 3 (0.02 % at 1, 0.12 % at 10) and the
+    /// minimum film 0.4 % (1.3 % at 1, 0.05 % at 10); the oil balance of a squeeze that closes
+    /// the lobes on 129² (`tests/squeeze.rs`) misses by 1.1e-2 of the oil moved at 3 (6.6e-3 at
+    /// 1, 5.3e-2 at 10, past that test's bound). The default stays 1 for now: at 3 the
+    /// restarts from a closed ring (`stop-start-compare`, `rolling-from-squeezed-compare`)
+    /// moved (docs/reynolds.md, "Steps at rest"), the latter's first rolling step failing;
+    /// `stop-compare`, whose rest runs to its steady end, sets 3.
+    pub transient_threshold_at_rest: f64,
     /// Under-relaxation of Gauss–Seidel changes. At 0.7 the outlet pressure spike on 513²
     /// (M = 20, L = 10) keeps a period-2 limit cycle (load ±1.5e-5); 0.5 converges in 18
     /// cycles, 0.4 in 15.
@@ -85,6 +103,7 @@ impl Default for RelaxSettings {
         Self {
             distributive_threshold: 0.3,
             transient_threshold: 1.0,
+            transient_threshold_at_rest: 1.0,
             omega_gs: 0.4,
             omega_jd: 0.3,
             coefficient_lag: 0.0,
@@ -802,7 +821,9 @@ impl Level {
     /// wedge diagonal's parts, each times its threshold (per unit `ρ̄`).
     fn switch_diag(&self, s: &RelaxSettings) -> f64 {
         let (wedge, transient) = self.diag_parts();
-        s.distributive_threshold * wedge + s.transient_threshold * transient
+        let t =
+            if self.speed == 0.0 { s.transient_threshold_at_rest } else { s.transient_threshold };
+        s.distributive_threshold * wedge + t * transient
     }
 
     /// The wedge's and the time term's self-coefficients through the elastic self-influence,

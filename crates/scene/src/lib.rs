@@ -1041,6 +1041,18 @@ impl Scene {
                 ));
             }
         }
+        for (field, t) in [
+            ("transient_threshold", s.relax.transient_threshold),
+            ("transient_threshold_at_rest", s.relax.transient_threshold_at_rest),
+        ] {
+            if !(t > 0.0 && t <= 1000.0) {
+                return Err(ck.err(
+                    &format!("reynolds.solver.relax.{field}"),
+                    format!("{t}"),
+                    "0 < threshold <= 1000 (times the time term's elastic self-coupling)",
+                ));
+            }
+        }
         if !(1..=4).contains(&s.step_pre_sweeps) {
             return Err(ck.err(
                 "reynolds.solver.step_pre_sweeps",
@@ -1669,7 +1681,7 @@ mod tests {
     }
 
     #[test]
-    fn step_sweeps_and_slow_mode_jumps_are_range_checked() {
+    fn step_sweeps_slow_mode_jumps_and_relaxation_thresholds_are_range_checked() {
         let text = BUILTINS.iter().find(|b| b.0 == "reynolds-m20-l10").unwrap().1;
         let with = |solver: &str| {
             text.replace(
@@ -1683,6 +1695,11 @@ mod tests {
         assert!(m.contains("reynolds.solver.step_pre_sweeps") && m.contains("1 to 4"), "{m}");
         let m = refused(&with("{\"mode_extrapolation\": -1}"));
         assert!(m.contains("reynolds.solver.mode_extrapolation") && m.contains("0 (no"), "{m}");
+        let m = refused(&with("{\"relax\": {\"transient_threshold_at_rest\": 0}}"));
+        assert!(
+            m.contains("reynolds.solver.relax.transient_threshold_at_rest") && m.contains("1000"),
+            "{m}"
+        );
     }
 
     #[test]
