@@ -174,7 +174,7 @@ pub struct Level {
     rigid: bool,
     /// Where the solids touch: the film closed (`H = 0`), the point's equation the gap's
     /// (`H = 0`, its pressure the contact's) instead of Reynolds'. Decided before each sweep
-    /// ([`Self::update_contact`]) and held through it.
+    /// (`update_contact`) and held through it.
     pub contact: Array2<bool>,
     /// Whether closed films become contact (off: the film may go negative, as before).
     pub touch: bool,

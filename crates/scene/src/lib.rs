@@ -737,6 +737,7 @@ const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "stop-compare",
     "stop-start-compare",
     "rolling-from-squeezed-compare",
+    "startup-ramp-compare",
     "reynolds-m20-l10",
     "reynolds-m20-l10-dent",
     "reynolds-seed"
