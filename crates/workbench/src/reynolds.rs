@@ -492,9 +492,10 @@ impl ReynoldsMarch<'_> {
     /// 0 counts, as the closing it is), not the contact edge's hundredths of a nanometre from
     /// step to step, which are no error of the time step. Measured on `stop-compare` (129²,
     /// lobes closed from 10 ms after the stop): 543 steps and 35 s watching the edge, 240 steps
-    /// and 13 s not. What a restart after a stop does is sensitive to the steps taken at rest:
-    /// `stop-start-compare`'s dry band reached the centre 0.62–0.98 transits after the restart
-    /// across this watch's variants (docs/reynolds.md, "Steps at rest").
+    /// and 13 s not. (At one step a cell the restart after a stop moved with this watch's
+    /// variants, `stop-start-compare`'s dip at 0.62–0.98 transits: the rolling steps' own error
+    /// at Courant 1; at two steps a cell and finer it is 0.96–0.97 whatever the steps at rest,
+    /// docs/reynolds.md, "Steps at rest".)
     fn watched_now(&self) -> [f64; 3] {
         let (hc, hmin) = self.solver.films();
         let touching = self.solver.contact().1 > 0.0;
