@@ -61,10 +61,10 @@ pub struct RelaxSettings {
     /// 0.5 s), the central film is within 0.16 % at 3 (0.02 % at 1, 0.12 % at 10) and the
     /// minimum film 0.4 % (1.3 % at 1, 0.05 % at 10); the oil balance of a squeeze that closes
     /// the lobes on 129² (`tests/squeeze.rs`) misses by 1.1e-2 of the oil moved at 3 (6.6e-3 at
-    /// 1, 5.3e-2 at 10, past that test's bound). The default stays 1 for now: at 3 the
-    /// restarts from a closed ring (`stop-start-compare`, `rolling-from-squeezed-compare`)
-    /// moved (docs/reynolds.md, "Steps at rest"), the latter's first rolling step failing;
-    /// `stop-compare`, whose rest runs to its steady end, sets 3.
+    /// 1, 5.3e-2 at 10, past that test's bound). The default stays 1 for now: at 3
+    /// `rolling-from-squeezed-compare`'s first rolling step after its rest (up to 5 s, the
+    /// lobes shut) fails at any step length (docs/reynolds.md, "Steps at rest");
+    /// `stop-compare`, which never rolls again, sets 3.
     pub transient_threshold_at_rest: f64,
     /// Under-relaxation of Gauss–Seidel changes. At 0.7 the outlet pressure spike on 513²
     /// (M = 20, L = 10) keeps a period-2 limit cycle (load ±1.5e-5); 0.5 converges in 18

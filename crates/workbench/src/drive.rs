@@ -90,6 +90,12 @@ pub struct SteadyRule {
 /// `1e20 a` wide never leaves the domain), not a run to start.
 pub const MAX_STEPS: f64 = 1e6;
 
+/// Error-controlled steps a phase takes before its projected count is judged against
+/// [`MAX_STEPS`]: from one cell's transit, steps that double reach any rest's scale within a
+/// few dozen, and steps capped after failures (growing 10 % a step) within a few hundred; the
+/// longest rests measured took 1676 steps in all (the seed's stop on 257², 2.2 s).
+const CONTROLLED_TRIAL: usize = 2000;
+
 /// A stretch of the march with one way of choosing steps: the driver plans a phase for every
 /// piece of the motion on which the speed is linear ([`Kinematics::pieces`]).
 #[derive(Clone, Debug, PartialEq)]
@@ -181,7 +187,28 @@ impl Plan {
         for piece in motion.pieces(t_end) {
             let steps = if piece.max_speed > 0.0 {
                 let dt = grid.dx() * a / (run.time.steps_per_cell * piece.max_speed);
+                // A speed so small that a cell's transit overflows (5e-324 m/s) has no step.
+                if !(dt.is_finite() && dt > 0.0) {
+                    return Err(Diagnosis::Plan(format!(
+                        "conditions.rolling_velocity_m_s (or run.motion): a cell's transit at {:.3e} m/s is {dt:.3e} s, not a step",
+                        piece.max_speed
+                    ))
+                    .into());
+                }
                 let span = piece.t1 - piece.t0;
+                // A phase that runs until steady may still run to the time limit: its steps to
+                // there are held to the same budget (4097 m/s on 17² asked for 4e7 steps of
+                // 5e-9 s before its 0.2 s limit, and ran for as long as one waited).
+                let to_limit = st.max_time_s.map_or(f64::INFINITY, |m| m - piece.t0);
+                if !span.is_finite() && to_limit / dt > MAX_STEPS {
+                    return Err(Diagnosis::Plan(format!(
+                        "run.stop.max_time_s: rolling from {:.4e} s to the time limit {:.4e} s takes {:.3e} steps of {dt:.3e} s (at most {MAX_STEPS:e}): check conditions.rolling_velocity_m_s, run.time.steps_per_cell and run.stop.max_time_s",
+                        piece.t0,
+                        piece.t0 + to_limit,
+                        to_limit / dt
+                    ))
+                    .into());
+                }
                 if span.is_finite() {
                     let n = span / dt;
                     if !(n <= MAX_STEPS) {
@@ -363,6 +390,20 @@ pub fn drive<T: Transient>(
                     // BDF2 stays zero-stable for step ratios below 1 + √2: grow by 2 at most.
                     dt_next = (dt * factor.clamp(0.5, 2.0)).min(dt_cap);
                     dt_cap *= 1.1;
+                    // Steps held so short that the phase's end (or the time limit) is out of
+                    // reach: once error control has had CONTROLLED_TRIAL steps to grow them,
+                    // a phase that would need more than MAX_STEPS more is stopped with what
+                    // holds it. (4097 m/s on 17²: at rest its steps failed at their cycle
+                    // limit and stayed near 1e-7 s, 5 s away from its end.)
+                    let end = ph.t1_s.min(plan.max_time_s.unwrap_or(f64::INFINITY));
+                    let left = (end - t - dt) / dt_next;
+                    if phase_steps >= CONTROLLED_TRIAL && end.is_finite() && left > MAX_STEPS {
+                        return Err(Diagnosis::Plan(format!(
+                            "error control: after {} steps at rest the step is {dt_next:.3e} s, and {left:.3e} more would reach {end:.4e} s (at most {MAX_STEPS:e}); {rejected} steps were rejected by error control or failed to converge and were retried shorter; check the scene's conditions and run.stop.max_time_s",
+                            phase_steps + 1
+                        ))
+                        .into());
+                    }
                     break s;
                 }
                 rejected += 1;
@@ -657,6 +698,42 @@ mod tests {
         let mut never = Relax { fails_above: Some(1e-9), ..Relax::new(1.0) };
         let e = drive(&mut never, &p, &mut |_| {}).unwrap_err();
         assert!(format!("{e:#}").contains("did not converge"), "{e:#}");
+    }
+
+    #[test]
+    fn steps_held_too_short_to_reach_the_end_stop_with_a_diagnosis_not_a_run_without_end() {
+        // Steps over 1e-6 fail: error control keeps them below it, and a time limit of 1000
+        // would take 1e9 more. After its trial steps the march stops and says why, where it
+        // used to step on for as long as one waited (4097 m/s on 17² at rest).
+        let p = Plan {
+            max_time_s: Some(1e3),
+            ..plan(Steps::Controlled { dt0_s: 1e-5, tolerance: 1e-3, order: 2.0 })
+        };
+        let mut m = Relax { fails_above: Some(1e-6), ..Relax::new(1.0) };
+        let e = drive(&mut m, &p, &mut |_| {}).unwrap_err();
+        let text = format!("{e:#}");
+        assert!(text.contains("error control: after 2001 steps") && text.contains("1e6"), "{text}");
+        // Steps that can grow are not stopped: the same limit, nothing failing, runs through.
+        let r = drive(&mut Relax::new(1.0), &p, &mut |_| {}).unwrap();
+        assert!(r.steps < 2000, "{} steps", r.steps);
+    }
+
+    #[test]
+    fn rolling_until_steady_is_held_to_the_step_budget_up_to_its_time_limit() {
+        // The seed's squeezed restart at 4097 m/s: one step a cell is 5e-9 s, and its 0.2 s
+        // limit would take 4e7 of them; refused at once, naming the fields to look at.
+        let scene = ehl_scene::builtin("rolling-from-squeezed-compare").unwrap();
+        let run = scene.run.as_ref().unwrap();
+        let (g, a) = (scene.grid(), 1.347e-4);
+        let fast = run.kinematics(0.5 * 4097.0).unwrap();
+        let e = Plan::from_run(run, &scene.passing(), &g, a, &fast, Some((1e-9, 2.0))).unwrap_err();
+        assert!(e.to_string().contains("run.stop.max_time_s"), "{e}");
+        let seed = run.kinematics(0.005).unwrap();
+        Plan::from_run(run, &scene.passing(), &g, a, &seed, Some((1e-6, 2.0))).unwrap();
+        // And a speed whose cell transit overflows has no step at all.
+        let crawl = run.kinematics(5e-324).unwrap();
+        let e = Plan::from_run(run, &scene.passing(), &g, a, &crawl, Some((1e-6, 2.0)));
+        assert!(e.unwrap_err().to_string().contains("rolling_velocity_m_s"));
     }
 
     #[test]

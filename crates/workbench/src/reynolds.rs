@@ -381,6 +381,8 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     let transient = match run {
         Some(r) => {
             let motion = motion.expect("built with the run");
+            // The march's plan is checked before a squeezed start's rest, which may take long.
+            march_plan(scene, r, &motion, &prm, &solver.grid())?;
             let rest = (r.start == Some(StartState::Squeezed))
                 .then(|| squeeze_start(scene, r, u_sum, &prm, &mut solver, &dents, &view.supply))
                 .transpose()?;
@@ -595,6 +597,22 @@ impl Transient for ReynoldsMarch<'_> {
     }
 }
 
+/// The driver's plan of a march on `g`: while the surfaces roll, steps per cell at the speed;
+/// at rest, error control from a first step of one cell's transit at the reference speed
+/// (backward Euler: local error of order 2 in the step).
+fn march_plan(
+    scene: &Scene,
+    run: &ehl_scene::RunSpec,
+    motion: &Kinematics,
+    prm: &ReynoldsParams,
+    g: &Grid,
+) -> Result<drive::Plan> {
+    let a = prm.scales.a;
+    let controlled = Some((g.dx() * a / motion.reference_speed(), 2.0));
+    drive::Plan::from_run(run, &scene.passing(), g, a, motion, controlled)
+        .within(|| format!("scene `{}`: run", scene.name))
+}
+
 /// Marches the scene's run from the steady solution (the driver's plan: steps per cell, the
 /// stop rule, snapshots); a step that does not converge ends the run with its diagnosis, step
 /// and time.
@@ -608,14 +626,8 @@ fn run_transient(
     supply: Option<ehl_core::Supply>,
 ) -> Result<TransientRecord> {
     let s = prm.scales;
-    let u_m = motion.reference_speed();
     let g = solver.grid();
-    // While the surfaces roll, steps per cell at the speed; at rest, error control from a
-    // first step of one cell's transit at the reference speed (backward Euler: local error
-    // of order 2 in the step).
-    let controlled = Some((g.dx() * s.a / u_m, 2.0));
-    let mut plan = drive::Plan::from_run(run, &scene.passing(), &g, s.a, &motion, controlled)
-        .within(|| format!("scene `{}`: run", scene.name))?;
+    let mut plan = march_plan(scene, run, &motion, prm, &g)?;
     // An error estimate below the solve's own algebraic error (the central film settles to
     // `film_tolerance` per cycle) is that error's noise: error control asks no less than ten
     // times it. At the scene's 1e-4 against a film tolerance of 1e-4 the seed's stop on 129²
@@ -635,7 +647,7 @@ fn run_transient(
     // The first feature's start (the first dent, else the first hole; 0 without any).
     let x0 = scene.passing().first().map_or(0.0, |p| p.x_start_a);
     let centre = (g.row_nearest(0.0), g.col_nearest(0.0));
-    let time_unit = s.a / u_m;
+    let time_unit = s.a / motion.reference_speed();
     let h_ref = s.h_si(solver.films().0);
     // Holes already inside the domain at the start: no oil there where the gap is not full.
     let holes = supply.filter(|s| !s.holes.is_empty());
