@@ -492,9 +492,9 @@ impl ReynoldsMarch<'_> {
     /// What error control watches: the central film, the minimum film and `H00`. Where the
     /// solids touch the minimum film is the contact's 0 (its step from the last open film to
     /// 0 counts, as the closing it is), not the contact edge's hundredths of a nanometre from
-    /// step to step, which are no error of the time step. Measured on `stop-compare` (129²,
-    /// lobes closed from 10 ms after the stop): 543 steps and 35 s watching the edge, 240 steps
-    /// and 13 s not. (At one step a cell the restart after a stop moved with this watch's
+    /// step to step, which are no error of the time step. On `stop-compare` (129², lobes closed
+    /// from 10 ms after the stop): 240 steps and 13 s (measured), against 543 steps and 35 s
+    /// watching the edge (as the session that found it measured). (At one step a cell the restart after a stop moved with this watch's
     /// variants, `stop-start-compare`'s dip at 0.62–0.98 transits: the rolling steps' own error
     /// at Courant 1; at two steps a cell and finer it is 0.96–0.97 whatever the steps at rest,
     /// docs/reynolds.md, "Steps at rest".)
