@@ -199,6 +199,9 @@ fn a_dent_passage_runs_both_models_on_one_plan() {
     let csv = c.history_csv().unwrap();
     assert!(csv.lines().filter(|l| l.starts_with("layer,")).count() == layer.len());
     assert!(csv.lines().filter(|l| l.starts_with("reynolds,")).count() == rey.len());
+    // With the approach of each (the last column, never empty for these two models).
+    assert!(csv.starts_with("model,t_s,central_film_m,minimum_film_m,max_pressure_pa,approach_m"));
+    assert!(csv.lines().skip(1).all(|l| !l.ends_with(',')), "an empty approach");
 }
 
 /// Every JSON path of `v` with the kind of value there (`number`, `string`, …), arrays by
@@ -291,6 +294,23 @@ fn after_a_stop_the_reynolds_film_traps_its_oil_while_the_layer_squeezes_out() {
     // The layer squeezes its centre out at once: 11.09 → 10.04 nm in 25 ms (−9.5 %).
     let squeezed = l1.central_film_m / l0.central_film_m - 1.0;
     assert!(squeezed < -0.04, "layer centre moved {squeezed:+.2e}");
+    // Both report the solids' approach on every step of their histories. Where the pressure
+    // is Hertz's the film at the centre is `h_c = h0 + a²/R`, so the approach `δ = −h0` and the
+    // central film add up to Hertz's approach `a²/R`: at the stop measured +0.043 % (layer) and
+    // −0.014 % (Reynolds) off; bound 0.1 % of `a²/R` (1.9 nm), what the pressure's departure from
+    // Hertz moves the central deformation by. An approach of the wrong sign or unit is off by
+    // 200 % or by orders of magnitude.
+    let delta = c.scales().delta;
+    for m in [Model::Layer, Model::Reynolds] {
+        let e = c.entries.iter().find(|e| e.model == m).unwrap();
+        let o = e.outcome.as_ref().unwrap();
+        let (h, a) = (o.history().unwrap(), o.approach_history().expect("an approach"));
+        assert_eq!(a.len(), h.len(), "{m:?}: the approach on every step");
+        let k = h.iter().rposition(|(t, _)| *t <= 0.005 + 1e-12).unwrap();
+        assert!((a[k].0 - h[k].0).abs() < 1e-15, "{m:?}: the history's times");
+        let off = (a[k].1 + h[k].1.central_film_m) / delta - 1.0;
+        assert!(off.abs() < 1e-3, "{m:?}: δ + h_c is {off:+.2e} off a²/R");
+    }
 }
 
 #[test]

@@ -236,16 +236,21 @@ impl Comparison {
         Ok(files)
     }
 
-    /// The models' histories (runs in time) in one table, SI: every step's standard observables.
+    /// The models' histories (runs in time) in one table, SI: every step's standard observables
+    /// and the solids' approach (empty for a model that reports none).
     pub fn history_csv(&self) -> Option<String> {
-        let mut s = String::from("model,t_s,central_film_m,minimum_film_m,max_pressure_pa\n");
+        let mut s =
+            String::from("model,t_s,central_film_m,minimum_film_m,max_pressure_pa,approach_m\n");
         let mut any = false;
         for e in &self.entries {
-            let Some(h) = e.outcome.as_ref().ok().and_then(|o| o.history()) else { continue };
+            let Ok(o) = e.outcome.as_ref() else { continue };
+            let Some(h) = o.history() else { continue };
             any = true;
-            for (t, ob) in h {
+            let approach = aligned_approach(o.as_ref(), h);
+            for (k, (t, ob)) in h.iter().enumerate() {
+                let d = approach.as_ref().map_or(String::new(), |a| format!("{:e}", a[k]));
                 s += &format!(
-                    "{},{t:e},{:e},{:e},{:e}\n",
+                    "{},{t:e},{:e},{:e},{:e},{d}\n",
                     e.name(),
                     ob.central_film_m,
                     ob.minimum_film_m,
@@ -282,6 +287,19 @@ impl Comparison {
                 })
                 .collect()
         };
+        // The approach's change: the squeeze's drain (its value, ~a²/R, hides nanometres).
+        let approach: Vec<Series> = self
+            .entries
+            .iter()
+            .filter_map(|e| {
+                let o = e.outcome.as_ref().ok()?;
+                let a = aligned_approach(o.as_ref(), o.history()?)?;
+                let h = o.history()?;
+                let d0 = *a.first()?;
+                let pts = h.iter().zip(&a).map(|((t, _), d)| (t * 1e3, (d - d0) * 1e9)).collect();
+                Some(Series::new(e.name(), pts, Mark::Line))
+            })
+            .collect();
         let f = dir.join("comparison_history.png");
         plot::charts(
             &f,
@@ -299,6 +317,7 @@ impl Comparison {
                     "p_max / p_h",
                     series(|o| o.max_pressure_pa, 1.0 / p_h),
                 ),
+                Panel::new("Approach since the start", "t [ms]", "δ − δ(0) [nm]", approach),
             ],
             note,
         )?;
@@ -492,4 +511,13 @@ impl Comparison {
         }
         Ok(files)
     }
+}
+
+/// A model's approach [m] on the times of its history, or `None` when it reports none or its
+/// times are not the history's.
+fn aligned_approach(o: &dyn Outcome, h: &[(f64, ehl_core::Observables)]) -> Option<Vec<f64>> {
+    let a = o.approach_history()?;
+    let same = a.len() == h.len()
+        && a.iter().zip(h).all(|((ta, _), (th, _))| (ta - th).abs() <= 1e-12 * th.abs().max(1e-30));
+    same.then(|| a.into_iter().map(|(_, d)| d).collect())
 }

@@ -188,6 +188,9 @@ impl Outcome for LayerOutcome {
     fn history(&self) -> Option<&[(f64, Observables)]> {
         self.record.as_ref().map(|r| r.observed.as_slice())
     }
+    fn approach_history(&self) -> Option<Vec<(f64, f64)>> {
+        self.record.as_ref().map(|r| r.rows.iter().map(|row| (row.t, row.layer.approach)).collect())
+    }
     fn snapshots(&self) -> Vec<(f64, &Array2<f64>, Array2<f64>)> {
         let Some(rec) = &self.record else { return vec![] };
         rec.snapshots.iter().map(|(t, sn)| (*t, &sn.p, sn.film.clone())).collect()

@@ -109,6 +109,13 @@ pub trait Outcome: AsAny + Send + 'static {
     fn history(&self) -> Option<&[(f64, Observables)]> {
         None
     }
+    /// The solids' mutual approach [m] after every step of a run in time, on the times of
+    /// [`Outcome::history`]: `−h0`, where the film is `h = h0 + x²/2R + y²/2R +` the
+    /// deformation (the Reynolds `H00`, the layer model's `h0`), so that a squeeze that drains
+    /// the film raises it. `None` for a model that does not march or has no approach.
+    fn approach_history(&self) -> Option<Vec<(f64, f64)>> {
+        None
+    }
     /// A run in time's snapshots: the time [s], pressure `P` [p_h] and film [a²/R] at each
     /// (what a comparison overlays at the same times).
     fn snapshots(&self) -> Vec<(f64, &Array2<f64>, Array2<f64>)> {

@@ -305,6 +305,9 @@ impl Outcome for ReynoldsOutcome {
     fn history(&self) -> Option<&[(f64, Observables)]> {
         self.transient.as_ref().map(|t| t.observed.as_slice())
     }
+    fn approach_history(&self) -> Option<Vec<(f64, f64)>> {
+        self.transient.as_ref().map(|t| t.rows.iter().map(|r| (r.t_s, -r.h00_m)).collect())
+    }
     fn snapshots(&self) -> Vec<(f64, &Array2<f64>, Array2<f64>)> {
         let Some(t) = &self.transient else { return vec![] };
         t.snapshots.iter().map(|(ts, _, p, h)| (*ts, p, h.clone())).collect()
