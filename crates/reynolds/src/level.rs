@@ -53,15 +53,16 @@ pub struct RelaxSettings {
     /// was still a fifth of the Poiseuille term took Gauss–Seidel steps at the threshold of 1:
     /// the seed's stop on 257² (fed 25 nm) cycled with period 2, growing 1.2× a cycle, in
     /// steps over 2.5e-4 s, so error control, held back by those failures, kept the steps near
-    /// 1.2 ms (the squeeze to its steady end: 1676 steps, 192 rejected, 234 s). Over its first
+    /// 1.2 ms (the squeeze to its steady end: 1676 steps, 192 rejected, 227.5 s). Over its first
     /// 0.1 s: at 1, 374 steps and 32 failed solves; 3, 169 and 6; 10, 129 and 1; 30, 133 and 1;
-    /// 100, 145 and 4. The whole squeeze at 3: 675 steps, 104 s; at 10: 558 steps, 91 s. The
-    /// price is a slower contraction per cycle, which a step's stop rule (the film's change per
-    /// cycle) reads as converged earlier: against the same march converged tightly (first
-    /// 0.5 s), the central film is within 0.16 % at 3 (0.02 % at 1, 0.12 % at 10) and the
-    /// minimum film 0.4 % (1.3 % at 1, 0.05 % at 10); the oil balance of a squeeze that closes
-    /// the lobes on 129² (`tests/squeeze.rs`) misses by 1.1e-2 of the oil moved at 3 (6.6e-3 at
-    /// 1, 5.3e-2 at 10, past that test's bound). The default stays 1 for now: at 3
+    /// 100, 145 and 4. The whole squeeze at 3: 675 steps, 105.5 s (`cargo xtask bench --only
+    /// squeeze`); at 10: 558 steps, 91 s. The price is a slower contraction per cycle, which a
+    /// step's stop rule (the film's change per cycle) reads as converged earlier: against the
+    /// same march converged tightly (first 0.5 s), the central film is within 0.16 % at 3
+    /// (0.02 % at 1, 0.12 % at 10) and the minimum film 0.4 % (1.3 % at 1, 0.02 % at 10); the
+    /// oil balance of a squeeze that closes the lobes on 129² (`tests/squeeze.rs`) misses by
+    /// 1.1e-2 of the oil moved at 3 (6.6e-3 at 1, 5.3e-2 at 10, past that test's bound). The
+    /// default stays 1 for now: at 3
     /// `rolling-from-squeezed-compare`'s first rolling step after its rest (up to 5 s, the
     /// lobes shut) fails at any step length (docs/reynolds.md, "Steps at rest");
     /// `stop-compare`, which never rolls again, sets 3.
