@@ -428,7 +428,8 @@ fn a_start_up_ramp_from_rest_draws_the_supply_through_both_models_in_one_half_wi
     // once the surfaces have carried it over the half-width from the inlet edge: measured at
     // 1.02 a of travel (18.7 ms; 4.5 nm against 9.6 nm rolling). Bound 0.7–1.3 a, as for the
     // sudden start (`rolling-from-squeezed-compare`): a film carried at the sum velocity arrives
-    // at 0.5 a, one that ignored the ramp (full speed from 0) at 1.5 a of the ramp's travel.
+    // at 0.5 a; one that ignored the ramp (full speed from rest, one a at 13.5 ms) at 0.63 a of
+    // the ramp's travel.
     let dip = h.iter().min_by(|x, y| x.1.central_film_m.total_cmp(&y.1.central_film_m)).unwrap();
     let arrival = travel(dip.0);
     assert!((0.7..1.3).contains(&arrival), "Reynolds dip after {arrival:.2} a of travel");

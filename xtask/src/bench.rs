@@ -365,9 +365,9 @@ fn steps(max: usize) -> Result<std::path::PathBuf> {
 
 /// The seed's stop (`stop-compare`, fed 25 nm: steady rolling, a sudden stop at 5 ms, rest
 /// under the load until the scene's steady rule or 5 s), the Reynolds side alone on `n`²,
-/// with the relaxation's threshold at rest as it was (1) and as the scene sets it: wall time of the whole
-/// run (steady solve and march), steps, rejected steps, and where the squeeze ends. Issue 25's
-/// target: the full squeeze on 257² in 2 min.
+/// with the relaxation's threshold at rest as it was (1) and as the scene sets it: wall time
+/// of the whole run (steady solve and march), steps, rejected steps, and where the squeeze
+/// ends. Issue 25's target: the full squeeze on 257² in 2 min.
 fn squeeze(n: usize) -> Result<std::path::PathBuf> {
     use ehl_workbench::reynolds::run_reynolds;
     let mut t = crate::measured::Table::new(&[
@@ -424,8 +424,8 @@ fn squeeze(n: usize) -> Result<std::path::PathBuf> {
          solve, 5 ms rolling at two steps a cell, a sudden stop, then error-controlled steps \
          (tolerance 1e-3) at rest until the scene's steady rule (1e-3 over 0.5 s) or 5 s. The \
          relaxation's threshold for the time term at rest \
-         (`reynolds.solver.relax.transient_threshold_at_rest`) as it was (1) and as the scene sets it. \
-         Issue 25's target: the full squeeze on 257² within 2 min.",
+         (`reynolds.solver.relax.transient_threshold_at_rest`) as it was (1) and as the scene \
+         sets it. Issue 25's target: the full squeeze on 257² within 2 min.",
         &[("The full squeeze", &t)],
     )
 }

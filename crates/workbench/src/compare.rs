@@ -293,8 +293,8 @@ impl Comparison {
             .iter()
             .filter_map(|e| {
                 let o = e.outcome.as_ref().ok()?;
-                let a = aligned_approach(o.as_ref(), o.history()?)?;
                 let h = o.history()?;
+                let a = aligned_approach(o.as_ref(), h)?;
                 let d0 = *a.first()?;
                 let pts = h.iter().zip(&a).map(|((t, _), d)| (t * 1e3, (d - d0) * 1e9)).collect();
                 Some(Series::new(e.name(), pts, Mark::Line))

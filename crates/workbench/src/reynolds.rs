@@ -384,13 +384,14 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     let transient = match run {
         Some(r) => {
             let motion = motion.expect("built with the run");
-            // The march's plan is checked before a squeezed start's rest, which may take long.
-            march_plan(scene, r, &motion, &prm, &solver.grid())?;
+            // The march's plan, made before a squeezed start's rest (which may take long), so
+            // that a plan the driver refuses is refused at once.
+            let plan = march_plan(scene, r, &motion, &prm, &solver.grid())?;
             let rest = (r.start == Some(StartState::Squeezed))
                 .then(|| squeeze_start(scene, r, u_sum, &prm, &mut solver, &dents, &view.supply))
                 .transpose()?;
             let mut t =
-                run_transient(scene, r, motion, &prm, &mut solver, dents, view.supply.clone())?;
+                run_transient(scene, plan, motion, &prm, &mut solver, dents, view.supply.clone())?;
             t.squeezed_rest = rest;
             Some(t)
         }
@@ -446,7 +447,8 @@ fn squeeze_start(
     let mut at_rest = scene.clone();
     at_rest.run = Some(rest.clone());
     let motion = rest.kinematics(0.5 * u_sum).within(|| format!("scene `{}`", scene.name))?;
-    let t = run_transient(&at_rest, &rest, motion, prm, solver, dents.to_vec(), supply.clone())
+    let plan = march_plan(&at_rest, &rest, &motion, prm, &solver.grid())?;
+    let t = run_transient(&at_rest, plan, motion, prm, solver, dents.to_vec(), supply.clone())
         .within(|| "the squeezed start (at rest after steady rolling)".to_string())?;
     Ok(SqueezedRest {
         rest_s: t.observed.last().map_or(0.0, |o| o.0),
@@ -497,10 +499,10 @@ impl ReynoldsMarch<'_> {
     /// 0 counts, as the closing it is), not the contact edge's hundredths of a nanometre from
     /// step to step, which are no error of the time step. On `stop-compare` (129², lobes closed
     /// from 10 ms after the stop): 240 steps and 13 s (measured), against 543 steps and 35 s
-    /// watching the edge (as the session that found it measured). (At one step a cell the restart after a stop moved with this watch's
-    /// variants, `stop-start-compare`'s dip at 0.62–0.98 transits: the rolling steps' own error
-    /// at Courant 1; at two steps a cell and finer it is 0.96–0.97 whatever the steps at rest,
-    /// docs/reynolds.md, "Steps at rest".)
+    /// watching the edge (as the session that found it measured). (At one step a cell the
+    /// restart after a stop moved with this watch's variants, `stop-start-compare`'s dip at
+    /// 0.62–0.98 transits: the rolling steps' own error at Courant 1; at two steps a cell and
+    /// finer it is 0.96–0.97 whatever the steps at rest, docs/reynolds.md, "Steps at rest".)
     fn watched_now(&self) -> [f64; 3] {
         let (hc, hmin) = self.solver.films();
         let touching = self.solver.contact().1 > 0.0;
@@ -616,12 +618,12 @@ fn march_plan(
         .within(|| format!("scene `{}`: run", scene.name))
 }
 
-/// Marches the scene's run from the steady solution (the driver's plan: steps per cell, the
-/// stop rule, snapshots); a step that does not converge ends the run with its diagnosis, step
-/// and time.
+/// Marches the scene's run from the steady solution on `plan` ([`march_plan`]: steps per cell,
+/// the stop rule, snapshots); a step that does not converge ends the run with its diagnosis,
+/// step and time.
 fn run_transient(
     scene: &Scene,
-    run: &ehl_scene::RunSpec,
+    mut plan: drive::Plan,
     motion: Kinematics,
     prm: &ReynoldsParams,
     solver: &mut ReynoldsSolver,
@@ -630,7 +632,6 @@ fn run_transient(
 ) -> Result<TransientRecord> {
     let s = prm.scales;
     let g = solver.grid();
-    let mut plan = march_plan(scene, run, &motion, prm, &g)?;
     // An error estimate below the solve's own algebraic error (the central film settles to
     // `film_tolerance` per cycle) is that error's noise: error control asks no less than ten
     // times it. At the scene's 1e-4 against a film tolerance of 1e-4 the seed's stop on 129²
