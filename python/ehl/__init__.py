@@ -124,7 +124,8 @@ class Comparison:
 
     ``table()``: the rows of ``comparison.json`` (one dict per model). ``results``: ``{model:
     Result}`` of the models that converged; ``errors``: ``{model: diagnosis}`` of those that did
-    not. ``comparison``: the whole ``comparison.json``.
+    not. ``comparison``: the whole ``comparison.json`` (with ``schedule``, how the models shared
+    the cores, and ``total_wall_time_s``).
     """
 
     def __init__(self, raw: Dict[str, Any]):
@@ -170,11 +171,13 @@ def run(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int
     return Result(_ehl.run(s.json, None if out is None else os.fspath(out)))
 
 
-def compare(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int] = None, out: Optional[Union[str, os.PathLike]] = None) -> Comparison:
-    """Runs every model of a comparison scene on one grid; writes the command line's files
-    (``comparison.json``, ``.csv``, each model's folder) to ``out`` when given."""
+def compare(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int] = None, out: Optional[Union[str, os.PathLike]] = None, one_at_a_time: bool = False) -> Comparison:
+    """Runs every model of a comparison scene on one grid, all at once sharing the cores (or one
+    after the other with ``one_at_a_time=True``, so that each wall time is that model's own
+    cost); writes the command line's files (``comparison.json``, ``.csv``, each model's folder)
+    to ``out`` when given."""
     s = Scene(spec, grid)
-    return Comparison(_ehl.compare_scene(s.json, None if out is None else os.fspath(out)))
+    return Comparison(_ehl.compare_scene(s.json, None if out is None else os.fspath(out), bool(one_at_a_time)))
 
 
 def sweep(spec: Union[str, os.PathLike, Dict[str, Any]], out: Optional[Union[str, os.PathLike]] = None, jobs: Optional[int] = None) -> SweepResult:

@@ -150,18 +150,19 @@ fn run<'py>(py: Python<'py>, scene_json: &str, out: Option<PathBuf>) -> PyResult
 
 /// Runs every model of a comparison scene (JSON text): `{"table": comparison.json's text,
 /// "text": the printed table, "results": {model: answer}, "errors": {model: diagnosis}}`; writes
-/// the command line's files to `out` when given.
+/// the command line's files to `out` when given. The models run at once unless `one_at_a_time`.
 #[pyfunction]
-#[pyo3(signature = (scene_json, out=None))]
+#[pyo3(signature = (scene_json, out=None, one_at_a_time=false))]
 fn compare_scene<'py>(
     py: Python<'py>,
     scene_json: &str,
     out: Option<PathBuf>,
+    one_at_a_time: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = Scene::from_json(scene_json, "(scene)").map_err(|e| scene_error(py, &e))?;
     #[allow(clippy::type_complexity)]
     let got = off_thread(py, move |abandoned| -> Result<(String, String, Vec<(String, Result<Answer, String>)>), String> {
-        let c = compare::run(&scene);
+        let c = compare::run_with(&scene, compare::Schedule::one_at_a_time(one_at_a_time));
         if let Some(dir) = out.filter(|_| !abandoned.load(Ordering::SeqCst)) {
             c.write(&dir).map_err(|e| e.to_string())?;
         }

@@ -93,6 +93,12 @@ fn user_scene_runs_every_model_and_each_equals_the_model_alone() {
     scene.outputs.figures = false;
     let c = compare::run(&scene);
     assert!(c.all_converged(), "{}", c.table());
+    // The default runs the models at once, each on its own thread sharing the cores: the test
+    // below then also says that sharing changes no model's numbers.
+    assert_eq!(c.schedule, compare::Schedule::SideBySide);
+    assert_eq!(c.to_json()["schedule"], "side-by-side");
+    let longest = c.entries.iter().map(|e| e.wall_time_s).fold(0.0, f64::max);
+    assert!(c.total_wall_time_s >= longest, "the whole run is at least its longest model");
     for m in [Model::Layer, Model::Reynolds, Model::Dry] {
         let alone = ehl_workbench::run_scene(&scene.for_model(m)).unwrap().observables();
         let together = observables(&c, m);

@@ -10,15 +10,14 @@ use std::time::Instant;
 
 /// Median wall time of `reps` runs of `f` [s].
 fn median_time(reps: usize, mut f: impl FnMut()) -> f64 {
-    let mut ts: Vec<f64> = (0..reps)
+    let ts: Vec<f64> = (0..reps)
         .map(|_| {
             let t = Instant::now();
             f();
             t.elapsed().as_secs_f64()
         })
         .collect();
-    ts.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    ts[ts.len() / 2]
+    median(&ts)
 }
 
 struct Row {
@@ -125,6 +124,9 @@ pub enum Part {
     /// The seed's stop on 257², the Reynolds side to its steady squeeze
     /// (`docs/measured/bench-squeeze.md`).
     Squeeze,
+    /// Comparison scenes with their models at once and one at a time
+    /// (`docs/measured/bench-compare.md`).
+    Compare,
 }
 
 pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
@@ -157,6 +159,9 @@ pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
     }
     if wanted(Part::Squeeze) {
         squeeze(max.min(257))?;
+    }
+    if wanted(Part::Compare) {
+        compare(3)?;
     }
     Ok(())
 }
@@ -428,6 +433,88 @@ fn squeeze(n: usize) -> Result<std::path::PathBuf> {
          sets it. Issue 25's target: the full squeeze on 257² within 2 min.",
         &[("The full squeeze", &t)],
     )
+}
+
+/// Whole comparisons on their own grids, `runs` times each way, the two schedules alternating so
+/// that a change in the cores' load falls on both: the wall of the whole comparison with the
+/// models at once (the default) and one at a time, with each model's own wall one at a time.
+/// Issue 25's target: `dent-shallow-compare` within 15 s on 2 cores.
+fn compare(runs: usize) -> Result<std::path::PathBuf> {
+    use ehl_workbench::compare::{self, Schedule};
+    let mut t = crate::measured::Table::new(&[
+        "scene",
+        "grid",
+        "at once: median [s]",
+        "at once: range [s]",
+        "one at a time: median [s]",
+        "one at a time: range [s]",
+        "ratio",
+        "each model alone [s]",
+    ]);
+    for name in ["dent-shallow-compare", "seed"] {
+        let mut scene = ehl_scene::builtin(name)?;
+        scene.outputs.figures = false;
+        let (mut together, mut apart) = (vec![], vec![]);
+        let mut own = String::new();
+        for run in 0..runs {
+            for schedule in [Schedule::SideBySide, Schedule::OneAtATime] {
+                let c = compare::run_with(&scene, schedule);
+                if !c.all_converged() {
+                    anyhow::bail!("{name}: not every model answered\n{}", c.table());
+                }
+                println!("{name} run {run}, {}: {:.2} s", schedule.name(), c.total_wall_time_s);
+                match schedule {
+                    Schedule::SideBySide => together.push(c.total_wall_time_s),
+                    Schedule::OneAtATime => {
+                        apart.push(c.total_wall_time_s);
+                        own = c
+                            .entries
+                            .iter()
+                            .map(|e| format!("{} {:.2}", e.name(), e.wall_time_s))
+                            .collect::<Vec<_>>()
+                            .join(", ");
+                    }
+                }
+            }
+        }
+        let range = |v: &[f64]| {
+            let (lo, hi) = v.iter().fold((f64::MAX, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
+            format!("{lo:.2}–{hi:.2}")
+        };
+        let (m1, m2) = (median(&together), median(&apart));
+        let g = scene.grid();
+        t.rows.push(vec![
+            name.into(),
+            format!("{}²", g.nx),
+            format!("{m1:.2}"),
+            range(&together),
+            format!("{m2:.2}"),
+            range(&apart),
+            format!("{:.2}", m1 / m2),
+            own,
+        ]);
+    }
+    crate::measured::write(
+        "bench-compare",
+        "Comparisons: the models at once and one at a time",
+        "cargo xtask bench --only compare",
+        &format!(
+            "`ehl compare`'s run of every model of a built-in comparison scene (no figures, \
+             nothing written), {runs} times with the models at once (the default, each a task \
+             on the one rayon pool) and {runs} times one after the other, alternating. Each \
+             model alone keeps fewer than the two cores busy (serial line relaxation and march \
+             bookkeeping), so at once the comparison takes about its slowest model's time. \
+             Issue 25's target: dent-shallow-compare within 15 s on 2 cores."
+        ),
+        &[("Whole comparisons", &t)],
+    )
+}
+
+/// The median of `v` (at least one value).
+fn median(v: &[f64]) -> f64 {
+    let mut v = v.to_vec();
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
 }
 
 /// The seed's shallow dent passing the seed's contact fed 25 nm on `n`², one step a cell:

@@ -28,6 +28,17 @@ struct RunArgs {
     threads: Option<usize>,
 }
 
+/// What `compare` takes: `run`'s arguments and the schedule.
+#[derive(clap::Args)]
+struct CompareArgs {
+    #[command(flatten)]
+    run: RunArgs,
+    /// Run the models one after the other, so that each wall time is that model's own cost
+    /// (default: all at once, sharing the cores).
+    #[arg(long)]
+    one_at_a_time: bool,
+}
+
 /// `ehl sweep SWEEP [--out DIR] [--jobs N]` plans, runs and merges locally (rerun to resume);
 /// the subcommands split that for a cluster.
 #[derive(clap::Args)]
@@ -76,7 +87,7 @@ enum Command {
     /// Run a one-model scene (a built-in name or a JSON file) and write its results.
     Run(RunArgs),
     /// Run every model a comparison scene lists on the same grid and put them side by side.
-    Compare(RunArgs),
+    Compare(CompareArgs),
     /// Run one scene over one or two parameters (`ehl sweep SWEEP`), or the cluster steps
     /// (`ehl sweep plan|run|merge`).
     Sweep(SweepArgs),
@@ -134,10 +145,13 @@ fn real_main() -> Result<()> {
                 println!("  {}", f.display());
             }
         }
-        Command::Compare(RunArgs { scene, out, grid, threads }) => {
+        Command::Compare(CompareArgs {
+            run: RunArgs { scene, out, grid, threads },
+            one_at_a_time,
+        }) => {
             let s = prepare(&scene, grid, threads)?;
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
-            let c = compare::run(&s);
+            let c = compare::run_with(&s, compare::Schedule::one_at_a_time(one_at_a_time));
             let files = c.write(&dir)?;
             print!("{}", c.table());
             println!(

@@ -42,22 +42,81 @@ pub struct Comparison {
     pub scene: Scene,
     /// One entry per listed model, in the scene's order.
     pub entries: Vec<Entry>,
+    /// How the models shared the cores.
+    pub schedule: Schedule,
+    /// Wall time of the whole comparison, every model's run [s].
+    pub total_wall_time_s: f64,
 }
 
-/// Runs every model of `scene` (validated), one after the other (each uses all cores inside),
-/// each on `scene.for_model(m)`: the same conditions, domain and grid.
+/// How a comparison's models share the cores.
+///
+/// Why at once by default: neither model keeps two cores busy on its own. Its line relaxation
+/// (Reynolds) and its march's bookkeeping and transport (layer) are serial; measured on
+/// `dent-shallow-compare` (257², 2 cores) the layer's march keeps about 1.4 cores busy and the
+/// Reynolds march about 1.5. The models are independent work, so the one that waits fills the
+/// other's idle core. Every number each model returns is the same bit for bit either way (each
+/// model's sums do not depend on the thread that runs them; tested in `validation/tests`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Schedule {
+    /// Every model at once, each a task on the one rayon pool with its parallel parts in it:
+    /// the comparison takes about its slowest model's time, and each model's wall time includes
+    /// the others' share of the cores.
+    #[default]
+    SideBySide,
+    /// One model after the other, each with every core: each wall time is that model's own cost.
+    OneAtATime,
+}
+
+impl Schedule {
+    /// The schedule a caller asks for with a `one at a time` switch (the binary's
+    /// `--one-at-a-time`, Python's `one_at_a_time=True`).
+    pub fn one_at_a_time(yes: bool) -> Self {
+        if yes { Schedule::OneAtATime } else { Schedule::SideBySide }
+    }
+
+    /// The name written to `comparison.json` and the table.
+    pub fn name(self) -> &'static str {
+        match self {
+            Schedule::SideBySide => "side-by-side",
+            Schedule::OneAtATime => "one-at-a-time",
+        }
+    }
+}
+
+/// Runs every model of `scene` (validated) at once ([`Schedule::SideBySide`]), each on
+/// `scene.for_model(m)`: the same conditions, domain and grid.
 pub fn run(scene: &Scene) -> Comparison {
-    let entries = scene
-        .models()
-        .into_iter()
-        .map(|m| {
-            let t0 = Instant::now();
-            let one = scene.for_model(m);
-            let outcome = crate::run::run_scene(&one);
-            Entry { model: m, outcome, wall_time_s: t0.elapsed().as_secs_f64() }
-        })
-        .collect();
-    Comparison { scene: scene.clone(), entries }
+    run_with(scene, Schedule::default())
+}
+
+/// Runs every model of `scene` (validated) on the given schedule, each on
+/// `scene.for_model(m)`: the same conditions, domain and grid.
+pub fn run_with(scene: &Scene, schedule: Schedule) -> Comparison {
+    let t0 = Instant::now();
+    let one = |m: Model| {
+        let t = Instant::now();
+        let outcome = crate::run::run_scene(&scene.for_model(m));
+        Entry { model: m, outcome, wall_time_s: t.elapsed().as_secs_f64() }
+    };
+    let models = scene.models();
+    let entries = match schedule {
+        Schedule::OneAtATime => models.into_iter().map(one).collect(),
+        // The models are tasks on the one rayon pool, their own parallel parts nested in them.
+        // Measured on `dent-shallow-compare` (257², 2 cores, one run after the other): 14.2 s
+        // against 17.7 s one at a time. Each model on its own plain thread, entering the pool
+        // from outside for every parallel part, took 18.1 s: the hand-over at every line
+        // relaxation's join costs more than the idle core gives.
+        Schedule::SideBySide => {
+            use rayon::prelude::*;
+            models.into_par_iter().map(one).collect()
+        }
+    };
+    Comparison {
+        scene: scene.clone(),
+        entries,
+        schedule,
+        total_wall_time_s: t0.elapsed().as_secs_f64(),
+    }
 }
 
 impl Comparison {
@@ -117,6 +176,8 @@ impl Comparison {
                 "contact_extent": format!("length along y = 0 (x) and x = 0 (y) where p >= {} p_h, crossings interpolated", ehl_core::observe::EXTENT_THRESHOLD),
             },
             "models": rows,
+            "schedule": self.schedule.name(),
+            "total_wall_time_s": self.total_wall_time_s,
         })
     }
 
@@ -198,6 +259,15 @@ impl Comparison {
                 t += &format!("  {}: caveat: {c}\n", e.name());
             }
         }
+        t += &format!(
+            "  all models: {:.2} s of wall, {} ({})\n",
+            self.total_wall_time_s,
+            self.schedule.name(),
+            match self.schedule {
+                Schedule::SideBySide => "each wall shares the cores with the others",
+                Schedule::OneAtATime => "each wall is that model's own cost",
+            }
+        );
         t
     }
 

@@ -229,7 +229,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     let mut steady = None;
     let stepper = Stepper::new(r.time.scheme, r.time.picard);
     let mut solve_steady = |what: &str, settings: &SteadySettings| -> Result<LayerState> {
-        spin.set_message(format!("{what}: steady rolling, solved directly"));
+        spin.set_message(format!("layer {what}: steady rolling, solved directly"));
         let (s, rep) = rolling_steady(&m, settings).within(|| fail(what))?;
         steady = Some(rep);
         Ok(s)
@@ -274,7 +274,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
                     .within(|| fail("run"))?;
             let mut march = LayerMarch { m: &m, state, stepper };
             let mut rec = drive::drive(&mut march, &plan, &mut |t| {
-                spin.set_message(format!("{label}: t = {t:.4} s"))
+                spin.set_message(format!("layer {label}: t = {t:.4} s"))
             })
             .within(|| fail(&format!("{label} run")))?;
             state = march.state;

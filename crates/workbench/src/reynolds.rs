@@ -373,7 +373,7 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     let report = solver
         .solve(&mut |c| {
             spin.set_message(format!(
-                "cycle {}: H_c {:.5}, load error {:+.1e}",
+                "reynolds cycle {}: H_c {:.5}, load error {:+.1e}",
                 c.cycle, c.central_film, c.load_error
             ))
         })
@@ -675,7 +675,7 @@ fn run_transient(
         watched,
     };
     let expected = plan.end.as_ref().map_or(0, |e| (e.0 / dt_s).round() as u64);
-    let spin = crate::progress::bar(expected, "dent passing");
+    let spin = crate::progress::bar(expected, "reynolds march");
     let rec = drive::drive(&mut march, &plan, &mut |_| spin.inc(1))
         .within(|| format!("scene `{}`: Reynolds march", scene.name))?;
     spin.finish_and_clear();
