@@ -97,6 +97,14 @@ pub struct ReynoldsSettings {
     /// at 0.2) but converge where the high-`L` light-load cases diverged (every `L = 20` case of
     /// the map up to `M = 2223` on 257²).
     pub fallback_lag: f64,
+    /// Smaller Gauss–Seidel changes for a third attempt (`relax.omega_gs` set to this, the
+    /// laws still lagged), when the lagged attempt also diverges, stalls or cycles; 0, or not
+    /// below `relax.omega_gs`: no third attempt. Measured (issue 26's `seed-speed-load`, fed
+    /// 25 nm): at 0.3 m/s and 20 N on 385², and at 1 m/s under 5 and 10 N on 641² and 577², the
+    /// heavily starved contacts (films of 21–22 nm, `h_oil/ρ̄`) ended both attempts in a limit
+    /// cycle of the force balance or a stall at × 0.4, and converge at × 0.25; a smaller `H00`
+    /// gain diverged instead.
+    pub fallback_omega_gs: f64,
     /// Time discretisation of transient runs.
     pub time_scheme: TimeScheme,
     /// A time step starts from the last state plus the last step's change (pressure and
@@ -173,6 +181,7 @@ impl Default for ReynoldsSettings {
             h00_gain: 0.3,
             fmg_cycles: 2,
             fallback_lag: 0.2,
+            fallback_omega_gs: 0.25,
             time_scheme: TimeScheme::Bdf1,
             extrapolated_start: true,
             step_extra_passes: false,
@@ -259,10 +268,13 @@ pub struct ReynoldsReport {
     pub wall_time_s: f64,
     /// The laws' lag this answer was relaxed with (`relax.coefficient_lag`; 0: none).
     pub lagged_laws: f64,
-    /// Why the first attempt, with the laws following at once, was given up (when the solve
-    /// started again with lagged laws: [`ReynoldsSettings::fallback_lag`]). Its cycles and
-    /// time are counted in `cycles` and `wall_time_s`.
+    /// Why the attempt before this answer's was given up (when the solve started again: with
+    /// lagged laws, [`ReynoldsSettings::fallback_lag`], and then with smaller Gauss–Seidel
+    /// changes, [`ReynoldsSettings::fallback_omega_gs`]; a third attempt's quotes both). Their
+    /// cycles and time are counted in `cycles` and `wall_time_s`.
     pub first_attempt: Option<String>,
+    /// The Gauss–Seidel changes' factor this answer was relaxed with (`relax.omega_gs`).
+    pub omega_gs: f64,
     /// A steady solve that stalled (or cycled) with its answer settled: returned, not converged
     /// (`converged` false, `diagnosis` says why), with how little the answer still moved.
     pub settled: Option<Settled>,
@@ -1121,41 +1133,35 @@ impl ReynoldsSolver {
             l.touch = false;
             l.contact.fill(false);
         }
-        let first = self.cycles(log, 0, 0.0, f64::NAN);
+        let mut rep = self.cycles(log, 0, 0.0, f64::NAN);
         let theta = self.active.fallback_lag;
-        let given_up = match &first {
-            Err(e) => Some((e.to_string(), e.cycle())),
-            Ok(r) => r
-                .diagnosis
-                .as_ref()
-                .filter(|d| matches!(d.kind, FailureKind::Stalled | FailureKind::LimitCycle))
-                .map(|d| (d.text.clone(), r.cycles)),
-        };
-        let rep = match given_up {
-            Some((why, cycles)) if theta > 0.0 && self.active.relax.coefficient_lag == 0.0 => {
-                // The relaxation failed with the laws following at once: start again with them
-                // lagged (they stay lagged for any time steps that follow).
+        if theta > 0.0 && self.active.relax.coefficient_lag == 0.0 {
+            // The relaxation failed with the laws following at once: start again with them
+            // lagged (they stay lagged for any time steps that follow).
+            if let Some(failed) = given_up(&rep) {
                 self.active.relax.coefficient_lag = theta;
-                self.start();
-                let spent = t0.elapsed().as_secs_f64();
-                let said = format!("first attempt, laws following at once: {why}");
-                match self.cycles(log, cycles, spent, f64::NAN) {
-                    Ok(mut r) => {
-                        if let Some(d) = r.diagnosis.as_mut() {
-                            d.text = format!("with lagged laws (θ = {theta}): {}; {said}", d.text);
-                        }
-                        r.first_attempt = Some(why);
-                        Ok(r)
-                    }
-                    Err(ReynoldsError::Diverged { cycle, kind, at, what, film, load }) => {
-                        let what = format!("with lagged laws (θ = {theta}): {what}; {said}");
-                        Err(ReynoldsError::Diverged { cycle, kind, at, what, film, load })
-                    }
-                    Err(e) => Err(e),
-                }
+                let said = format!("first attempt, laws following at once: {}", failed.0);
+                rep =
+                    self.attempt(log, &format!("with lagged laws (θ = {theta})"), failed, said, t0);
             }
-            _ => first,
-        };
+        }
+        let omega = self.active.fallback_omega_gs;
+        if self.active.relax.coefficient_lag > 0.0
+            && omega > 0.0
+            && omega < self.active.relax.omega_gs
+        {
+            // Lagged laws failed too: once more with smaller Gauss–Seidel changes.
+            if let Some(failed) = given_up(&rep) {
+                let was = self.active.relax.omega_gs;
+                self.active.relax.omega_gs = omega;
+                let said = format!("before that, Gauss–Seidel changes × {was}, {}", failed.0);
+                let what = format!(
+                    "with lagged laws (θ = {}) and Gauss–Seidel changes × {omega}",
+                    self.active.relax.coefficient_lag
+                );
+                rep = self.attempt(log, &what, failed, said, t0);
+            }
+        }
         // A stall or a limit cycle whose answer has settled is returned, saying so.
         let window = self.stall_window();
         let rep = rep.map(|mut r| {
@@ -1170,6 +1176,36 @@ impl ReynoldsSolver {
         });
         self.rho_h = vec![self.levels[0].rho_film(&self.prm)];
         converged(rep)
+    }
+
+    /// One more attempt of a steady solve, from the start, with the settings now in force
+    /// (`self.active`): `what` names them, `failed` is the attempt before's failure (its text
+    /// and its cycles, counted on) and `said` what the attempts before were and how they ended.
+    /// Its report, or its divergence, says which attempt it is and quotes `said`.
+    fn attempt(
+        &mut self,
+        log: &mut dyn FnMut(&CycleLog),
+        what: &str,
+        failed: (String, usize),
+        said: String,
+        t0: Instant,
+    ) -> Result<ReynoldsReport, ReynoldsError> {
+        self.start();
+        let spent = t0.elapsed().as_secs_f64();
+        match self.cycles(log, failed.1, spent, f64::NAN) {
+            Ok(mut r) => {
+                if let Some(d) = r.diagnosis.as_mut() {
+                    d.text = format!("{what}: {}; {said}", d.text);
+                }
+                r.first_attempt = Some(failed.0);
+                Ok(r)
+            }
+            Err(ReynoldsError::Diverged { cycle, kind, at, what: w, film, load }) => {
+                let w = format!("{what}: {w}; {said}");
+                Err(ReynoldsError::Diverged { cycle, kind, at, what: w, film, load })
+            }
+            Err(e) => Err(e),
+        }
     }
 
     /// Cycles until converged or given up; cycle numbers and wall times continue from
@@ -1277,6 +1313,7 @@ impl ReynoldsSolver {
                     wall_time_s: t0.elapsed().as_secs_f64(),
                     lagged_laws: self.active.relax.coefficient_lag,
                     first_attempt: None,
+                    omega_gs: self.active.relax.omega_gs,
                     settled: None,
                     mode_jumps: mode_jumps + jumps.jumps,
                 });
@@ -1303,9 +1340,23 @@ impl ReynoldsSolver {
             wall_time_s: t0.elapsed().as_secs_f64(),
             lagged_laws: self.active.relax.coefficient_lag,
             first_attempt: None,
+            omega_gs: self.active.relax.omega_gs,
             settled: None,
             mode_jumps: mode_jumps + jumps.jumps,
         })
+    }
+}
+
+/// Why a steady attempt was given up, and after how many cycles: a divergence, a stall or a
+/// limit cycle (a cycle limit is not given up on: more of the same would converge).
+fn given_up(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option<(String, usize)> {
+    match rep {
+        Err(e) => Some((e.to_string(), e.cycle())),
+        Ok(r) => r
+            .diagnosis
+            .as_ref()
+            .filter(|d| matches!(d.kind, FailureKind::Stalled | FailureKind::LimitCycle))
+            .map(|d| (d.text.clone(), r.cycles)),
     }
 }
 

@@ -311,3 +311,33 @@ fn coarse_grids_hold_the_fine_grids_lagged_laws() {
     assert!(rep.converged && rep.lagged_laws == 0.2, "{:?}", rep.diagnosis);
     assert!(rep.first_attempt.as_deref().is_some_and(|w| w.contains("diverged")), "{rep:?}");
 }
+
+#[test]
+fn a_solve_that_fails_lagged_too_converges_on_a_third_attempt_with_smaller_changes() {
+    // M = 20, L = 10 on 65² with the Gauss–Seidel changes over-relaxed × 1.6: the first attempt
+    // (laws following at once) diverges (measured: cycle 21) and the second (laws lagged)
+    // stalls (cycle 66). Without a third attempt that is the answer: a failure.
+    let relax = RelaxSettings { omega_gs: 1.6, ..Default::default() };
+    let grid = Grid::new(65, 65, (-4.5, 1.5), (-3.0, 3.0));
+    let solve = |settings: ReynoldsSettings| {
+        let mut s = ReynoldsSolver::new(grid, common::m20(), settings);
+        let rep = s.solve(&mut |_| {});
+        (rep, s.films())
+    };
+    let without = ReynoldsSettings { relax, fallback_omega_gs: 0.0, ..Default::default() };
+    let (failed, _) = solve(without);
+    assert!(failed.is_err(), "two attempts at × 1.6 failed when measured: {failed:?}");
+    // The default's third attempt, lagged laws and changes × 0.25, converges (measured: 86
+    // cycles in all) and says so: its factor, and both failures before it, quoted.
+    let (rep, (hc, hmin)) = solve(ReynoldsSettings { relax, ..Default::default() });
+    let rep = rep.expect("the third attempt converges");
+    assert!(rep.converged && rep.omega_gs == 0.25 && rep.lagged_laws == 0.2, "{rep:?}");
+    let why = rep.first_attempt.as_deref().expect("the attempts before are reported");
+    assert!(why.contains("with lagged laws") && why.contains("first attempt"), "{why}");
+    // To the same discrete solution as the default solve, to the film's stop tolerance (1e-4
+    // a cycle; measured 3e-7): smaller changes relax to the same equations. A third attempt
+    // that kept a stalled or diverged state, or relaxed other equations, would not.
+    let (hc0, hmin0) = m20_films(65);
+    assert!((hc / hc0 - 1.0).abs() < 1e-4, "H_c {hc} against {hc0}");
+    assert!((hmin / hmin0 - 1.0).abs() < 1e-4, "H_min {hmin} against {hmin0}");
+}

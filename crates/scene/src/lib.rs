@@ -1061,6 +1061,13 @@ impl Scene {
                 "1 to 4 (sweeps before a time step's coarse-grid correction)",
             ));
         }
+        if !(0.0..=1.0).contains(&s.fallback_omega_gs) {
+            return Err(ck.err(
+                "reynolds.solver.fallback_omega_gs",
+                format!("{}", s.fallback_omega_gs),
+                "0 (no third attempt) to 1 (the Gauss-Seidel changes' factor of a third attempt)",
+            ));
+        }
         if !(0.0..=100.0).contains(&s.mode_extrapolation) {
             return Err(ck.err(
                 "reynolds.solver.mode_extrapolation",
@@ -1694,6 +1701,11 @@ mod tests {
             .unwrap();
         let m = refused(&with("{\"step_pre_sweeps\": 0}"));
         assert!(m.contains("reynolds.solver.step_pre_sweeps") && m.contains("1 to 4"), "{m}");
+        let m = refused(&with("{\"fallback_omega_gs\": 1.5}"));
+        assert!(
+            m.contains("reynolds.solver.fallback_omega_gs") && m.contains("0 (no third"),
+            "{m}"
+        );
         let m = refused(&with("{\"mode_extrapolation\": -1}"));
         assert!(m.contains("reynolds.solver.mode_extrapolation") && m.contains("0 (no"), "{m}");
         let m = refused(&with("{\"relax\": {\"transient_threshold_at_rest\": 0}}"));

@@ -751,6 +751,7 @@ impl ReynoldsOutcome {
                 "cycles": self.report.cycles,
                 "lagged_laws": self.report.lagged_laws,
                 "first_attempt": self.report.first_attempt,
+                "omega_gs": self.report.omega_gs,
                 "settled": self.report.settled,
                 "final_residual": last.residual,
                 "final_load_error": last.load_error,
