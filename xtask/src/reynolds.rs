@@ -93,15 +93,50 @@ fn map_sweep(
                 )
             }
         }
+        let rule = if ok { Value::Null } else { on_the_rules_grid(&point.scene) };
         rows.push(json!({
             "m": m, "l": l, "converged": ok, "cycles": cycles, "lagged_laws": lagged,
             "diagnosis": mr.diagnosis,
             "domain_a": [rec.x_a, rec.y_a],
             "central_film_m": if ok { hc_m } else { None }, "hamrock_dowson_m": hd, "nvm_m": nvm,
             "wall_time_s": mr.wall_time_s,
+            "on_the_rules_grid": rule,
         }));
     }
     Ok(rows)
+}
+
+/// A map point that failed, run again on the grid the sweeps' rule gives it (its cells at most
+/// `CELLS_PER_FILM · H_c^{2/3}` a, its domain kept unless its inlet is short): whether the
+/// failure was the grid's. `null` when the rule asks for no finer grid than the map's.
+fn on_the_rules_grid(scene: &ehl_scene::Scene) -> Value {
+    let (fine, what) = ehl_workbench::sweep::adapt::adapt(scene, true);
+    let Some(what) = what else { return Value::Null };
+    let t = std::time::Instant::now();
+    let run = ehl_workbench::run_scene(&fine);
+    let wall = t.elapsed().as_secs_f64();
+    let g = fine.grid();
+    let (ok, hc, hmin, why) = match &run {
+        Ok(o) => {
+            let ob = o.observables();
+            let ok = ob.minimum_film_m > 0.0 && o.caveat().is_none();
+            (ok, Some(ob.central_film_m), Some(ob.minimum_film_m), o.caveat())
+        }
+        Err(e) => (false, None, None, Some(e.to_string())),
+    };
+    println!(
+        "          on the rule's grid ({what}): {} in {wall:.1} s{}",
+        if ok { "converged" } else { "FAILED" },
+        match (hc, hmin, &why) {
+            (Some(hc), Some(hm), None) => format!(", h_c {:.4e} m, h_min {:.4e} m", hc, hm),
+            (_, _, Some(w)) => format!(": {}", w.chars().take(120).collect::<String>()),
+            _ => String::new(),
+        }
+    );
+    json!({
+        "grid": g.nx, "domain_a": [[g.x_min, g.x_max], [g.y_min, g.y_max]], "converged": ok,
+        "central_film_m": hc, "minimum_film_m": hmin, "diagnosis": why, "wall_time_s": wall,
+    })
 }
 
 pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf>> {
