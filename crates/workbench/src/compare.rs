@@ -54,8 +54,10 @@ pub struct Comparison {
 /// (Reynolds) and its march's bookkeeping and transport (layer) are serial; measured on
 /// `dent-shallow-compare` (257², 2 cores) the layer's march keeps about 1.4 cores busy and the
 /// Reynolds march about 1.5. The models are independent work, so the one that waits fills the
-/// other's idle core. Every number each model returns is the same bit for bit either way (each
-/// model's sums do not depend on the thread that runs them; tested in `validation/tests`).
+/// other's idle core. Every number each model returns is the same either way: bit for bit on
+/// every field and history file of `dent-shallow-compare` (compared with `cmp`), and the suite
+/// holds each model's observables in a comparison to its run alone
+/// (`validation/tests/compare.rs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Schedule {
     /// Every model at once, each a task on the one rayon pool with its parallel parts in it:
