@@ -49,14 +49,16 @@ __all__ = [
 class Scene:
     """A checked scene: a built-in name, a JSON file's path, or a dict, with every default filled."""
 
-    def __init__(self, spec: Union[str, os.PathLike, Dict[str, Any], "Scene"], grid: Optional[int] = None):
+    def __init__(self, spec: Union[str, os.PathLike, Dict[str, Any], "Scene"], grid: Optional[int] = None, for_compare: bool = False):
+        """``for_compare``: a one-model scene that names its comparison (``comparison``) is that
+        comparison, as ``ehl compare NAME`` runs it (``grid`` applies to the comparison)."""
         if isinstance(spec, Scene):
             text, is_json = spec.json, True
         elif isinstance(spec, dict):
             text, is_json = json.dumps(spec), True
         else:
             text, is_json = os.fspath(spec), False
-        self.json: str = _ehl.load_scene(text, is_json, grid)
+        self.json: str = _ehl.load_scene(text, is_json, grid, bool(for_compare))
         self.data: Dict[str, Any] = json.loads(self.json)
 
     @property
@@ -175,8 +177,9 @@ def compare(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional
     """Runs every model of a comparison scene on one grid, all at once sharing the cores (or one
     after the other with ``one_at_a_time=True``, so that each wall time is that model's own
     cost); writes the command line's files (``comparison.json``, ``.csv``, each model's folder)
-    to ``out`` when given."""
-    s = Scene(spec, grid)
+    to ``out`` when given. A one-model scene that names its comparison (the seed's
+    ``squeeze-after-stop``: ``stop-compare``) runs that comparison, as the command line does."""
+    s = Scene(spec, grid, for_compare=True)
     return Comparison(_ehl.compare_scene(s.json, None if out is None else os.fspath(out), bool(one_at_a_time)))
 
 

@@ -75,11 +75,24 @@ fn off_thread<T: Send + 'static>(
 
 /// A scene from a built-in name or a path (`is_json` false), or from JSON text; checked. Returns
 /// the scene as JSON text (every default written out).
+/// With `for_compare`, a one-model scene that names its comparison (`comparison`) is that
+/// comparison, before `grid` applies (what `ehl compare NAME` runs).
 #[pyfunction]
-#[pyo3(signature = (spec, is_json, grid=None))]
-fn load_scene(py: Python<'_>, spec: &str, is_json: bool, grid: Option<usize>) -> PyResult<String> {
+#[pyo3(signature = (spec, is_json, grid=None, for_compare=false))]
+fn load_scene(
+    py: Python<'_>,
+    spec: &str,
+    is_json: bool,
+    grid: Option<usize>,
+    for_compare: bool,
+) -> PyResult<String> {
     let scene = if is_json { Scene::from_json(spec, "(dict)") } else { ehl_scene::load(spec) };
     let mut scene = scene.map_err(|e| scene_error(py, &e))?;
+    if for_compare {
+        if let Some(c) = scene.as_comparison().map_err(|e| scene_error(py, &e))? {
+            scene = c;
+        }
+    }
     if let Some(n) = grid {
         scene = scene.with_points(n).map_err(|e| scene_error(py, &e))?;
     }

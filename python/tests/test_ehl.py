@@ -89,6 +89,17 @@ def test_models_run_one_at_a_time_give_the_same_rows_and_say_so():
     assert alone.comparison["total_wall_time_s"] >= sum(r["wall_time_s"] for r in alone.table())
 
 
+def test_compare_of_a_seed_layer_scene_runs_its_comparison_like_the_command_line():
+    # squeeze-after-stop names stop-compare: the same stop through the layer, Reynolds and dry
+    # models; grid applies to the comparison (33²: the Reynolds film closes, listed).
+    c = ehl.compare("squeeze-after-stop", grid=33)
+    assert c.comparison["scene"] == "stop-compare"
+    assert [r["model"] for r in c.table()] == ["layer", "reynolds", "dry"]
+    assert c.comparison["grid"]["nx"] == 33
+    # As a scene it stays the layer model's own.
+    assert ehl.scene("squeeze-after-stop").models == ["layer"]
+
+
 def test_fields_are_si_arrays_of_the_grids_shape_on_its_axes():
     r = ehl.run("hertz", grid=33)
     s = r.summary

@@ -149,7 +149,7 @@ fn real_main() -> Result<()> {
             run: RunArgs { scene, out, grid, threads },
             one_at_a_time,
         }) => {
-            let s = prepare(&scene, grid, threads)?;
+            let s = prepare(&comparison(&scene)?, grid, threads)?;
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
             let c = compare::run_with(&s, compare::Schedule::one_at_a_time(one_at_a_time));
             let files = c.write(&dir)?;
@@ -237,6 +237,28 @@ fn print_table(dir: &std::path::Path) -> Result<()> {
 }
 
 /// The scene to run: loaded, validated, the grid and thread count set.
+/// The scene `ehl compare NAME` runs: `NAME` itself, or the comparison a one-model scene
+/// names (the seed's layer scenes name theirs), said on the terminal.
+fn comparison(scene: &str) -> Result<String> {
+    let s = ehl_scene::load(scene)?;
+    let names = |s: &ehl_scene::Scene| {
+        s.models().iter().map(|&m| compare::model_name(m)).collect::<Vec<_>>().join(", ")
+    };
+    Ok(match (s.as_comparison()?, &s.comparison) {
+        (Some(c), Some(name)) => {
+            println!(
+                "scene `{}` is the {} model's own; its case through every model is `{}` ({}): running that",
+                s.name,
+                names(&s),
+                c.name,
+                names(&c)
+            );
+            name.clone()
+        }
+        _ => scene.to_string(),
+    })
+}
+
 fn prepare(scene: &str, grid: Option<usize>, threads: Option<usize>) -> Result<ehl_scene::Scene> {
     let mut s = ehl_scene::load(scene)?;
     if let Some(n) = grid {

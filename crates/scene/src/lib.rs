@@ -63,6 +63,12 @@ pub struct Scene {
     #[serde(default)]
     /// Which files a run writes.
     pub outputs: Outputs,
+    /// A one-model scene's case through every model: the comparison scene (a built-in name or
+    /// a path) that `ehl compare` of this scene runs ([`Scene::as_comparison`]). The seed's
+    /// layer scenes name theirs (`squeeze-after-stop`: `stop-compare`), whose plan both models
+    /// can march on a common grid; `ehl run` ignores it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub comparison: Option<String>,
 }
 
 /// The model a scene runs.
@@ -149,11 +155,39 @@ impl Scene {
         self.model.is_none()
     }
 
+    /// What `ehl compare` of this scene runs: `None` for a comparison scene (itself), or the
+    /// comparison a one-model scene names (`comparison`), loaded and checked: it must be a
+    /// comparison of the same contact (conditions). A one-model scene without one runs as a
+    /// comparison of its one model (`None`).
+    pub fn as_comparison(&self) -> Result<Option<Scene>, SceneError> {
+        let Some(name) = self.comparison.as_deref().filter(|_| !self.is_comparison()) else {
+            return Ok(None);
+        };
+        let c = load(name)?;
+        let ck = Check { origin: &format!("scene `{}`", self.name) };
+        if !c.is_comparison() {
+            return Err(ck.err(
+                "comparison",
+                name.into(),
+                "a comparison scene (one listing `models`)",
+            ));
+        }
+        if c.conditions != self.conditions {
+            return Err(ck.err(
+                "comparison",
+                name.into(),
+                "a comparison of the same contact (its `conditions` equal this scene's)",
+            ));
+        }
+        Ok(Some(c))
+    }
+
     /// This scene as a comparison of `models` (each once), checked.
     pub fn comparing(&self, models: &[Model]) -> Result<Scene, SceneError> {
         let mut s = self.clone();
         s.model = None;
         s.models = models.to_vec();
+        s.comparison = None;
         s.validate(&format!("{} as a comparison", self.name))?;
         Ok(s)
     }
@@ -840,6 +874,13 @@ impl Scene {
                 ));
             }
             (None, false) => {
+                if let Some(c) = &self.comparison {
+                    return Err(ck.err(
+                        "comparison",
+                        c.clone(),
+                        "only on a one-model scene (a comparison is its own)",
+                    ));
+                }
                 for (k, m) in self.models.iter().enumerate() {
                     if self.models[..k].contains(m) {
                         return Err(ck.err(
@@ -1564,6 +1605,50 @@ mod tests {
         assert!(m.contains("run.start") && m.contains("steady-rolling"), "{m}");
         let m = refused(&text.replace("\"stop\": { \"until_feature_at_a\": 1.0 }", "\"stop\": {}"));
         assert!(m.contains("run.stop.max_time_s") && m.contains("required"), "{m}");
+    }
+
+    #[test]
+    fn the_seed_s_layer_scenes_name_their_case_through_both_models() {
+        // `ehl compare squeeze-after-stop` runs the stop through both models (issue 25), on the
+        // comparison's own plan: the same contact, both models, the same start.
+        for (one, both) in [
+            ("squeeze-after-stop", "stop-compare"),
+            ("rolling-from-squeezed", "rolling-from-squeezed-compare"),
+        ] {
+            let s = builtin(one).unwrap();
+            assert!(!s.is_comparison());
+            let c = s.as_comparison().unwrap().expect("it names its comparison");
+            assert_eq!(c.name, both);
+            assert!(c.models().contains(&Model::Layer) && c.models().contains(&Model::Reynolds));
+            assert_eq!(c.conditions, s.conditions);
+            let (r1, r2) = (s.run.as_ref().unwrap(), c.run.as_ref().unwrap());
+            assert_eq!(r1.start, r2.start, "{one}");
+        }
+        // A comparison is its own, and a scene that names none runs as itself.
+        assert!(builtin("stop-compare").unwrap().as_comparison().unwrap().is_none());
+        assert!(builtin("hole").unwrap().as_comparison().unwrap().is_none());
+        // Refused: the field on a comparison scene, a name that is not a comparison, and a
+        // comparison of another contact, each naming the field.
+        let text = |n: &str| BUILTINS.iter().find(|b| b.0 == n).unwrap().1.to_string();
+        let m = refused(&text("stop-compare").replacen('{', "{\"comparison\": \"seed\",", 1));
+        assert!(m.contains("comparison") && m.contains("one-model"), "{m}");
+        let named = |c: &str| {
+            Scene::from_json(
+                &text("squeeze-after-stop").replace("\"stop-compare\"", &format!("\"{c}\"")),
+                "t",
+            )
+            .unwrap()
+            .as_comparison()
+            .unwrap_err()
+            .to_string()
+        };
+        let m = named("hole");
+        assert!(m.contains("comparison") && m.contains("listing `models`"), "{m}");
+        let m = named(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../validation/tests/data/user-10n.json"
+        ));
+        assert!(m.contains("comparison") && m.contains("same contact"), "{m}");
     }
 
     #[test]
