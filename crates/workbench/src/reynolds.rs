@@ -129,14 +129,8 @@ impl ContactModel for ReynoldsFlooded {
         Reynolds.inlet_distance(scene)
     }
     fn cell_needed(&self, scene: &Scene) -> f64 {
-        rule_cell(scene, CELLS_PER_FILM)
+        Reynolds.cell_needed(scene)
     }
-}
-
-/// The grid rule's cell [a]: `constant` times the Nijenbanning–Venner–Moes central film in
-/// Hertz units to the power 2/3 (infinite for a scene without a rolling lubricated contact).
-fn rule_cell(scene: &Scene, constant: f64) -> f64 {
-    nvm_film(scene).map_or(f64::INFINITY, |h| constant * h.powf(2.0 / 3.0))
 }
 
 /// The grid rule's constant: cells no larger than this times `H_c^{2/3}` [a] (`H_c` the NVM
@@ -150,17 +144,6 @@ fn rule_cell(scene: &Scene, constant: f64) -> f64 {
 /// than needed (5–30 mm/s at 5 N converge on 65²). It is a rule for an answer, not for its
 /// accuracy: at 10 mm/s, 20 N the central film still moves 4 % from 257² to 513².
 pub const CELLS_PER_FILM: f64 = 0.25;
-
-/// The grid rule's constant for the solver fed a supply (mass conserving): three quarters of
-/// [`CELLS_PER_FILM`]. Measured on `seed-speed-load` fed 25 nm, where the supply is many times
-/// what the inlet takes and the fed film is the flooded one within 2 %: at 2 mm/s, 40 N and at
-/// 5 mm/s, 80 N the flooded rule's 769² (cells 0.0033 a) closed the fed film at the outlet
-/// constriction (`x` = 0.92–0.99 a, after all three attempts), where the flooded solve
-/// converged on the same grid (3.673, 6.319 nm); on 1025² (0.75 of those cells) the fed solve
-/// converges (3.747 nm at the third attempt, 6.430 nm at the first; 120 and 145 s on 2
-/// threads). Only these two points were measured to need it; applied to every fed point, it
-/// refines the seed's own point (10 mm/s, 20 N) from its 0.0098 a cells to 0.0074 a.
-pub const CELLS_PER_FILM_FED: f64 = 0.75 * CELLS_PER_FILM;
 
 impl ContactModel for Reynolds {
     fn kind(&self) -> ehl_scene::Model {
@@ -178,11 +161,9 @@ impl ContactModel for Reynolds {
     }
     /// [`CELLS_PER_FILM`] times the Nijenbanning–Venner–Moes central film in Hertz units to the
     /// power 2/3: the width of the side lobes' constriction, where the film is thinnest, over
-    /// which the gap outside a Hertzian contact rises by the film (`g ∝ (x − a)^{3/2}`); fed a
-    /// supply, [`CELLS_PER_FILM_FED`].
+    /// which the gap outside a Hertzian contact rises by the film (`g ∝ (x − a)^{3/2}`).
     fn cell_needed(&self, scene: &Scene) -> f64 {
-        let fed = scene.supply.is_some();
-        rule_cell(scene, if fed { CELLS_PER_FILM_FED } else { CELLS_PER_FILM })
+        nvm_film(scene).map_or(f64::INFINITY, |h| CELLS_PER_FILM * h.powf(2.0 / 3.0))
     }
 }
 

@@ -25,7 +25,7 @@
 //! cell its answer exists on (`ContactModel::cell_needed`); the point's cells are refined to the
 //! smallest, the domain kept. The Reynolds solver's is `0.25 H_c^{2/3}` `a` (`H_c` the NVM
 //! central film in Hertz units, `ehl_workbench::reynolds::CELLS_PER_FILM` says how it was
-//! measured), three quarters of that fed a supply (`CELLS_PER_FILM_FED`): the side lobes' constriction, where the film is thinnest and where it closed on
+//! measured): the side lobes' constriction, where the film is thinnest and where it closed on
 //! coarser grids at low speed and high load. The layer and the dry contact need none.
 //!
 //! **The checks.** The rule is a published estimate, not a proof, so each point is run twice
@@ -189,8 +189,7 @@ mod tests {
         // 1 + 2 (m* − 1) = 1.367 a; the layer (2 l0 = 0.0262 a²/R) needs only ~1.06 a.
         let x = inlet_needed(&seed);
         assert!((x - 1.367).abs() < 2e-3, "{x}");
-        // (The inlet alone: the grid rule refines the fed seed's cells too, tested below.)
-        let (s, what) = adapt(&seed, false);
+        let (s, what) = adapt(&seed, true);
         assert!(what.is_some());
         assert!((s.domain.x_a[0] + x).abs() < 1e-12 && s.domain.x_a[1] == 1.25);
         // 2.617 a at <= 2.5/256 a per cell: 268 cells, rounded up to 289 points (9·32 + 1).
@@ -199,7 +198,7 @@ mod tests {
         // A scene that already reaches far enough is kept as it is.
         let mut wide = seed.clone();
         wide.domain = ehl_scene::Domain { x_a: [-1.5, 1.0], y_a: [-1.25, 1.25] };
-        assert_eq!(adapt(&wide, false), (wide.clone(), None));
+        assert_eq!(adapt(&wide, true), (wide.clone(), None));
     }
 
     #[test]
@@ -225,17 +224,12 @@ mod tests {
                 .and_then(|s| s.with_parameter(ehl_scene::Parameter::Load, w))
                 .unwrap()
         };
-        // Flooded, the seed's own cells (2.5/256 a) are finer than its rule (0.25 ·
-        // 0.00781^(2/3) = 0.00985 a): only the inlet grows, as without the rule.
-        let flooded = seed.for_model(ehl_scene::Model::ReynoldsFlooded);
-        assert_eq!(adapt(&flooded, true), adapt(&flooded, false));
-        // Fed (the comparison lists the fed solver), its cells are three quarters of that
-        // (0.0074 a): 2.5 a / 0.0074 a = 339 cells, rounded up to 385 points.
-        let (fed, what) = adapt(&seed, true);
-        assert_eq!(fed.grid.nx, 385, "{what:?}");
-        // 2 mm/s, 80 N flooded: H_c = 9.4e-4, cells <= 0.0024 a: 1025 points over ~2.5 a
-        // (measured: the film closes on 257², goes negative on 513², is +0.50 nm on 1025²).
-        let (s, what) = adapt(&at(0.002, 80.0).for_model(ehl_scene::Model::ReynoldsFlooded), true);
+        // The seed's own cells (2.5/256 a) are finer than its rule (0.25 · 0.00781^(2/3) =
+        // 0.00985 a): only the inlet grows, as without the rule.
+        assert_eq!(adapt(&seed, true), adapt(&seed, false));
+        // 2 mm/s, 80 N: H_c = 9.4e-4, cells <= 0.0024 a: 1025 points over ~2.5 a (measured: the
+        // film closes on 257², goes negative on 513², is +0.50 nm on 1025²).
+        let (s, what) = adapt(&at(0.002, 80.0), true);
         assert!(s.grid.nx >= 1025 && s.grid.nx == s.grid.ny, "{what:?}");
         assert!(what.unwrap().contains("thinnest film"));
         s.validate("test").unwrap();
