@@ -128,7 +128,7 @@ fn real_main() -> Result<()> {
             println!("{}", s.to_json());
         }
         Command::Run(RunArgs { scene, out, grid, threads }) => {
-            let s = prepare(&scene, grid, threads)?;
+            let s = prepare(ehl_scene::load(&scene)?, grid, threads)?;
             if s.is_comparison() {
                 bail!(
                     "scene `{}` lists several models ({:?}): run it with `ehl compare`",
@@ -149,7 +149,7 @@ fn real_main() -> Result<()> {
             run: RunArgs { scene, out, grid, threads },
             one_at_a_time,
         }) => {
-            let s = prepare(&comparison(&scene)?, grid, threads)?;
+            let s = prepare(comparison(&scene)?, grid, threads)?;
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
             let c = compare::run_with(&s, compare::Schedule::one_at_a_time(one_at_a_time));
             let files = c.write(&dir)?;
@@ -239,13 +239,13 @@ fn print_table(dir: &std::path::Path) -> Result<()> {
 /// The scene to run: loaded, validated, the grid and thread count set.
 /// The scene `ehl compare NAME` runs: `NAME` itself, or the comparison a one-model scene
 /// names (the seed's layer scenes name theirs), said on the terminal.
-fn comparison(scene: &str) -> Result<String> {
+fn comparison(scene: &str) -> Result<ehl_scene::Scene> {
     let s = ehl_scene::load(scene)?;
     let names = |s: &ehl_scene::Scene| {
         s.models().iter().map(|&m| compare::model_name(m)).collect::<Vec<_>>().join(", ")
     };
-    Ok(match (s.as_comparison()?, &s.comparison) {
-        (Some(c), Some(name)) => {
+    Ok(match s.as_comparison()? {
+        Some(c) => {
             println!(
                 "scene `{}` is the {} model's own; its case through every model is `{}` ({}): running that",
                 s.name,
@@ -253,14 +253,18 @@ fn comparison(scene: &str) -> Result<String> {
                 c.name,
                 names(&c)
             );
-            name.clone()
+            c
         }
-        _ => scene.to_string(),
+        None => s,
     })
 }
 
-fn prepare(scene: &str, grid: Option<usize>, threads: Option<usize>) -> Result<ehl_scene::Scene> {
-    let mut s = ehl_scene::load(scene)?;
+/// A loaded scene with the command line's grid and thread count applied.
+fn prepare(
+    mut s: ehl_scene::Scene,
+    grid: Option<usize>,
+    threads: Option<usize>,
+) -> Result<ehl_scene::Scene> {
     if let Some(n) = grid {
         s = s.with_points(n)?;
     }
