@@ -437,7 +437,8 @@ fn squeeze(n: usize) -> Result<std::path::PathBuf> {
 
 /// Whole comparisons on their own grids, `runs` times each way, the two schedules alternating so
 /// that a change in the cores' load falls on both: the wall of the whole comparison with the
-/// models at once (the default) and one at a time, with each model's own wall one at a time.
+/// models at once (the default) and one at a time, with each model's own wall one at a time
+/// (from the last run).
 /// Issue 25's target: `dent-shallow-compare` within 15 s on 2 cores.
 fn compare(runs: usize) -> Result<std::path::PathBuf> {
     use ehl_workbench::compare::{self, Schedule};
