@@ -33,6 +33,25 @@ pub fn starvation_boundary(h_hertz: f64) -> f64 {
     1.0 + 3.06 * h_hertz.max(0.0).powf(0.58)
 }
 
+/// The grid rule's constant: cells no larger than this times `H_c^{2/3}` [a] (`H_c` the NVM
+/// central film in Hertz units). Measured where the film's existence turns on the cell (pure
+/// rolling, Table 1's lubricant, flooded), in units of `H_c^{2/3}`: the seed (10 mm/s, 20 N,
+/// `M = 2223, L = 2.49`) converges at 0.25 (257²) and stalls at 0.50 (129²); 2 mm/s, 80 N
+/// (`M = 29729, L = 1.67`) converges at 0.25 (1025², minimum film +0.50 nm), to a negative
+/// minimum film at 0.51 (513²), and its film closes at 1.0 (257²); 5 mm/s, 10 N converges at
+/// 0.48. Half the cell where existence ends: every flooded point of `seed-speed-load` whose film
+/// closed on 65² asks for more than 65² by this rule, and at light load it is up to 3× finer
+/// than needed (5–30 mm/s at 5 N converge on 65²). It is a rule for an answer, not for its
+/// accuracy: at 10 mm/s, 20 N the central film still moves 4 % from 257² to 513².
+pub const CELLS_PER_FILM: f64 = 0.25;
+/// The grid rule: the largest cell [a] on which a steady film of central thickness `h_hertz`
+/// (Hertz units [a²/R], the NVM estimate) exists, [`CELLS_PER_FILM`] `· h_hertz^{2/3}`: the
+/// width of the side lobes' constriction, where the film is thinnest, over which the gap
+/// outside a Hertzian contact rises by the film (`g ∝ (x − a)^{3/2}`).
+pub fn cell_needed(h_hertz: f64) -> f64 {
+    CELLS_PER_FILM * h_hertz.max(0.0).powf(2.0 / 3.0)
+}
+
 /// Nijenbanning, Venner & Moes (Wear 176 (1994) 217–229), central film in Moes' units
 /// `H = h_c / R · U^(−1/2)` (`U` with the sum velocity), circular contact (`D = 1`): a blend of
 /// the rigid/elastic, isoviscous/piezoviscous asymptotes.

@@ -132,3 +132,38 @@ fn jumps_along_the_slow_mode_cut_the_cycles_and_land_nearer_the_converged_film()
         off(hc_without)
     );
 }
+
+#[test]
+fn a_last_attempt_from_the_flooded_answer_that_fails_leaves_the_attempt_before_standing() {
+    // M = 20, L = 10 on 65², fed, with a film tolerance no cycle meets (0): the fed attempt
+    // stalls once its residual reaches rounding, and so does the last attempt's flooded
+    // solve. The solve must fail saying both, and its state must be the attempt before's, not
+    // the flooded one the last attempt computed (a solver that kept it would hand a flooded
+    // film out as the fed answer, and the films below would differ).
+    let grid = Grid::new(65, 65, (-4.5, 1.5), (-3.0, 3.0));
+    let settings = ReynoldsSettings {
+        film_tolerance: 0.0,
+        fallback_lag: 0.0,
+        fallback_omega_gs: 0.0,
+        ..Default::default()
+    };
+    let run = |settings: ReynoldsSettings| {
+        let mut s = ReynoldsSolver::new(grid, common::m20(), settings);
+        s.set_supply(Some(&|_y| 0.1));
+        let rep = s.solve(&mut |_| {});
+        (rep, s.films().0)
+    };
+    let (without, hc_without) = run(ReynoldsSettings { flooded_start_fallback: false, ..settings });
+    let (with, hc_with) = run(settings);
+    let text = |r: &Result<ReynoldsReport, ReynoldsError>| match r {
+        Ok(r) => r.diagnosis.as_ref().map(|d| d.text.clone()).unwrap_or_default(),
+        Err(e) => e.to_string(),
+    };
+    let before = text(&without);
+    assert!(before.contains("stalled"), "{before}");
+    let said = text(&with);
+    assert!(with.as_ref().is_ok_and(|r| !r.converged && !r.from_flooded), "{said}");
+    assert!(said.starts_with(&before), "{said}");
+    assert!(said.contains("; then from the flooded answer: its flooded solve: "), "{said}");
+    assert_eq!(hc_with, hc_without, "the attempt before's film, bit for bit");
+}

@@ -133,17 +133,7 @@ impl ContactModel for ReynoldsFlooded {
     }
 }
 
-/// The grid rule's constant: cells no larger than this times `H_c^{2/3}` [a] (`H_c` the NVM
-/// central film in Hertz units). Measured where the film's existence turns on the cell (pure
-/// rolling, Table 1's lubricant, flooded), in units of `H_c^{2/3}`: the seed (10 mm/s, 20 N,
-/// `M = 2223, L = 2.49`) converges at 0.25 (257²) and stalls at 0.50 (129²); 2 mm/s, 80 N
-/// (`M = 29729, L = 1.67`) converges at 0.25 (1025², minimum film +0.50 nm), to a negative
-/// minimum film at 0.51 (513²), and its film closes at 1.0 (257²); 5 mm/s, 10 N converges at
-/// 0.48. Half the cell where existence ends: every flooded point of `seed-speed-load` whose film
-/// closed on 65² asks for more than 65² by this rule, and at light load it is up to 3× finer
-/// than needed (5–30 mm/s at 5 N converge on 65²). It is a rule for an answer, not for its
-/// accuracy: at 10 mm/s, 20 N the central film still moves 4 % from 257² to 513².
-pub const CELLS_PER_FILM: f64 = 0.25;
+pub use ehl_reynolds::formulas::CELLS_PER_FILM;
 
 impl ContactModel for Reynolds {
     fn kind(&self) -> ehl_scene::Model {
@@ -163,7 +153,7 @@ impl ContactModel for Reynolds {
     /// power 2/3: the width of the side lobes' constriction, where the film is thinnest, over
     /// which the gap outside a Hertzian contact rises by the film (`g ∝ (x − a)^{3/2}`).
     fn cell_needed(&self, scene: &Scene) -> f64 {
-        nvm_film(scene).map_or(f64::INFINITY, |h| CELLS_PER_FILM * h.powf(2.0 / 3.0))
+        nvm_film(scene).map_or(f64::INFINITY, ehl_reynolds::formulas::cell_needed)
     }
 }
 
@@ -752,6 +742,7 @@ impl ReynoldsOutcome {
                 "lagged_laws": self.report.lagged_laws,
                 "first_attempt": self.report.first_attempt,
                 "omega_gs": self.report.omega_gs,
+                "from_flooded": self.report.from_flooded,
                 "settled": self.report.settled,
                 "final_residual": last.residual,
                 "final_load_error": last.load_error,
