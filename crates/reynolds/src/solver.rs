@@ -112,7 +112,9 @@ pub struct ReynoldsSettings {
     /// Measured on `seed-speed-load` fed 25 nm: at 2 mm/s, 40 N and 5 mm/s, 80 N (769², the
     /// grid rule's) every earlier attempt diverged in the start on 193² or closed the film at
     /// the outlet (`x` = 0.92–0.99 a), where the flooded solve converges on the same grid; from
-    /// the flooded answer they converge (3.668 and 6.294 nm against 3.67 and 6.32 nm flooded).
+    /// the flooded answer they converge (3.668 and 6.294 nm against 3.67 and 6.32 nm flooded),
+    /// and so does 2 mm/s, 80 N on 1153² (3.376 against 3.380 nm), whose start diverged on
+    /// every start grid tried.
     pub flooded_start_fallback: bool,
     /// Time discretisation of transient runs.
     pub time_scheme: TimeScheme,

@@ -260,6 +260,15 @@ impl Outcome for ReynoldsOutcome {
                 ),
             ),
             (
+                "from_flooded".into(),
+                Indicator::new(
+                    f64::from(u8::from(self.report.from_flooded)),
+                    "1",
+                    "1: the fed solve started from the flooded answer (its last attempt)",
+                    false,
+                ),
+            ),
+            (
                 "contact_load_share".into(),
                 Indicator::new(
                     self.transient.as_ref().map_or(0.0, |t| {
