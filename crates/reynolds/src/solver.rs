@@ -1190,9 +1190,9 @@ impl ReynoldsSolver {
             if let Some(failed) = film_closed(&rep).or_else(|| given_up(&rep)) {
                 let kept = self.save();
                 let (note, answer) = match self.attempt_from_flooded(log, failed.1, t0) {
-                    Ok(Ok(r)) if r.converged => (String::new(), Some(r)),
-                    Ok(fed) => (what_it_said(&fed), None),
-                    Err(flooded) => {
+                    FromFlooded::Fed(Ok(r)) if r.converged => (String::new(), Some(r)),
+                    FromFlooded::Fed(fed) => (what_it_said(&fed), None),
+                    FromFlooded::Flooded(flooded) => {
                         (format!("its flooded solve: {}", what_it_said(&flooded)), None)
                     }
                 };
@@ -1245,11 +1245,13 @@ impl ReynoldsSolver {
         }
         self.active = ReynoldsSettings { contact: false, ..self.settings };
         let rep = match self.attempt_from_flooded(log, 0, Instant::now()) {
-            Ok(fed) => fed.map(|mut r| {
+            FromFlooded::Fed(fed) => fed.map(|mut r| {
                 r.from_flooded = true;
                 r
             }),
-            Err(flooded) => with_note(flooded, " (the flooded solve the fed one starts from)"),
+            FromFlooded::Flooded(flooded) => {
+                with_note(flooded, " (the flooded solve the fed one starts from)")
+            }
         };
         self.rho_h = vec![self.levels[0].rho_film(&self.prm)];
         converged(rep.map(|mut r| {
@@ -1292,15 +1294,14 @@ impl ReynoldsSolver {
     /// The last attempt of a mass-conserving steady solve: the same contact fully flooded
     /// first (the clamp, its own full-multigrid start), then the supply switched on and cycles
     /// from that answer (`θ` from [`Level::start_theta_from_flooded`]), cycle numbers and time
-    /// counted on from `cycles_before` and `t0`: the fed cycles' outcome, or `Err` with the
-    /// flooded solve's when that did not converge.
-    #[allow(clippy::type_complexity)]
+    /// counted on from `cycles_before` and `t0`: the fed cycles' outcome, or the flooded
+    /// solve's when that did not converge.
     fn attempt_from_flooded(
         &mut self,
         log: &mut dyn FnMut(&CycleLog),
         cycles_before: usize,
         t0: Instant,
-    ) -> Result<Result<ReynoldsReport, ReynoldsError>, Result<ReynoldsReport, ReynoldsError>> {
+    ) -> FromFlooded {
         let kept: Vec<Option<Vec<f64>>> =
             self.levels.iter().map(|l| l.supply().map(<[f64]>::to_vec)).collect();
         for l in &mut self.levels {
@@ -1313,7 +1314,7 @@ impl ReynoldsSolver {
         }
         let flooded = match flooded {
             Ok(r) if r.converged => r,
-            other => return Err(other),
+            other => return FromFlooded::Flooded(other),
         };
         self.levels[0].start_theta_from_flooded();
         let h00 = self.h00;
@@ -1342,7 +1343,7 @@ impl ReynoldsSolver {
         let fed = self.cycles(log, flooded.cycles, t0.elapsed().as_secs_f64(), f64::NAN);
         self.active = kept;
         self.coarsest = usize::MAX;
-        Ok(fed)
+        FromFlooded::Fed(fed)
     }
 
     /// Cycles until converged or given up; cycle numbers and wall times continue from
@@ -1501,6 +1502,15 @@ fn given_up(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option<(String, usiz
             .filter(|d| matches!(d.kind, FailureKind::Stalled | FailureKind::LimitCycle))
             .map(|d| (d.text.clone(), r.cycles)),
     }
+}
+
+/// Where the attempt from the flooded answer ended
+/// ([`ReynoldsSettings::flooded_start_fallback`]).
+enum FromFlooded {
+    /// The flooded solve did not converge: its outcome.
+    Flooded(Result<ReynoldsReport, ReynoldsError>),
+    /// The fed cycles from the flooded answer: their outcome.
+    Fed(Result<ReynoldsReport, ReynoldsError>),
 }
 
 /// What a steady attempt that did not converge says: its diagnosis, or its error.
