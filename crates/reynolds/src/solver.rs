@@ -447,9 +447,8 @@ pub struct ReynoldsSolver {
     /// plus the last step's change, the pressure's carried with the surfaces
     /// ([`ReynoldsSettings::extrapolated_start`]).
     before: Option<(Array2<f64>, f64)>,
-    /// The coarsest level the cycles descend to: the last, but in
-    /// [`ReynoldsSolver::attempt_from_flooded`]'s mass-conserving cycles the coarsest whose cells hold
-    /// the film.
+    /// The coarsest level the cycles descend to: the last, but in the mass-conserving cycles
+    /// of [`ReynoldsSolver::attempt_from_flooded`] the coarsest whose cells hold the film.
     coarsest: usize,
 }
 
