@@ -322,6 +322,12 @@ impl DentSpec {
     }
 }
 
+/// The fastest rolling speed a scene may ask for [m/s]. The models are isothermal, which a
+/// point contact stops being long before this (shear heating); and a march steps a cell's
+/// travel at a time, so a speed far above the reference speed costs as many more steps (a
+/// table knot at 4097 m/s in `stop-start-compare`, 0.01 m/s reference, ran for 365 s on 17²).
+pub const MAX_SPEED_M_S: f64 = 100.0;
+
 /// The range checks' vocabulary: each refusal names the scene, the field, the value and what is
 /// allowed.
 struct Check<'a> {
@@ -367,6 +373,14 @@ impl Check<'_> {
         match checks.iter().find(|c| c.0) {
             Some((_, field, value, allowed)) => Err(self.err(field, value.clone(), &say(allowed))),
             None => Ok(()),
+        }
+    }
+    /// A rolling speed [m/s]: from 0 to [`MAX_SPEED_M_S`].
+    fn speed(&self, field: &str, u: f64) -> Result<(), SceneError> {
+        if u.is_finite() && (0.0..=MAX_SPEED_M_S).contains(&u) {
+            Ok(())
+        } else {
+            Err(self.err(field, format!("{u}"), &format!("must be in [0, {MAX_SPEED_M_S}] (m/s)")))
         }
     }
     fn nonneg(&self, field: &str, v: f64, unit: &str) -> Result<(), SceneError> {
@@ -940,7 +954,7 @@ impl Scene {
             return Err(ck.err("solver.max_iterations", "0".into(), "must be >= 1"));
         }
         if let Some(u) = c.rolling_velocity_m_s {
-            ck.nonneg("conditions.rolling_velocity_m_s", u, "m/s")?;
+            ck.speed("conditions.rolling_velocity_m_s", u)?;
         }
         if let Some(l) = &self.lubricant {
             ck.positive("lubricant.eta0_pa_s", l.eta0_pa_s, "Pa s")?;
@@ -1212,6 +1226,11 @@ impl Scene {
                     "[]".into(),
                     "at least one [t (s), u (m/s)] knot",
                 ));
+            }
+            Motion::Table { knots } => {
+                for (k, knot) in knots.iter().enumerate() {
+                    ck.speed(&format!("run.motion.table.knots[{k}][1]"), knot[1])?;
+                }
             }
             _ => {}
         }
@@ -1847,6 +1866,8 @@ mod tests {
         assert!(m.contains("run.motion.stop.at_s") && m.contains(">= 0"), "{m}");
         let m = refused(&with("{ \"table\": { \"knots\": [[1.0, 0.01], [0.5, 0.0]] } }"));
         assert!(m.contains("run.motion") && m.contains("must not decrease"), "{m}");
+        let m = refused(&with("{ \"table\": { \"knots\": [[0, 0.01], [0.1, 4097.0]] } }"));
+        assert!(m.contains("run.motion.table.knots[1][1]") && m.contains("[0, 100]"), "{m}");
         let m = refused(&with("{ \"start-up\": { \"ramp_s\": 0.01 } }"));
         assert!(m.contains("run.start") && m.contains("starts at rest"), "{m}");
         // A feature snapshot the motion never carries the feature to.
