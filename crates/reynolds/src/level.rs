@@ -1805,6 +1805,7 @@ mod tests {
             assert!((x[k] - x_true[k]).abs() < 1e-12);
         }
     }
+
     #[test]
     fn a_flooded_answer_loses_its_pressure_where_the_gap_is_wider_than_the_supply() {
         // A flooded inlet carries pressure from the inflow boundary on; fed a layer `s`, the

@@ -1142,17 +1142,8 @@ impl ReynoldsSolver {
         &mut self,
         log: &mut dyn FnMut(&CycleLog),
     ) -> Result<ReynoldsReport, ReynoldsError> {
-        for l in &mut self.levels {
-            l.time_a0 = 0.0;
-            l.history.fill(0.0);
-        }
         let t0 = Instant::now();
-        // Steady: no contact ([`ReynoldsSettings::contact`]).
-        self.active = ReynoldsSettings { contact: false, ..self.settings };
-        for l in &mut self.levels {
-            l.touch = false;
-            l.contact.fill(false);
-        }
+        self.steady_setup();
         let mut rep = self.cycles(log, 0, 0.0, f64::NAN);
         let theta = self.active.fallback_lag;
         if theta > 0.0 && self.active.relax.coefficient_lag == 0.0 {
@@ -1224,6 +1215,18 @@ impl ReynoldsSolver {
         converged(rep)
     }
 
+    /// Before a steady solve: no time history, the settings as given, and no contact
+    /// ([`ReynoldsSettings::contact`]: steady solves never touch).
+    fn steady_setup(&mut self) {
+        self.active = ReynoldsSettings { contact: false, ..self.settings };
+        for l in &mut self.levels {
+            l.time_a0 = 0.0;
+            l.history.fill(0.0);
+            l.touch = false;
+            l.contact.fill(false);
+        }
+    }
+
     /// Mass conserving, a steady solve that starts from the flooded answer: the same contact
     /// solved fully flooded first, then the supply switched on and cycles from that answer
     /// (what [`ReynoldsSettings::flooded_start_fallback`] does after failed attempts, here the
@@ -1236,13 +1239,7 @@ impl ReynoldsSolver {
         if !self.levels[0].mass_conserving() {
             return self.solve(log);
         }
-        for l in &mut self.levels {
-            l.time_a0 = 0.0;
-            l.history.fill(0.0);
-            l.touch = false;
-            l.contact.fill(false);
-        }
-        self.active = ReynoldsSettings { contact: false, ..self.settings };
+        self.steady_setup();
         let rep = match self.attempt_from_flooded(log, 0, Instant::now()) {
             FromFlooded::Fed(fed) => fed.map(|mut r| {
                 r.from_flooded = true;

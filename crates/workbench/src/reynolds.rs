@@ -149,9 +149,7 @@ impl ContactModel for Reynolds {
         nvm_film(scene)
             .map_or(0.0, |h| 1.0 + 2.0 * (ehl_reynolds::formulas::starvation_boundary(h) - 1.0))
     }
-    /// [`CELLS_PER_FILM`] times the Nijenbanning–Venner–Moes central film in Hertz units to the
-    /// power 2/3: the width of the side lobes' constriction, where the film is thinnest, over
-    /// which the gap outside a Hertzian contact rises by the film (`g ∝ (x − a)^{3/2}`).
+    /// The grid rule ([`ehl_reynolds::formulas::cell_needed`]) for the scene's NVM central film.
     fn cell_needed(&self, scene: &Scene) -> f64 {
         nvm_film(scene).map_or(f64::INFINITY, ehl_reynolds::formulas::cell_needed)
     }
