@@ -52,6 +52,24 @@ pub fn cell_needed(h_hertz: f64) -> f64 {
     CELLS_PER_FILM * h_hertz.max(0.0).powf(2.0 / 3.0)
 }
 
+/// The grid error's constant: the flooded central film's change from half the points per side,
+/// `|h_c,2h / h_c − 1|`, is at most this times `ρ²`, `ρ` the cell over `H_c^{2/3}` (`H_c` the
+/// NVM central film in Hertz units, the grid rule's width). Measured on `seed-speed-load` (35
+/// points, 2 mm/s … 1 m/s, 5 … 80 N, `ρ` = 0.016 … 0.25, 2026-11-26): the ratio is 2.5–4.3
+/// over three decades of speed, growing mildly with the load (2.5–2.8 at 5 N, 3.1–4.3 at 80 N).
+/// The fed films change less (starved ones by 0.06–1.8 ρ²): the flooded constant covers both.
+pub const GRID_CHANGE_PER_CELL2: f64 = 4.3;
+
+/// The accuracy rule: the largest cell [a] on which the steady film of central thickness
+/// `h_hertz` (Hertz units [a²/R], the NVM estimate) has an estimated grid error of its central
+/// film within `error` (relative): with the change `K ρ²` ([`GRID_CHANGE_PER_CELL2`]) and the
+/// three-grid estimate at second order (`1.25 × change / 3`, Roache's grid convergence index),
+/// `ρ = √(3 error / (1.25 K))` (0.106 for 2 %); never coarser than [`cell_needed`].
+pub fn cell_for_error(h_hertz: f64, error: f64) -> f64 {
+    let rho = (3.0 * error.max(0.0) / (1.25 * GRID_CHANGE_PER_CELL2)).sqrt();
+    rho.min(CELLS_PER_FILM) * h_hertz.max(0.0).powf(2.0 / 3.0)
+}
+
 /// Nijenbanning, Venner & Moes (Wear 176 (1994) 217–229), central film in Moes' units
 /// `H = h_c / R · U^(−1/2)` (`U` with the sum velocity), circular contact (`D = 1`): a blend of
 /// the rigid/elastic, isoviscous/piezoviscous asymptotes.

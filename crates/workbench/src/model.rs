@@ -23,9 +23,10 @@ pub trait ContactModel: Sync {
     fn inlet_distance(&self, _scene: &Scene) -> f64 {
         0.0
     }
-    /// The largest cell [a] this model's answer exists on for the scene's conditions (sweeps
-    /// refine a point's grid to it); infinite: any grid will do.
-    fn cell_needed(&self, _scene: &Scene) -> f64 {
+    /// The largest cell [a] on which this model's answer exists for the scene's conditions
+    /// and, where the model knows its grid error, is estimated within `error` (relative; sweeps
+    /// refine a point's grid to it, with their flag limit); infinite: any grid will do.
+    fn cell_needed(&self, _scene: &Scene, _error: f64) -> f64 {
         f64::INFINITY
     }
 }

@@ -128,8 +128,8 @@ impl ContactModel for ReynoldsFlooded {
     fn inlet_distance(&self, scene: &Scene) -> f64 {
         Reynolds.inlet_distance(scene)
     }
-    fn cell_needed(&self, scene: &Scene) -> f64 {
-        Reynolds.cell_needed(scene)
+    fn cell_needed(&self, scene: &Scene, error: f64) -> f64 {
+        Reynolds.cell_needed(scene, error)
     }
 }
 
@@ -149,9 +149,10 @@ impl ContactModel for Reynolds {
         nvm_film(scene)
             .map_or(0.0, |h| 1.0 + 2.0 * (ehl_reynolds::formulas::starvation_boundary(h) - 1.0))
     }
-    /// The grid rule ([`ehl_reynolds::formulas::cell_needed`]) for the scene's NVM central film.
-    fn cell_needed(&self, scene: &Scene) -> f64 {
-        nvm_film(scene).map_or(f64::INFINITY, ehl_reynolds::formulas::cell_needed)
+    /// The accuracy rule ([`ehl_reynolds::formulas::cell_for_error`], never coarser than the
+    /// film's existence needs) for the scene's NVM central film.
+    fn cell_needed(&self, scene: &Scene, error: f64) -> f64 {
+        nvm_film(scene).map_or(f64::INFINITY, |h| ehl_reynolds::formulas::cell_for_error(h, error))
     }
 }
 
@@ -199,8 +200,8 @@ impl Outcome for ReynoldsOutcome {
                 "the solids touch there at rest, and the steps had no contact between them (reynolds.solver.contact off): the film goes negative where they would".to_string()
             } else {
                 format!(
-                    "the grid does not resolve the thinnest film (a sweep's grid rule asks for cells <= {:.4} a here)",
-                    Reynolds.cell_needed(&self.scene)
+                    "the grid does not resolve the thinnest film (the grid rule's film exists on cells <= {:.4} a here)",
+                    Reynolds.cell_needed(&self.scene, f64::INFINITY)
                 )
             };
             format!(

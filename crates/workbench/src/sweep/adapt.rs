@@ -75,17 +75,19 @@ pub fn multigrid_count(n: usize) -> usize {
     best
 }
 
-/// The largest cell [a] the models of `scene` need ([`crate::model::ContactModel::cell_needed`]):
-/// the smallest any of them asks for; infinite when none does.
-pub fn cell_needed(scene: &Scene) -> f64 {
-    models(scene).map(|m| m.cell_needed(scene)).fold(f64::INFINITY, f64::min)
+/// The largest cell [a] the models of `scene` need for answers within `error` (relative,
+/// [`crate::model::ContactModel::cell_needed`]): the smallest any of them asks for; infinite
+/// when none does.
+pub fn cell_needed(scene: &Scene, error: f64) -> f64 {
+    models(scene).map(|m| m.cell_needed(scene, error)).fold(f64::INFINITY, f64::min)
 }
 
 /// The point's scene with the domain and grid the rules ask for (the grid rule only when
-/// `resolve`), and what changed (`None` when the scene's own already suffice).
-pub fn adapt(scene: &Scene, resolve: bool) -> (Scene, Option<String>) {
+/// `resolve`, for answers within `error`: the sweep's flag limit), and what changed (`None`
+/// when the scene's own already suffice).
+pub fn adapt(scene: &Scene, resolve: bool, error: f64) -> (Scene, Option<String>) {
     let inlet = inlet_needed(scene);
-    let cell = if resolve { cell_needed(scene) } else { f64::INFINITY };
+    let cell = if resolve { cell_needed(scene, error) } else { f64::INFINITY };
     let (d, g) = (scene.domain, scene.grid);
     let dx = (d.x_a[1] - d.x_a[0]) / (g.nx - 1) as f64;
     let dy = (d.y_a[1] - d.y_a[0]) / (g.ny - 1) as f64;
@@ -121,7 +123,11 @@ pub fn adapt(scene: &Scene, resolve: bool) -> (Scene, Option<String>) {
         s.domain.y_a[1]
     );
     if finer {
-        what += &format!(" (cells <= {cell:.4} a for the thinnest film)");
+        what += &if error.is_finite() {
+            format!(" (cells <= {cell:.4} a for the film within {:.1} %)", 100.0 * error)
+        } else {
+            format!(" (cells <= {cell:.4} a for the thinnest film)")
+        };
     }
     (s, Some(what))
 }
@@ -159,6 +165,9 @@ pub fn domain_check(scene: &Scene) -> Scene {
 mod tests {
     use super::*;
 
+    /// No accuracy asked: the grid rule's cells are those the film exists on.
+    const EXISTS: f64 = f64::INFINITY;
+
     #[test]
     fn multigrid_counts() {
         for (n, m) in [
@@ -189,7 +198,7 @@ mod tests {
         // 1 + 2 (m* − 1) = 1.367 a; the layer (2 l0 = 0.0262 a²/R) needs only ~1.06 a.
         let x = inlet_needed(&seed);
         assert!((x - 1.367).abs() < 2e-3, "{x}");
-        let (s, what) = adapt(&seed, true);
+        let (s, what) = adapt(&seed, true, EXISTS);
         assert!(what.is_some());
         assert!((s.domain.x_a[0] + x).abs() < 1e-12 && s.domain.x_a[1] == 1.25);
         // 2.617 a at <= 2.5/256 a per cell: 268 cells, rounded up to 289 points (9·32 + 1).
@@ -198,14 +207,14 @@ mod tests {
         // A scene that already reaches far enough is kept as it is.
         let mut wide = seed.clone();
         wide.domain = ehl_scene::Domain { x_a: [-1.5, 1.0], y_a: [-1.25, 1.25] };
-        assert_eq!(adapt(&wide, true), (wide.clone(), None));
+        assert_eq!(adapt(&wide, true, EXISTS), (wide.clone(), None));
     }
 
     #[test]
     fn a_fast_point_gets_a_longer_inlet_at_no_coarser_cells() {
         let seed = ehl_scene::builtin("seed").unwrap();
         let fast = seed.with_parameter(ehl_scene::Parameter::RollingVelocity, 1.0).unwrap();
-        let (s, what) = adapt(&fast, true);
+        let (s, what) = adapt(&fast, true, EXISTS);
         assert!(what.is_some());
         // NVM at 1 m/s: H ≈ 0.175 a²/R, m* ≈ 2.11, inlet ≈ 3.23 a.
         assert!(s.domain.x_a[0] < -3.1 && s.domain.x_a[0] > -3.35, "{:?}", s.domain);
@@ -226,15 +235,32 @@ mod tests {
         };
         // The seed's own cells (2.5/256 a) are finer than its rule (0.25 · 0.00781^(2/3) =
         // 0.00985 a): only the inlet grows, as without the rule.
-        assert_eq!(adapt(&seed, true), adapt(&seed, false));
+        assert_eq!(adapt(&seed, true, EXISTS), adapt(&seed, false, EXISTS));
         // 2 mm/s, 80 N: H_c = 9.4e-4, cells <= 0.0024 a: 1025 points over ~2.5 a (measured: the
         // film closes on 257², goes negative on 513², is +0.50 nm on 1025²).
-        let (s, what) = adapt(&at(0.002, 80.0), true);
+        let (s, what) = adapt(&at(0.002, 80.0), true, EXISTS);
         assert!(s.grid.nx >= 1025 && s.grid.nx == s.grid.ny, "{what:?}");
         assert!(what.unwrap().contains("thinnest film"));
         s.validate("test").unwrap();
         // Off, the scene's cells stay.
-        assert_eq!(adapt(&at(0.002, 80.0), false).0.grid.nx, 257);
+        assert_eq!(adapt(&at(0.002, 80.0), false, EXISTS).0.grid.nx, 257);
+    }
+
+    #[test]
+    fn the_accuracy_rule_refines_the_seed_to_its_measured_two_per_cent_grid() {
+        // The seed point: 0.106 · 0.00781^(2/3) = 0.00417 a over 2.617 a: 628 cells, 641
+        // points (5·128 + 1). Measured there (flooded, 10 mm/s): h_c moves 4 % from 257² to
+        // 513², 1.1 % from 513² to 1025², so the three-grid estimate of 2 % is first met near
+        // 513²-641²; a rule asking for 289² again (the existence rule) would fail here.
+        let seed = ehl_scene::builtin("seed").unwrap();
+        let (s, what) = adapt(&seed, true, 0.02);
+        assert_eq!((s.grid.nx, s.grid.ny), (641, 641), "{what:?}");
+        assert!(what.unwrap().contains("within 2.0 %"));
+        // A looser limit asks for less, never less than the film's existence.
+        let (loose, _) = adapt(&seed, true, 0.05);
+        assert!(loose.grid.nx < 641 && loose.grid.nx >= 289, "{:?}", loose.grid);
+        assert_eq!(adapt(&seed, true, 10.0), adapt(&seed, true, EXISTS));
+        s.validate("test").unwrap();
     }
 
     #[test]
@@ -247,7 +273,7 @@ mod tests {
         coarse.grid = ehl_scene::GridSpec { nx: 65, ny: 65 };
         let err = crate::run::run_scene(&coarse).err().expect("65² closes the film");
         assert!(format!("{err:#}").contains("film closed"), "{err:#}");
-        let (fine, _) = adapt(&coarse, true);
+        let (fine, _) = adapt(&coarse, true, EXISTS);
         assert!(fine.grid.nx >= 257, "{:?}", fine.grid);
         let o = crate::run::run_scene(&fine).expect("the rule's grid holds the film");
         let ob = o.observables();

@@ -69,6 +69,11 @@ pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
             for (k, v) in ["h_c", "h_min", "p_max"].iter().zip(g) {
                 put(&format!("grid_change_{k}"), json!(v));
             }
+            let e = m.grid_error.unwrap_or_default();
+            for (k, v) in ["h_c", "h_min", "p_max"].iter().zip(e) {
+                put(&format!("grid_order_{k}"), json!(v.and_then(|v| v.order)));
+                put(&format!("grid_error_{k}"), json!(v.map(|v| v.error)));
+            }
             for (k, v) in ["h_c", "h_min", "p_max"].iter().zip(d) {
                 put(&format!("domain_change_{k}"), json!(v));
             }
@@ -130,8 +135,10 @@ pub fn results_json(plan: &Plan, recs: &[PointRecord]) -> Value {
         "definitions": {
             "film": "separation of the solid surfaces (see comparison.json of `ehl compare`)",
             "grid_change": "(this point - the same domain at half the points per side) / this point",
+            "grid_order": "the order of convergence observed on the point's grid, half and a quarter of its points per side (empty: the changes alternate, or the quarter grid failed)",
+            "grid_error": "the point's estimated relative discretisation error, Roache's grid convergence index: 1.25 |grid change| / (2^p - 1), p the observed order held to [0.5, 2]; without an observed order, |grid change|",
             "domain_change": "(larger domain - the half-points run) / the half-points run, same cells",
-            "flag": format!("a change beyond {} (relative) or a check that failed", plan.sweep.flag_change_above),
+            "flag": format!("an estimated grid error or a domain change beyond {} (relative), or a check that failed", plan.sweep.flag_change_above),
             "wall_time_s": "one thread per point",
         },
         "robustness": robustness(plan, recs),

@@ -14,6 +14,7 @@
 //! A model that fails at a point is recorded with its diagnosis; the sweep goes on.
 
 pub mod adapt;
+pub mod convergence;
 pub mod merge;
 
 use crate::error::{Error, Result, io, output};
@@ -68,15 +69,24 @@ pub struct ModelRecord {
     pub indicators: std::collections::BTreeMap<String, crate::model::Indicator>,
     /// Wall time of the model's run at this point [s], single thread.
     pub wall_time_s: f64,
-    /// The same point on a finer grid, when the sweep asks for it.
+    /// The same point at half the points per side, when the sweep asks for it.
     pub grid_check: Option<CheckRecord>,
+    /// … and at a quarter: with the half, the order the answer converges at.
+    #[serde(default)]
+    pub grid_check_quarter: Option<CheckRecord>,
+    /// The estimated discretisation error of `h_c`, `h_min`, `p_max` from the three grids
+    /// ([`convergence::grid_error`]); `None` where undefined (a check failed, the dry
+    /// contact's films).
+    #[serde(default)]
+    pub grid_error: Option<[Option<convergence::GridError>; 3]>,
     /// The same point with a longer inlet, when the sweep asks for it.
     pub domain_check: Option<CheckRecord>,
-    /// Wall time of both checks [s].
+    /// Wall time of the checks [s].
     pub check_wall_time_s: f64,
-    /// Why the point's answer is not to be trusted as it stands (the solver's caveat, a check's
-    /// change beyond the sweep's limit, or a check that failed); `None` when the solver
-    /// converged and both checks pass (or were not asked for).
+    /// Why the point's answer is not to be trusted as it stands (the solver's caveat, an
+    /// estimated grid error or a domain check's change beyond the sweep's limit, or a check
+    /// that failed); `None` when the solver converged and the checks pass (or were not asked
+    /// for).
     pub flag: Option<String>,
 }
 
@@ -128,8 +138,11 @@ impl Plan {
             .into_iter()
             .enumerate()
             .map(|(index, (values, scene))| {
-                let (scene, adapted) =
-                    if sweep.adapt { adapt::adapt(&scene, sweep.resolve) } else { (scene, None) };
+                let (scene, adapted) = if sweep.adapt {
+                    adapt::adapt(&scene, sweep.resolve, sweep.flag_change_above)
+                } else {
+                    (scene, None)
+                };
                 scene.validate(&format!("sweep {} point {index} (adapted)", sweep.name))?;
                 let mut scene = scene;
                 scene.name = format!("{}-{index:05}", sweep.name);
@@ -360,14 +373,40 @@ fn rel(a: f64, b: f64) -> Option<f64> {
     Some(a / b - 1.0).filter(|v| v.is_finite())
 }
 
-/// The relative changes; films only where there is a film (not the dry contact's zero gap).
+/// The relative changes from `b` to `a`, over `b`'s value; the minimum film's over `b`'s
+/// central film (the film's own scale: a minimum that is zero, the solids touching, has no
+/// relative change, and 0.1 nm in a 0.5 nm minimum of a 4 nm film is 2.5 % of the film, not
+/// 20 %); films only where there is a film (not the dry contact's zero gap).
 fn changes(a: &Observables, b: &Observables, lubricated: bool) -> [Option<f64>; 3] {
-    let film = |x: f64, y: f64| if lubricated { rel(x, y) } else { None };
+    let film = |v: Option<f64>| v.filter(|_| lubricated);
     [
-        film(a.central_film_m, b.central_film_m),
-        film(a.minimum_film_m, b.minimum_film_m),
+        film(rel(a.central_film_m, b.central_film_m)),
+        film(
+            Some((a.minimum_film_m - b.minimum_film_m) / b.central_film_m)
+                .filter(|v| v.is_finite()),
+        ),
         rel(a.max_pressure_pa, b.max_pressure_pa),
     ]
+}
+
+/// The estimated grid errors of `h_c`, `h_min` (on the scale of `h_c`, as [`changes`]),
+/// `p_max` from the point's answer, the half grid's and the quarter's (when it answered);
+/// films only for lubricated models.
+fn grid_errors(
+    point: &Observables,
+    half: &Observables,
+    quarter: Option<&Observables>,
+    lubricated: bool,
+) -> [Option<convergence::GridError>; 3] {
+    let values = |o: &Observables| [o.central_film_m, o.minimum_film_m, o.max_pressure_pa];
+    let (f1, f2) = (values(point), values(half));
+    let f3 = quarter.map(values);
+    let scales = [point.central_film_m, point.central_film_m, point.max_pressure_pa];
+    std::array::from_fn(|k| {
+        (lubricated || k == 2)
+            .then(|| convergence::grid_error(f1[k], f2[k], f3.map(|f| f[k]), scales[k]))
+            .flatten()
+    })
 }
 
 fn check_record(scene: &Scene, run: &Result<Answer, Failed>) -> CheckRecord {
@@ -404,6 +443,8 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                     indicators: main.as_ref().map(|r| r.2.clone()).unwrap_or_default(),
                     wall_time_s,
                     grid_check: None,
+                    grid_check_quarter: None,
+                    grid_error: None,
                     domain_check: None,
                     check_wall_time_s: 0.0,
                     flag: None,
@@ -413,17 +454,29 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                     && sweep.checks
                 {
                     let (gs, ds) = (adapt::grid_check(&one), adapt::domain_check(&one));
+                    let qs = adapt::grid_check(&gs);
                     let (g, tg) = run_model(&gs);
+                    // The quarter grid only matters when the half one answered.
+                    let (q, tq) = if g.is_ok() { run_model(&qs) } else { (g.clone(), 0.0) };
                     let (d, td) = run_model(&ds);
-                    rec.check_wall_time_s = tg + td;
+                    rec.check_wall_time_s = tg + tq + td;
                     let mut gc = check_record(&gs, &g);
+                    let mut qc = check_record(&qs, &q);
                     let mut dc = check_record(&ds, &d);
                     gc.change = g.as_ref().ok().map(|(c, ..)| changes(ob, c, *lub));
                     if let (Ok((c, ..)), Ok((big, ..))) = (&g, &d) {
                         dc.change = Some(changes(big, c, *lub));
                     }
-                    rec.flag = flag(sweep.flag_change_above, &gc, &dc);
+                    if let (Ok((half, ..)), Ok((quarter, ..))) = (&g, &q) {
+                        qc.change = Some(changes(half, quarter, *lub));
+                    }
+                    rec.grid_error = g.as_ref().ok().map(|(half, ..)| {
+                        let quarter = q.as_ref().ok().map(|r| &r.0);
+                        grid_errors(ob, half, quarter, *lub)
+                    });
+                    rec.flag = flag(sweep.flag_change_above, &gc, rec.grid_error.as_ref(), &dc);
                     rec.grid_check = Some(gc);
+                    rec.grid_check_quarter = Some(qc);
                     rec.domain_check = Some(dc);
                 }
                 // The solver's own caveat flags the point first, checks or none.
@@ -446,28 +499,51 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
     })
 }
 
-/// The flag of a model at a point: each check whose change exceeds `limit`, by how much, or
-/// that failed. An undefined change (the dry contact's films) is not checked.
-fn flag(limit: f64, grid: &CheckRecord, domain: &CheckRecord) -> Option<String> {
+/// The flag of a model at a point: each estimated grid error
+/// ([`convergence::grid_error`]) and each domain check's change beyond `limit`, by how much,
+/// and each check that failed. An undefined change (the dry contact's films) is not checked.
+fn flag(
+    limit: f64,
+    grid: &CheckRecord,
+    errors: Option<&[Option<convergence::GridError>; 3]>,
+    domain: &CheckRecord,
+) -> Option<String> {
+    const NAMES: [&str; 3] = ["h_c", "h_min", "p_max"];
     let mut parts = vec![];
-    for (what, c) in [("grid", grid), ("domain", domain)] {
-        match (&c.change, &c.diagnosis) {
-            (Some(ch), _) => {
-                let names = ["h_c", "h_min", "p_max"];
-                let over: Vec<String> = ch
-                    .iter()
-                    .zip(names)
-                    .filter_map(|(v, n)| v.map(|v| (v, n)))
-                    .filter(|(v, _)| v.abs() > limit)
-                    .map(|(v, n)| format!("{n} {:+.1} %", 100.0 * v))
-                    .collect();
-                if !over.is_empty() {
-                    parts.push(format!("{what} {}", over.join(", ")));
-                }
+    match (errors, &grid.diagnosis) {
+        (Some(es), _) => {
+            let over: Vec<String> = es
+                .iter()
+                .zip(NAMES)
+                .filter_map(|(e, n)| e.map(|e| (e, n)))
+                .filter(|(e, _)| e.error > limit)
+                .map(|(e, n)| match e.order {
+                    Some(p) => format!("{n} ±{:.1} % (order {p:.2})", 100.0 * e.error),
+                    None => format!("{n} ±{:.1} %", 100.0 * e.error),
+                })
+                .collect();
+            if !over.is_empty() {
+                parts.push(format!("grid error {}", over.join(", ")));
             }
-            (None, Some(_)) => parts.push(format!("{what} check failed")),
-            (None, None) => parts.push(format!("{what} check not compared (its reference failed)")),
         }
+        (None, Some(_)) => parts.push("grid check failed".into()),
+        (None, None) => parts.push("grid check not compared (its reference failed)".into()),
+    }
+    match (&domain.change, &domain.diagnosis) {
+        (Some(ch), _) => {
+            let over: Vec<String> = ch
+                .iter()
+                .zip(NAMES)
+                .filter_map(|(v, n)| v.map(|v| (v, n)))
+                .filter(|(v, _)| v.abs() > limit)
+                .map(|(v, n)| format!("{n} {:+.1} %", 100.0 * v))
+                .collect();
+            if !over.is_empty() {
+                parts.push(format!("domain {}", over.join(", ")));
+            }
+        }
+        (None, Some(_)) => parts.push("domain check failed".into()),
+        (None, None) => parts.push("domain check not compared (its reference failed)".into()),
     }
     (!parts.is_empty()).then(|| parts.join("; "))
 }
