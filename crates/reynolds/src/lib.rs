@@ -14,7 +14,6 @@ pub mod solver;
 pub use level::{Level, RelaxSettings};
 pub use params::{DensityLaw, ReynoldsParams, ViscosityLaw};
 pub use solver::{
-    CycleLog, Diagnosis, Divergence, FED_START_CELLS, FailureKind, FedStart, ReynoldsError,
-    ReynoldsReport, ReynoldsSettings, ReynoldsSolver, SETTLED_BOUND, Settled, SolverState,
-    StopRule, TimeScheme,
+    CycleLog, Diagnosis, Divergence, FailureKind, ReynoldsError, ReynoldsReport, ReynoldsSettings,
+    ReynoldsSolver, SETTLED_BOUND, Settled, SolverState, StopRule, TimeScheme,
 };

@@ -116,9 +116,6 @@ pub struct ReynoldsSettings {
     /// and so does 2 mm/s, 80 N on 1153² (3.376 against 3.380 nm), whose start diverged on
     /// every start grid tried.
     pub flooded_start_fallback: bool,
-    /// Mass conserving, steady: where the solve starts (its own full-multigrid start, or the
-    /// flooded answer first, [`FedStart`]).
-    pub fed_start: FedStart,
     /// Time discretisation of transient runs.
     pub time_scheme: TimeScheme,
     /// A time step starts from the last state plus the last step's change (pressure and
@@ -161,21 +158,6 @@ pub struct ReynoldsSettings {
     pub stop: StopRule,
 }
 
-/// Where a mass-conserving steady solve starts.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "kebab-case")]
-pub enum FedStart {
-    /// From the flooded answer first when its own start's grid cannot hold the film (cells
-    /// coarser than [`FED_START_CELLS`] × [`crate::formulas::cell_needed`]); else its own.
-    Auto,
-    /// Its own full-multigrid start (then the attempts after it, the flooded answer last).
-    #[default]
-    Own,
-    /// From the flooded answer first (then, if that fails, its own start and the attempts
-    /// after it).
-    Flooded,
-}
-
 /// When a steady solve stops.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
@@ -212,7 +194,6 @@ impl Default for ReynoldsSettings {
             fallback_lag: 0.2,
             fallback_omega_gs: 0.25,
             flooded_start_fallback: true,
-            fed_start: FedStart::Own,
             time_scheme: TimeScheme::Bdf1,
             extrapolated_start: true,
             step_extra_passes: false,
@@ -489,11 +470,6 @@ pub struct SolverState {
 /// Mass conserving, the full-multigrid start begins on the coarsest grid with at least this
 /// many points per side ([`ReynoldsSolver::fmg_top`]) …
 const STARVED_FMG_POINTS: usize = 129;
-
-/// [`FedStart::Auto`]: a mass-conserving steady solve starts from the flooded answer when its
-/// own start's grid has cells coarser than this many times the grid rule's
-/// ([`formulas::cell_needed`]).
-pub const FED_START_CELLS: f64 = 4.0;
 /// … and gives each grid of the start at most this many cycles to settle.
 const STARVED_FMG_MAX_CYCLES: usize = 40;
 
@@ -1168,28 +1144,7 @@ impl ReynoldsSolver {
     ) -> Result<ReynoldsReport, ReynoldsError> {
         let t0 = Instant::now();
         self.steady_setup();
-        let first = self.flooded_first();
-        let mut rep = if first {
-            // From the flooded answer first; its own start only if that fails.
-            match self.attempt_from_flooded(log, 0, t0) {
-                FromFlooded::Fed(Ok(mut r)) if r.converged => {
-                    r.from_flooded = true;
-                    return self.finish(Ok(r));
-                }
-                other => {
-                    let (said, cycles) = match &other {
-                        FromFlooded::Fed(fed) => (what_it_said(fed), cycles_of(fed)),
-                        FromFlooded::Flooded(fl) => {
-                            (format!("its flooded solve: {}", what_it_said(fl)), cycles_of(fl))
-                        }
-                    };
-                    let said = format!("first from the flooded answer: {said}");
-                    self.attempt(log, "from its own start", (said.clone(), cycles), said, t0)
-                }
-            }
-        } else {
-            self.cycles(log, 0, 0.0, f64::NAN)
-        };
+        let mut rep = self.cycles(log, 0, 0.0, f64::NAN);
         let theta = self.active.fallback_lag;
         if theta > 0.0 && self.active.relax.coefficient_lag == 0.0 {
             // The relaxation failed with the laws following at once: start again with them
@@ -1218,7 +1173,7 @@ impl ReynoldsSolver {
                 rep = self.attempt(log, &what, failed, said, t0);
             }
         }
-        if self.active.flooded_start_fallback && self.levels[0].mass_conserving() && !first {
+        if self.active.flooded_start_fallback && self.levels[0].mass_conserving() {
             // The film closed (or the attempts above gave up): once more from the clamp's
             // answer, the supply then switched on. Kept only when it converges; else the
             // attempts before stand, their state back, with what this one gave.
@@ -1244,32 +1199,6 @@ impl ReynoldsSolver {
                 };
             }
         }
-        self.finish(rep)
-    }
-
-    /// Whether a steady solve starts from the flooded answer ([`FedStart`]): mass conserving,
-    /// and asked to, or (`Auto`) its own start's grid has cells coarser than
-    /// [`FED_START_CELLS`] times the grid rule's.
-    fn flooded_first(&self) -> bool {
-        if !self.levels[0].mass_conserving() {
-            return false;
-        }
-        match self.active.fed_start {
-            FedStart::Own => false,
-            FedStart::Flooded => true,
-            FedStart::Auto => {
-                let hc = moes_to_hertz_film(nvm_central_moes(&self.prm.moes), &self.prm.moes);
-                self.levels[self.fmg_top()].grid.dx() > FED_START_CELLS * formulas::cell_needed(hc)
-            }
-        }
-    }
-
-    /// The end of a steady solve: a stalled or cycling answer that settled is returned, saying
-    /// so; the film's mass kept for the time steps that follow.
-    fn finish(
-        &mut self,
-        rep: Result<ReynoldsReport, ReynoldsError>,
-    ) -> Result<ReynoldsReport, ReynoldsError> {
         // A stall or a limit cycle whose answer has settled is returned, saying so.
         let window = self.stall_window();
         let rep = rep.map(|mut r| {
@@ -1605,14 +1534,6 @@ fn with_note(
             Err(ReynoldsError::Diverged { cycle, kind, at, what, film, load })
         }
         Err(e) => Err(e),
-    }
-}
-
-/// The cycles a steady attempt ran, whatever its end.
-fn cycles_of(rep: &Result<ReynoldsReport, ReynoldsError>) -> usize {
-    match rep {
-        Ok(r) => r.cycles,
-        Err(e) => e.cycle(),
     }
 }
 
