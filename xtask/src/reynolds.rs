@@ -106,11 +106,11 @@ fn map_sweep(
     Ok(rows)
 }
 
-/// A map point that failed, run again on the grid the sweeps' rule gives it (its cells at most
-/// `CELLS_PER_FILM · H_c^{2/3}` a, its domain kept unless its inlet is short): whether the
-/// failure was the grid's. `null` when the rule asks for no finer grid than the map's.
+/// A map point that failed, run again on the grid the sweeps' existence rule gives it (its
+/// cells at most `CELLS_PER_FILM · H_c^{2/3}` a, its domain kept unless its inlet is short):
+/// whether the failure was the grid's. `null` when the rule asks for no finer grid than the map's.
 fn on_the_rules_grid(scene: &ehl_scene::Scene) -> Value {
-    let (fine, what) = ehl_workbench::sweep::adapt::adapt(scene, true);
+    let (fine, what) = ehl_workbench::sweep::adapt::adapt(scene, true, f64::INFINITY);
     let Some(what) = what else { return Value::Null };
     let t = std::time::Instant::now();
     let run = ehl_workbench::run_scene(&fine);
