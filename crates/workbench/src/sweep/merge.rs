@@ -172,7 +172,7 @@ pub fn table(plan: &Plan, recs: &[PointRecord]) -> String {
         }
         t.push('\n');
     }
-    t += "  (* flagged: the solver returned an unconverged answer that had settled, or the grid or domain check moved it beyond the limit; failures and flags in results.csv)\n";
+    t += "  (* flagged: the solver returned an unconverged answer that had settled, or its estimated grid error or the domain check's change exceeds the limit; failures and flags in results.csv)\n";
     for r in robustness(plan, recs) {
         t += &format!("  {r}\n");
     }
