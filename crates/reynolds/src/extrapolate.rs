@@ -25,6 +25,13 @@
 //! fuller step (cap 20–40) overshot at the side menisci: their residual grew 100× for several
 //! cycles before it fell, for no real gain (32 cycles against 33), hence the cap of 10. A jump
 //! after which the residual grows tenfold is undone, and the solve goes on without jumps.
+//!
+//! Anderson acceleration of the same cycles (Walker & Ni's form, the whole state `(P, θ, H00)`,
+//! its least-change combination of the last `m + 1` outputs, projected) was tried in the jumps'
+//! place and not kept (2026-11-26, the seed's contact with 25 nm, 257², one thread): depth 1,
+//! 41 finest-grid cycles; depth 3, 62; depth 8, stalled in every attempt; 21 with the jumps. The
+//! cycles' changes are dominated by the relaxation's rough part at the cavitation boundary,
+//! which the least-change combination cancels instead of stepping along the slow ring.
 
 use crate::level::Level;
 use ndarray::{Array2, Zip};
