@@ -792,16 +792,7 @@ mod tests {
     use super::*;
 
     fn mon(t: f64, p: f64) -> LayerRow {
-        let observed = ehl_core::Observables {
-            central_film_m: 0.0,
-            minimum_film_m: 0.0,
-            minimum_film_at_m: (0.0, 0.0),
-            max_pressure_pa: p,
-            max_pressure_at_m: (0.0, 0.0),
-            contact_extent_x_m: 0.0,
-            contact_extent_y_m: 0.0,
-            load_error: 0.0,
-        };
+        let observed = ehl_core::Observables { max_pressure_pa: p, ..Default::default() };
         let layer = ehl_layer::Monitor {
             t,
             central_thickness: 0.0,

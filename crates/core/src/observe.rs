@@ -12,7 +12,7 @@ pub const EXTENT_THRESHOLD: f64 = 0.01;
 
 /// A model's answer in SI. Films are the separation of the two solid surfaces (the layer model's
 /// layer plus any gap above it; the Reynolds film; the dry gap).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Observables {
     /// Film at the contact centre `(0, 0)` [m].
     pub central_film_m: f64,

@@ -45,7 +45,10 @@ pub fn grid_error(f1: f64, f2: f64, f3: Option<f64>, scale: f64) -> Option<GridE
     if !change.is_finite() {
         return None;
     }
-    let order = f3.map(|f3| (f3 - f2) / e21).filter(|r| r.is_finite() && *r > 0.0).map(f64::log2);
+    // Only changes of one sign converge to a limit the order describes.
+    let order = f3
+        .filter(|f3| ((f3 - f2) / e21).is_finite() && (f3 - f2) / e21 > 0.0)
+        .map(|f3| ehl_core::hertz::observed_order_of_three(f3, f2, f1, 2.0));
     let error = match order {
         Some(p) => {
             let p = p.clamp(LEAST_ORDER, FORMAL_ORDER);

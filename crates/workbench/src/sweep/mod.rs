@@ -637,12 +637,8 @@ mod tests {
         Observables {
             central_film_m: hc,
             minimum_film_m: hmin,
-            minimum_film_at_m: (0.0, 0.0),
             max_pressure_pa: p,
-            max_pressure_at_m: (0.0, 0.0),
-            contact_extent_x_m: 0.0,
-            contact_extent_y_m: 0.0,
-            load_error: 0.0,
+            ..Default::default()
         }
     }
 
