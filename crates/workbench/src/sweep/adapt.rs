@@ -22,18 +22,21 @@
 //! scene's own domain and grid.
 //!
 //! **The grid rule** (with the sweep's `resolve`, on by default). Each model states the largest
-//! cell its answer exists on (`ContactModel::cell_needed`); the point's cells are refined to the
-//! smallest, the domain kept. The Reynolds solver's is `0.25 H_c^{2/3}` `a` (`H_c` the NVM
-//! central film in Hertz units, `ehl_workbench::reynolds::CELLS_PER_FILM` says how it was
-//! measured): the side lobes' constriction, where the film is thinnest and where it closed on
-//! coarser grids at low speed and high load. The layer and the dry contact need none.
+//! cell on which its answer exists and is within the sweep's flag limit
+//! (`ContactModel::cell_needed`); the point's cells are refined to the smallest, the domain kept.
+//! The Reynolds solver's is `ρ H_c^{2/3}` `a` (`H_c` the NVM central film in Hertz units: the
+//! width of the side lobes' and inlet's constrictions), `ρ = √(3 limit / (1.25 K))` from the
+//! measured grid change `K ρ²` of the central film (0.106 at 2 %), never above 0.25, where the
+//! film's existence ends (`ehl_reynolds::formulas::cell_for_error` says how both were measured).
+//! The layer and the dry contact need none.
 //!
-//! **The checks.** The rule is a published estimate, not a proof, so each point is run twice
-//! more for each model, at half the points per side: once on the same domain (against the point's
-//! own run: the grid's share), once at the same coarse cells on a domain whose inlet distance is
-//! 1.5 times the point's, `y` grown by as much in total, half on each side (against the coarse
-//! run: the domain's share). Their relative changes of `h_c`, `h_min` and `p_max` are
-//! reported, and a point is flagged when one exceeds the sweep's `flag_change_above`.
+//! **The checks.** The rule is a measured estimate, not a proof, so each point is run three times
+//! more for each model: at half and at a quarter of the points per side on the same domain (the
+//! grid's share: the order the answer converges at and its estimated error, [`super::convergence`]),
+//! and at the half's cells on a domain whose inlet distance is 1.5 times the point's, `y` grown
+//! by as much in total, half on each side (against the half-points run: the domain's share). The
+//! estimated errors and the domain's relative changes of `h_c`, `h_min`, `p_max` are reported,
+//! and a point is flagged when one exceeds the sweep's `flag_change_above`.
 
 use ehl_scene::{Domain, GridSpec, Scene};
 

@@ -134,10 +134,10 @@ pub fn results_json(plan: &Plan, recs: &[PointRecord]) -> Value {
         })).collect::<Vec<_>>(),
         "definitions": {
             "film": "separation of the solid surfaces (see comparison.json of `ehl compare`)",
-            "grid_change": "(this point - the same domain at half the points per side) / this point",
+            "grid_change": "(this point - the same domain at half the points per side) / the half-points run (h_min: over its central film)",
             "grid_order": "the order of convergence observed on the point's grid, half and a quarter of its points per side (empty: the changes alternate, or the quarter grid failed)",
-            "grid_error": "the point's estimated relative discretisation error, Roache's grid convergence index: 1.25 |grid change| / (2^p - 1), p the observed order held to [0.5, 2]; without an observed order, |grid change|",
-            "domain_change": "(larger domain - the half-points run) / the half-points run, same cells",
+            "grid_error": "the point's estimated relative discretisation error, Roache's grid convergence index: 1.25 |f_half - f| / (2^p - 1) over f (h_min: over h_c), p the observed order held to [0.5, 2]; without an observed order, |f_half - f| over the same",
+            "domain_change": "(larger domain - the half-points run) / the half-points run, same cells (h_min: over its central film)",
             "flag": format!("an estimated grid error or a domain change beyond {} (relative), or a check that failed", plan.sweep.flag_change_above),
             "wall_time_s": "one thread per point",
         },
