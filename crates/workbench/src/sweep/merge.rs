@@ -146,8 +146,8 @@ pub fn results_json(plan: &Plan, recs: &[PointRecord]) -> Value {
     })
 }
 
-/// The terminal summary: per point its parameters and each model's `h_c` [nm] (`failed`, or
-/// `*` for a flagged point), then where the details are.
+/// The terminal summary: per point its parameters and each model's `h_c` [nm] with its
+/// estimated grid error (`failed`, or `*` for a flagged point), then where the details are.
 pub fn table(plan: &Plan, recs: &[PointRecord]) -> String {
     let models = plan.points.first().map(|p| p.scene.models()).unwrap_or_default();
     let mut heads: Vec<String> =
@@ -162,16 +162,25 @@ pub fn table(plan: &Plan, recs: &[PointRecord]) -> String {
     for r in recs {
         t += &format!("  {:>5}", r.index);
         let mut cells: Vec<String> = r.values.iter().map(|v| format!("{v:.4e}")).collect();
-        cells.extend(r.models.iter().map(|m| match (&m.observables, &m.flag) {
-            (Some(o), None) => format!("{:.3}", o.central_film_m * 1e9),
-            (Some(o), Some(_)) => format!("{:.3}*", o.central_film_m * 1e9),
-            (None, _) => "failed".into(),
+        cells.extend(r.models.iter().map(|m| match &m.observables {
+            Some(o) => {
+                // The estimated grid error of h_c, where the checks gave one.
+                let err = m.grid_error.and_then(|e| e[0]).map(|e| e.error);
+                format!(
+                    "{:.3}{}{}",
+                    o.central_film_m * 1e9,
+                    err.map(|e| format!(" ±{:.1}%", 100.0 * e)).unwrap_or_default(),
+                    if m.flag.is_some() { "*" } else { "" }
+                )
+            }
+            None => "failed".into(),
         }));
         for (c, w) in cells.iter().zip(&widths) {
             t += &format!(" {c:>w$}");
         }
         t.push('\n');
     }
+    t += "  (±: h_c's estimated grid error, from the point's grid, half and a quarter of its points per side)\n";
     t += "  (* flagged: the solver returned an unconverged answer that had settled, or its estimated grid error or the domain check's change exceeds the limit; failures and flags in results.csv)\n";
     for r in robustness(plan, recs) {
         t += &format!("  {r}\n");
