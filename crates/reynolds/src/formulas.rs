@@ -42,7 +42,8 @@ pub fn starvation_boundary(h_hertz: f64) -> f64 {
 /// 0.48. Half the cell where existence ends: every flooded point of `seed-speed-load` whose film
 /// closed on 65² asks for more than 65² by this rule, and at light load it is up to 3× finer
 /// than needed (5–30 mm/s at 5 N converge on 65²). It is a rule for an answer, not for its
-/// accuracy: at 10 mm/s, 20 N the central film still moves 4 % from 257² to 513².
+/// accuracy: at 10 mm/s, 20 N the central film still moves 4 % from 257² to 513² (the rule for
+/// accuracy is [`cell_for_error`]).
 pub const CELLS_PER_FILM: f64 = 0.25;
 /// The grid rule: the largest cell [a] on which a steady film of central thickness `h_hertz`
 /// (Hertz units [a²/R], the NVM estimate) exists, [`CELLS_PER_FILM`] `· h_hertz^{2/3}`: the

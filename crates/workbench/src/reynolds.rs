@@ -200,7 +200,7 @@ impl Outcome for ReynoldsOutcome {
                 "the solids touch there at rest, and the steps had no contact between them (reynolds.solver.contact off): the film goes negative where they would".to_string()
             } else {
                 format!(
-                    "the grid does not resolve the thinnest film (the grid rule's film exists on cells <= {:.4} a here)",
+                    "the grid does not resolve the thinnest film (the film exists on cells <= {:.4} a here: the sweeps' grid rule)",
                     Reynolds.cell_needed(&self.scene, f64::INFINITY)
                 )
             };
