@@ -43,7 +43,7 @@ pub fn starvation_boundary(h_hertz: f64) -> f64 {
 /// closed on 65² asks for more than 65² by this rule, and at light load it is up to 3× finer
 /// than needed (5–30 mm/s at 5 N converge on 65²). It is a rule for an answer, not for its
 /// accuracy: at 10 mm/s, 20 N the central film still moves 4 % from 257² to 513² (the rule for
-/// accuracy is [`cell_for_error`]).
+/// accuracy is [`cell_for_change`]).
 pub const CELLS_PER_FILM: f64 = 0.25;
 /// The grid rule: the largest cell [a] on which a steady film of central thickness `h_hertz`
 /// (Hertz units [a²/R], the NVM estimate) exists, [`CELLS_PER_FILM`] `· h_hertz^{2/3}`: the
@@ -62,13 +62,14 @@ pub fn cell_needed(h_hertz: f64) -> f64 {
 pub const GRID_CHANGE_PER_CELL2: f64 = 4.3;
 
 /// The accuracy rule: the largest cell [a] on which the steady film of central thickness
-/// `h_hertz` (Hertz units [a²/R], the NVM estimate) has an estimated grid error of its central
-/// film within `error` (relative): with the change `K ρ²` ([`GRID_CHANGE_PER_CELL2`]) and the
-/// three-grid estimate at second order (`1.25 × change / 3`, Roache's grid convergence index),
-/// `ρ = √(3 error / (1.25 K))` (0.106 for 2 %); never coarser than [`cell_needed`].
-pub fn cell_for_error(h_hertz: f64, error: f64) -> f64 {
-    let rho = (3.0 * error.max(0.0) / (1.25 * GRID_CHANGE_PER_CELL2)).sqrt();
-    rho.min(CELLS_PER_FILM) * h_hertz.max(0.0).powf(2.0 / 3.0)
+/// `h_hertz` (Hertz units [a²/R], the NVM estimate) moves by at most `change` (relative) from
+/// half the points per side: with the change `K ρ²` ([`GRID_CHANGE_PER_CELL2`]),
+/// `ρ = √(change / K)`, the width [`cell_needed`] measures cells in; never coarser than
+/// [`cell_needed`]. (A sweep asks for the change whose estimated error is its flag limit:
+/// `ehl_workbench::sweep::convergence::change_allowed`, 4.8 % for 2 %, `ρ` = 0.106.)
+pub fn cell_for_change(h_hertz: f64, change: f64) -> f64 {
+    let rho = (change.max(0.0) / GRID_CHANGE_PER_CELL2).sqrt();
+    cell_needed(h_hertz) * (rho / CELLS_PER_FILM).min(1.0)
 }
 
 /// Nijenbanning, Venner & Moes (Wear 176 (1994) 217–229), central film in Moes' units

@@ -25,9 +25,10 @@
 //! cell on which its answer exists and is within the sweep's flag limit
 //! (`ContactModel::cell_needed`); the point's cells are refined to the smallest, the domain kept.
 //! The Reynolds solver's is `ρ H_c^{2/3}` `a` (`H_c` the NVM central film in Hertz units: the
-//! width of the side lobes' and inlet's constrictions), `ρ = √(3 limit / (1.25 K))` from the
-//! measured grid change `K ρ²` of the central film (0.106 at 2 %), never above 0.25, where the
-//! film's existence ends (`ehl_reynolds::formulas::cell_for_error` says how both were measured).
+//! width of the side lobes' and inlet's constrictions), `ρ = √(change / K)` from the measured
+//! grid change `K ρ²` of the central film, the change the one whose estimated error is the limit
+//! ([`super::convergence::change_allowed`]; 0.106 at 2 %), never above 0.25, where the film's
+//! existence ends (`ehl_reynolds::formulas::cell_for_change` says how both were measured).
 //! The layer and the dry contact need none.
 //!
 //! **The checks.** The rule is a measured estimate, not a proof, so each point is run three times

@@ -66,15 +66,15 @@ pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
             put("x_max_a", json!(r.x_a[1]));
             put("y_min_a", json!(r.y_a[0]));
             put("y_max_a", json!(r.y_a[1]));
-            for (k, v) in ["h_c", "h_min", "p_max"].iter().zip(g) {
+            for (k, v) in super::OBSERVED.iter().zip(g) {
                 put(&format!("grid_change_{k}"), json!(v));
             }
             let e = m.grid_error.unwrap_or_default();
-            for (k, v) in ["h_c", "h_min", "p_max"].iter().zip(e) {
+            for (k, v) in super::OBSERVED.iter().zip(e) {
                 put(&format!("grid_order_{k}"), json!(v.and_then(|v| v.order)));
                 put(&format!("grid_error_{k}"), json!(v.map(|v| v.error)));
             }
-            for (k, v) in ["h_c", "h_min", "p_max"].iter().zip(d) {
+            for (k, v) in super::OBSERVED.iter().zip(d) {
                 put(&format!("domain_change_{k}"), json!(v));
             }
             for n in &names {

@@ -17,6 +17,9 @@ pub mod adapt;
 pub mod convergence;
 pub mod merge;
 
+/// The observables a check judges, in the order of every change and error triple.
+pub const OBSERVED: [&str; 3] = ["h_c", "h_min", "p_max"];
+
 use crate::error::{Error, Result, io, output};
 use crate::progress;
 use ehl_core::Observables;
@@ -508,44 +511,47 @@ fn flag(
     errors: Option<&[Option<convergence::GridError>; 3]>,
     domain: &CheckRecord,
 ) -> Option<String> {
-    const NAMES: [&str; 3] = ["h_c", "h_min", "p_max"];
     let mut parts = vec![];
-    match (errors, &grid.diagnosis) {
-        (Some(es), _) => {
-            let over: Vec<String> = es
-                .iter()
-                .zip(NAMES)
-                .filter_map(|(e, n)| e.map(|e| (e, n)))
-                .filter(|(e, _)| e.error > limit)
-                .map(|(e, n)| match e.order {
-                    Some(p) => format!("{n} ±{:.1} % (order {p:.2})", 100.0 * e.error),
-                    None => format!("{n} ±{:.1} %", 100.0 * e.error),
-                })
-                .collect();
-            if !over.is_empty() {
-                parts.push(format!("grid error {}", over.join(", ")));
+    // The grid's share: each estimate beyond the limit, with its order when observed.
+    let grid_over = errors.map(|es| {
+        beyond(limit, es.map(|e| e.map(|e| (e.error, e.order))), |n, (e, order)| match order {
+            Some(p) => format!("{n} ±{:.1} % (order {p:.2})", 100.0 * e),
+            None => format!("{n} ±{:.1} %", 100.0 * e),
+        })
+    });
+    // The domain's share: each change beyond the limit, signed.
+    let domain_over = domain.change.map(|ch| {
+        beyond(limit, ch.map(|v| v.map(|v| (v, ()))), |n, (v, ())| {
+            format!("{n} {:+.1} %", 100.0 * v)
+        })
+    });
+    for (what, check, over, c) in
+        [("grid error", "grid", grid_over, grid), ("domain", "domain", domain_over, domain)]
+    {
+        match (over, &c.diagnosis) {
+            (Some(over), _) if over.is_empty() => {}
+            (Some(over), _) => parts.push(format!("{what} {}", over.join(", "))),
+            (None, Some(_)) => parts.push(format!("{check} check failed")),
+            (None, None) => {
+                parts.push(format!("{check} check not compared (its reference failed)"))
             }
         }
-        (None, Some(_)) => parts.push("grid check failed".into()),
-        (None, None) => parts.push("grid check not compared (its reference failed)".into()),
-    }
-    match (&domain.change, &domain.diagnosis) {
-        (Some(ch), _) => {
-            let over: Vec<String> = ch
-                .iter()
-                .zip(NAMES)
-                .filter_map(|(v, n)| v.map(|v| (v, n)))
-                .filter(|(v, _)| v.abs() > limit)
-                .map(|(v, n)| format!("{n} {:+.1} %", 100.0 * v))
-                .collect();
-            if !over.is_empty() {
-                parts.push(format!("domain {}", over.join(", ")));
-            }
-        }
-        (None, Some(_)) => parts.push("domain check failed".into()),
-        (None, None) => parts.push("domain check not compared (its reference failed)".into()),
     }
     (!parts.is_empty()).then(|| parts.join("; "))
+}
+
+/// The observables whose value (first of each pair) is beyond `limit` in size, each written by
+/// `say` with its name ([`OBSERVED`]); undefined ones (the dry contact's films) are not judged.
+fn beyond<T: Copy>(
+    limit: f64,
+    values: [Option<(f64, T)>; 3],
+    say: impl Fn(&str, (f64, T)) -> String,
+) -> Vec<String> {
+    values
+        .iter()
+        .zip(OBSERVED)
+        .filter_map(|(v, n)| v.filter(|(v, _)| v.abs() > limit).map(|v| say(n, v)))
+        .collect()
 }
 
 /// Writes the SLURM array script for `shards` shards of the sweep in `dir`: one task per shard,
