@@ -24,9 +24,10 @@ pub trait ContactModel: Sync {
         0.0
     }
     /// The largest cell [a] on which this model's answer exists for the scene's conditions
-    /// and, where the model knows its grid error, is estimated within `error` (relative; sweeps
-    /// refine a point's grid to it, with their flag limit); infinite: any grid will do.
-    fn cell_needed(&self, _scene: &Scene, _error: f64) -> f64 {
+    /// and, where the model knows how its answer moves with the grid, moves by at most `change`
+    /// (relative) from half the points per side (sweeps refine a point's grid to it, `change`
+    /// from their flag limit); infinite: any grid will do.
+    fn cell_needed(&self, _scene: &Scene, _change: f64) -> f64 {
         f64::INFINITY
     }
 }

@@ -128,8 +128,8 @@ impl ContactModel for ReynoldsFlooded {
     fn inlet_distance(&self, scene: &Scene) -> f64 {
         Reynolds.inlet_distance(scene)
     }
-    fn cell_needed(&self, scene: &Scene, error: f64) -> f64 {
-        Reynolds.cell_needed(scene, error)
+    fn cell_needed(&self, scene: &Scene, change: f64) -> f64 {
+        Reynolds.cell_needed(scene, change)
     }
 }
 
@@ -150,10 +150,8 @@ impl ContactModel for Reynolds {
             .map_or(0.0, |h| 1.0 + 2.0 * (ehl_reynolds::formulas::starvation_boundary(h) - 1.0))
     }
     /// The accuracy rule ([`ehl_reynolds::formulas::cell_for_change`], never coarser than the
-    /// film's existence needs) for the scene's NVM central film, at the change whose estimated
-    /// error is `error` ([`crate::sweep::convergence::change_allowed`]).
-    fn cell_needed(&self, scene: &Scene, error: f64) -> f64 {
-        let change = crate::sweep::convergence::change_allowed(error);
+    /// film's existence needs) for the scene's NVM central film.
+    fn cell_needed(&self, scene: &Scene, change: f64) -> f64 {
         nvm_film(scene)
             .map_or(f64::INFINITY, |h| ehl_reynolds::formulas::cell_for_change(h, change))
     }

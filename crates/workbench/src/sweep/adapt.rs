@@ -79,11 +79,13 @@ pub fn multigrid_count(n: usize) -> usize {
     best
 }
 
-/// The largest cell [a] the models of `scene` need for answers within `error` (relative,
-/// [`crate::model::ContactModel::cell_needed`]): the smallest any of them asks for; infinite
-/// when none does.
+/// The largest cell [a] the models of `scene` need for answers whose estimated grid error is
+/// within `error` (relative): each model's cell for the half-grid change that estimate allows
+/// ([`super::convergence::change_allowed`], [`crate::model::ContactModel::cell_needed`]), the
+/// smallest any of them asks for; infinite when none does.
 pub fn cell_needed(scene: &Scene, error: f64) -> f64 {
-    models(scene).map(|m| m.cell_needed(scene, error)).fold(f64::INFINITY, f64::min)
+    let change = super::convergence::change_allowed(error);
+    models(scene).map(|m| m.cell_needed(scene, change)).fold(f64::INFINITY, f64::min)
 }
 
 /// The point's scene with the domain and grid the rules ask for (the grid rule only when
