@@ -143,7 +143,7 @@ pub struct Level {
     /// holds the finer grid's `θ`.
     pub coarse_theta: bool,
     /// Whether the Couette term's faces that read a partly filled point are first order (the
-    /// coarser grids of the hierarchy; [`Self::upwind`] says why).
+    /// coarser grids when they solve for the film content; [`Self::upwind`] says why).
     pub first_order_partial: bool,
     /// FAS right-hand side (zero on the finest grid).
     pub rhs: Array2<f64>,
@@ -520,8 +520,9 @@ impl Level {
     /// The Couette term's weights of `ρ̄θH` at `i, i−1, i−2` (times `1/h`) in point `i`'s
     /// equation, given the row's film contents: the difference of two face fluxes, so that the
     /// oil is conserved whichever each face takes. A face carries the second-order upwind flux
-    /// `(3q_i − q_(i−1))/2`; on a coarser grid of the hierarchy ([`Self::first_order_partial`])
-    /// a face that reads a partly filled point carries the first-order `q_i`. The finest
+    /// `(3q_i − q_(i−1))/2`; on a coarser grid that solves for the film content
+    /// ([`Self::first_order_partial`]) a face that reads a partly filled point carries the
+    /// first-order `q_i`. The finest
     /// grid's equations, the answer's, are the same everywhere.
     ///
     /// Why first order there: `θ` where the gap is partly filled is carried by the surfaces,
