@@ -143,7 +143,8 @@ pub struct Level {
     /// holds the finer grid's `θ`.
     pub coarse_theta: bool,
     /// Whether the Couette term's faces that read a partly filled point are first order (the
-    /// coarser grids when they solve for the film content; [`Self::upwind`] says why).
+    /// coarser grids when they solve for the film content; the Couette weights, `upwind`, say
+    /// why).
     pub first_order_partial: bool,
     /// FAS right-hand side (zero on the finest grid).
     pub rhs: Array2<f64>,
@@ -662,7 +663,7 @@ impl Level {
             let t = row_of(&self.theta, j);
             let (p, film) = self.rows(j);
             for i in 1..nx - 1 {
-                row[i] = g(j, i, self.op_line(e, r, t, p, film, i, j));
+                row[i] = g(j, i, self.op_line(e, (r, t), p, film, i, j));
             }
         });
         out
@@ -939,7 +940,7 @@ impl Level {
                 let e = [row_of(&eps, j - 1), row_of(&eps, j), row_of(&eps, j + 1)];
                 let (p, film) = self.rows(j);
                 let t = row_of(&self.theta, j);
-                r[q] = self.rhs[[j, i]] - self.op_line(e, row_of(&rt, j), t, p, film, i, j);
+                r[q] = self.rhs[[j, i]] - self.op_line(e, (row_of(&rt, j), t), p, film, i, j);
                 let dens = prm.density.rho(self.p[[j, i]]);
                 kind[q] = if self.contact[[j, i]] {
                     HELD
@@ -1172,7 +1173,7 @@ impl Level {
         let rho = w.rho.as_slice();
         w.r.clear();
         let theta_row = w.theta.as_slice();
-        w.r.extend((lo..=hi).map(|i| rhs[i] - self.op_line(eps, rho, theta_row, p, film, i, j)));
+        w.r.extend((lo..=hi).map(|i| rhs[i] - self.op_line(eps, (rho, theta_row), p, film, i, j)));
         w.partial.clear();
         let touching = |i: usize| self.contact[[j, i]];
         w.partial.extend((lo..=hi).map(|i| {
@@ -1430,15 +1431,14 @@ impl Level {
         (half(eps[1][i + 1]), half(eps[1][i - 1]), half(eps[2][i]), half(eps[0][i]))
     }
 
-    /// The discrete operator `L(P)` at `(i, j)`, given `ε̄` on rows `j−1, j, j+1`, `ρ̄` on row
-    /// `j`, and the rows `j−1, j, j+1` of `P` and `j` of `H`: the one place the discretisation
-    /// is written.
+    /// The discrete operator `L(P)` at `(i, j)`, given `ε̄` on rows `j−1, j, j+1`, `ρ̄θ` and `θ`
+    /// on row `j` (`oil`), and the rows `j−1, j, j+1` of `P` and `j` of `H`: the one place the
+    /// discretisation is written.
     #[inline]
     fn op_line(
         &self,
         eps: [&[f64]; 3],
-        rho: &[f64],
-        theta: &[f64],
+        oil: (&[f64], &[f64]),
         p: [&[f64]; 3],
         film: &[f64],
         i: usize,
@@ -1449,6 +1449,7 @@ impl Level {
             return film[i];
         }
         let h = self.h;
+        let (rho, theta) = oil;
         let (ee, ew, en, es) = self.half_points(eps, i);
         let pc = p[1][i];
         let a = (ee * (p[1][i + 1] - pc) - ew * (pc - p[1][i - 1]) + en * (p[2][i] - pc)
@@ -1632,7 +1633,7 @@ mod tests {
             }
             let rows = [row_of(&p, j - 1), row_of(&p, j), row_of(&p, j + 1)];
             assert!(nx > i + 1);
-            l.op_line(e, r, row_of(&l.theta, j), rows, &film, i, j)
+            l.op_line(e, (r, row_of(&l.theta, j)), rows, &film, i, j)
         };
         let delta = 1e-4;
         (op_at(delta) - op_at(-delta)) / (2.0 * delta)

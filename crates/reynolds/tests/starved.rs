@@ -89,6 +89,18 @@ fn a_stalled_solve_whose_answer_settled_returns_it_and_says_so() {
     assert!((hf / ht - 1.0).abs() < SETTLED_BOUND, "settled {hf:.6e} against {ht:.6e}");
 }
 
+/// The seed's contact fed 25 nm on `n`² over `[−1.25, 1.25]²`, solved with `settings`: the
+/// report and the central film.
+fn seed_fed_25nm(n: usize, settings: ReynoldsSettings) -> (ReynoldsReport, f64) {
+    let prm = common::seed();
+    let grid = Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
+    let hd = 25e-9 / prm.scales.delta;
+    let mut s = ReynoldsSolver::new(grid, prm, settings);
+    s.set_supply(Some(&move |_y| hd));
+    let r = s.solve(&mut |_| {}).expect("converges");
+    (r, s.films().0)
+}
+
 #[test]
 fn jumps_along_the_slow_mode_cut_the_cycles_and_land_nearer_the_converged_film() {
     // The seed's contact fed 25 nm on 129², the coarser grids holding the film content (the
@@ -100,15 +112,7 @@ fn jumps_along_the_slow_mode_cut_the_cycles_and_land_nearer_the_converged_film()
     // within 1.5e-4, the stop rule's film tolerance (1e-4 a cycle) with room for the ring's
     // last creep (a jump that lands off the mode, or a stop on the jump's own record, lands
     // further).
-    let prm = common::seed();
-    let grid = Grid::new(129, 129, (-1.25, 1.25), (-1.25, 1.25));
-    let hd = 25e-9 / prm.scales.delta;
-    let run = |settings: ReynoldsSettings| {
-        let mut s = ReynoldsSolver::new(grid, prm, settings);
-        s.set_supply(Some(&move |_y| hd));
-        let r = s.solve(&mut |_| {}).expect("converges");
-        (r, s.films().0)
-    };
+    let run = |settings| seed_fed_25nm(129, settings);
     let d = ReynoldsSettings { coarse_film_content: false, ..Default::default() };
     let (with, hc_with) = run(d);
     let (without, hc_without) = run(ReynoldsSettings { mode_extrapolation: 0.0, ..d });
@@ -144,15 +148,7 @@ fn coarser_grids_that_solve_for_the_film_content_cut_the_cycles_to_the_same_film
     // not move the ring, or whose corrections the finest grid undoes, give the old count); the
     // films within 5e-4 of each other, what the stop rule leaves (a coarse grid that changed
     // the finest grid's discrete answer would land on another film).
-    let prm = common::seed();
-    let grid = Grid::new(257, 257, (-1.25, 1.25), (-1.25, 1.25));
-    let hd = 25e-9 / prm.scales.delta;
-    let run = |settings: ReynoldsSettings| {
-        let mut s = ReynoldsSolver::new(grid, prm, settings);
-        s.set_supply(Some(&move |_y| hd));
-        let r = s.solve(&mut |_| {}).expect("converges");
-        (r, s.films().0)
-    };
+    let run = |settings| seed_fed_25nm(257, settings);
     let d = ReynoldsSettings::default();
     assert!(d.coarse_film_content, "the default this test measures");
     let (moving, hc_moving) = run(d);
