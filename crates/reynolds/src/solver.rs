@@ -542,8 +542,7 @@ impl ReynoldsSolver {
             l.reset();
             l.touch = false;
         }
-        let hc = moes_to_hertz_film(nvm_central_moes(&self.prm.moes), &self.prm.moes);
-        self.h00 = self.starved_film_estimate(hc) - 1.0;
+        self.h00 = self.starved_film_estimate(self.nvm_film()) - 1.0;
         let top = self.fmg_top();
         let g = self.levels[top].grid;
         self.levels[top].p = g.field(hertz::pressure);
@@ -587,17 +586,19 @@ impl ReynoldsSolver {
         }
     }
 
-    /// The coarsest level whose cells are at most [`COARSE_FILM_CELLS`] times the grid rule's
-    /// for the contact's flooded film ([`formulas::cell_needed`]), and never finer than the
-    /// grid the full-multigrid start begins on (its cycles descend at least that far).
-    fn film_holding_depth(&self) -> usize {
-        let hc = moes_to_hertz_film(nvm_central_moes(&self.prm.moes), &self.prm.moes);
-        let cell = formulas::cell_needed(hc);
-        let holding = (0..self.levels.len())
-            .take_while(|&l| self.levels[l].grid.dx() <= COARSE_FILM_CELLS * cell)
+    /// The contact's flooded central film after Nijenbanning–Venner–Moes [a²/R].
+    fn nvm_film(&self) -> f64 {
+        moes_to_hertz_film(nvm_central_moes(&self.prm.moes), &self.prm.moes)
+    }
+
+    /// The coarsest level whose cells are at most `cells` times the grid rule's for the
+    /// contact's flooded film ([`formulas::cell_needed`]); the finest when none is.
+    fn film_holding_depth(&self, cells: f64) -> usize {
+        let cell = formulas::cell_needed(self.nvm_film());
+        (0..self.levels.len())
+            .take_while(|&l| self.levels[l].grid.dx() <= cells * cell)
             .last()
-            .unwrap_or(0);
-        holding.max(self.fmg_top())
+            .unwrap_or(0)
     }
 
     /// The central film to start from [a²/R]: the flooded estimate `hc` without a supply; with
@@ -1207,7 +1208,9 @@ impl ReynoldsSolver {
         self.steady_setup();
         let coarse_theta = self.active.coarse_film_content && self.levels[0].mass_conserving();
         if coarse_theta {
-            self.coarsest = self.film_holding_depth();
+            // Never finer than the grid the full-multigrid start begins on (its cycles descend
+            // at least that far).
+            self.coarsest = self.film_holding_depth(COARSE_FILM_CELLS).max(self.fmg_top());
             self.set_coarse_theta(true);
         }
         let mut rep = self.cycles(log, 0, 0.0, f64::NAN);
@@ -1404,12 +1407,7 @@ impl ReynoldsSolver {
         // closed, and their corrections wrecked the fine film: `H_c` × 20 in one cycle); down to
         // 385², converged in 93 cycles (90 s, 6.294 nm against 6.32 nm flooded); on 769² alone
         // (ten sweeps a cycle) the oil balance still missed by 11 % after as many cycles.
-        let hc = moes_to_hertz_film(nvm_central_moes(&self.prm.moes), &self.prm.moes);
-        let cell = formulas::cell_needed(hc);
-        self.coarsest = (0..self.levels.len())
-            .take_while(|&l| self.levels[l].grid.dx() <= 2.0 * cell)
-            .last()
-            .unwrap_or(0);
+        self.coarsest = self.film_holding_depth(2.0);
         // The ring of full film round the contact (its meniscus and the pressure inside it,
         // [`crate::extrapolate`]) moves a little each sweep, and on these fine grids that is
         // little a cycle: measured at 2 mm/s, 80 N (1153²), the residual fell 5.7× and the oil
@@ -1486,10 +1484,7 @@ impl ReynoldsSolver {
         // The central film of the grid below, where the full-multigrid start left it.
         let coarse_hc = history.last().map(|c: &CycleLog| c.central_film);
         let mut prev_hc = start_hc;
-        let film_floor = {
-            let hc = moes_to_hertz_film(nvm_central_moes(&self.prm.moes), &self.prm.moes);
-            1e-2 * self.starved_film_estimate(hc)
-        };
+        let film_floor = { 1e-2 * self.starved_film_estimate(self.nvm_film()) };
         let mut stalled = false;
         let mut jumps = ModeExtrapolation::new(self.active.mode_extrapolation);
         for _ in 0..self.active.max_cycles {
