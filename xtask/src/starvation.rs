@@ -271,9 +271,6 @@ pub fn bench(n: usize, reps: usize) -> Result<PathBuf> {
         "slow-mode jumps",
         "h_c [nm]",
         "against flooded",
-        "limited faces: solve [s]",
-        "cycles",
-        "h_c [nm]",
     ]);
     t.rows.push(vec![
         "none (flooded)".into(),
@@ -282,9 +279,6 @@ pub fn bench(n: usize, reps: usize) -> Result<PathBuf> {
         "".into(),
         format!("{:.3}", flooded.2 * 1e9),
         "1.0×".into(),
-        "".into(),
-        "".into(),
-        "".into(),
     ]);
     for h_oil in [5e-9, 10e-9, 15e-9, 25e-9, 50e-9, 100e-9] {
         let s = seed
@@ -292,11 +286,6 @@ pub fn bench(n: usize, reps: usize) -> Result<PathBuf> {
             .with_parameter(Parameter::SupplyThickness, h_oil)
             .map_err(anyhow::Error::msg)?;
         let (w, c, hc, jumps) = time(&s)?;
-        let mut limited = s.clone();
-        if let Some(r) = limited.reynolds.as_mut() {
-            r.solver.limited_partial_faces = true;
-        }
-        let (wl, cl, hcl, _) = time(&limited)?;
         t.rows.push(vec![
             format!("{:.0} nm", h_oil * 1e9),
             format!("{w:.2}"),
@@ -304,9 +293,6 @@ pub fn bench(n: usize, reps: usize) -> Result<PathBuf> {
             jumps.to_string(),
             format!("{:.3}", hc * 1e9),
             format!("{:.1}×", w / flooded.0),
-            format!("{wl:.2}"),
-            cl.to_string(),
-            format!("{:.3}", hcl * 1e9),
         ]);
     }
     measured::write(
@@ -317,9 +303,7 @@ pub fn bench(n: usize, reps: usize) -> Result<PathBuf> {
             "The seed's contact (Table 1, u1 = 0.01 m/s) on {n}² over [-1.25, 1.25]² a, steady, \
              the median of {reps} solves; the issue's target is 1.5× the flooded solve. \
              Slow-mode jumps: the mass-conserving solve's extrapolations along its slow mode \
-             (`mode_extrapolation`, `crates/reynolds/src/extrapolate.rs`). Limited faces: the \
-             same solve with `reynolds.solver.limited_partial_faces` (off by default; \
-             `docs/reynolds.md`)."
+             (`mode_extrapolation`, `crates/reynolds/src/extrapolate.rs`)."
         ),
         &[("Steady solves", &t)],
     )

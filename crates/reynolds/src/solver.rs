@@ -161,27 +161,6 @@ pub struct ReynoldsSettings {
     /// the menisci on its coarser grids, and the workbench turns this off for the steady start
     /// of a march (its first step failed from the first attempt's answer once).
     pub coarse_film_content: bool,
-    /// Mass conserving: the Couette faces that read a partly filled point carry a limited flux
-    /// on every grid (the finest included; the weights' doc, `Level::upwind`, gives the
-    /// limiter), where by default they carry the second-order upwind flux (first order on the
-    /// coarser grids of the first attempt). It changes the answer's discretisation at the
-    /// menisci and the side bands, and is off by default: it helped on fine grids and not on
-    /// the standard one. Measured (2 cores; the seed's contact fed 25 nm unless said):
-    /// - on 257², cycles 13 → 10 with 5 nm supplied, 14 → 14 (10 nm), 24 → 25 (15 nm),
-    ///   20 → 18 (25 nm), 18 → 17 (50 nm), 13 → 12 (100 nm); the central films move by
-    ///   −0.37 % (10 nm), −0.23 % (15 nm), −0.09 % (50 and 100 nm), under 2e-4 otherwise;
-    /// - on 513², 25 nm: 33 → 24 cycles (7.7 → 5.0 s), but 15 nm: 41 → 148 (7.9 → 42.5 s);
-    /// - at 5 mm/s, 40 N on 641²: 52 → 35 cycles (22.9 → 11.7 s); on 1281² the first attempt
-    ///   stalls with either faces (106 cycles), and the second converges with these (253
-    ///   cycles in all, 394 s, 7.113 nm) where the default's attempts all stalled until the
-    ///   start from the flooded answer converged (796 cycles, 1177 s, 7.110 nm);
-    ///   10 mm/s, 80 N on 1281²: 277 cycles, 415 s, 10.477 nm;
-    /// - accuracy (10 nm, 129², 257², 513², 1025²): 8.2392, 8.4219, 8.4449, 8.4578 nm against
-    ///   the default's 8.3815, 8.4536, 8.4570, 8.4565: the same film on the finest grid
-    ///   (1.5e-4), further from it on the coarser ones (first order at the menisci);
-    /// - `hole-starved-compare` (129²): the centre dry over the same span (1.34–1.62 transits),
-    ///   the contact's largest share of the load 5.2 % against 5.5 %.
-    pub limited_partial_faces: bool,
     /// The line relaxation's settings.
     pub relax: RelaxSettings,
     /// When a steady solve stops.
@@ -230,7 +209,6 @@ impl Default for ReynoldsSettings {
             contact: true,
             mode_extrapolation: 10.0,
             coarse_film_content: true,
-            limited_partial_faces: false,
             relax: RelaxSettings::default(),
             stop: StopRule::Strict,
         }
@@ -949,10 +927,6 @@ impl ReynoldsSolver {
     /// instead of at the rate of a per-cycle update.
     fn cycle(&mut self, l: usize, target: f64) {
         let (prm, s) = (self.prm, self.active);
-        // The settings in force (a steady attempt's or a step's) choose the faces.
-        for lv in &mut self.levels {
-            lv.limit_partial = s.limited_partial_faces;
-        }
         let last = self.levels.len() - 1;
         if l >= last.min(self.coarsest) {
             // Where the solids touch, twice the gain. Measured on `stop-compare` (129², the
