@@ -1227,9 +1227,9 @@ impl ReynoldsSolver {
     /// to 16×, 14–23; to 2×, 24–54; every grid down to 17² closed the film. It needs the
     /// coarser grids' Couette faces first order where the gap is partly filled
     /// ([`Level::first_order_partial`]; the depths above were measured with them on every grid).
-    /// Since then the start settles its coarser grid loosely in this attempt
+    /// Since then every attempt's full-multigrid start hands over from its coarser grid loosely
     /// (`STARVED_FMG_SETTLE` in this file: the seed's 25 nm 20 → 9 cycles, 5 mm/s, 40 N on
-    /// 641² 52 → 17).
+    /// 641² 52 → 17, on 1281² 796 → 145).
     pub fn solve(
         &mut self,
         log: &mut dyn FnMut(&CycleLog),
