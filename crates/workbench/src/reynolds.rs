@@ -342,7 +342,8 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
         // the first attempt's answer with them moving the menisci (converged to the same
         // tolerances), the first step of `rolling-from-squeezed-compare` stopped unconverged at
         // its 30 cycles (force balance 2.2e-6 against 1e-6); from it after 10 more cycles to a
-        // film tolerance of 1e-5, or from the holding answer, every step converges.
+        // film tolerance of 1e-5, or from the holding answer, every step converges. Still so
+        // with the start handing over loosely (`STARVED_FMG_SETTLE`): 30 cycles, 2.16e-6.
         solver.settings.coarse_film_content = false;
     }
     let dents = if run.is_some() { scene.dents()? } else { vec![] };
