@@ -334,8 +334,8 @@ pub struct Settled {
 pub const SETTLED_BOUND: f64 = 1e-3;
 
 /// The settling of a stalled solve over its last `window` finest-grid cycles, if within
-/// [`SETTLED_BOUND`] (and the oil within 3× `mass_tolerance`, as the full-multigrid start's
-/// grids once settled); `None` otherwise, or with too few cycles to judge.
+/// [`SETTLED_BOUND`] (and the oil unaccounted for within 3× `mass_tolerance`); `None`
+/// otherwise, or with too few cycles to judge.
 fn settled(history: &[CycleLog], window: usize, mass_tolerance: f64) -> Option<Settled> {
     let finest = history.last()?.points;
     let fine: Vec<&CycleLog> = history.iter().filter(|c| c.points == finest).collect();
@@ -511,7 +511,7 @@ const STARVED_FMG_MAX_CYCLES: usize = 40;
 /// attempt stalled until the start from the flooded answer converged at cycle 796 (1177 s,
 /// 7.110 nm). The attempts holding the film content settle loosely too for that: the seed's
 /// supplies on 257² solved that way alone took 0.6–2.0 s against 0.6–2.3 s (50 and 100 nm
-/// slower, 15 and 25 nm faster), but they run only after a failed first attempt, and the
+/// slower, 15 and 25 nm faster), but they run only after a failed first attempt and as the
 /// marches' steady starts. Looser (the film to 3e-2 a cycle, the oil unwatched) took the
 /// seed's 25 nm back to 1.0 s; the film to 1e-2 with the oil to 100× gave the same films and
 /// times within the cores' noise.
@@ -1515,7 +1515,7 @@ impl ReynoldsSolver {
         // The central film of the grid below, where the full-multigrid start left it.
         let coarse_hc = history.last().map(|c: &CycleLog| c.central_film);
         let mut prev_hc = start_hc;
-        let film_floor = { 1e-2 * self.starved_film_estimate(self.nvm_film()) };
+        let film_floor = 1e-2 * self.starved_film_estimate(self.nvm_film());
         let mut stalled = false;
         let mut jumps = ModeExtrapolation::new(self.active.mode_extrapolation);
         for _ in 0..self.active.max_cycles {
