@@ -376,23 +376,37 @@ fn rel(a: f64, b: f64) -> Option<f64> {
     Some(a / b - 1.0).filter(|v| v.is_finite())
 }
 
-/// The relative changes from `b` to `a`, over `b`'s value; the minimum film's over `b`'s
-/// central film (the film's own scale: a minimum that is zero, the solids touching, has no
+/// The least scale a film's change is judged on [m]: a nanometre, a few molecular diameters
+/// of a mineral oil. Below it neither model's continuum film has digits that mean anything,
+/// and a relative change there measures the solver's rounding. Measured at 2 mm/s, 40 N
+/// (`seed-speed-load`, 1793²): the layer is squeezed out, its central film 0.214 nm and its
+/// minimum −2.3, −0.46, −0.40 pm on the point's grid, the half and the quarter (zero: the
+/// solids touch, to the contact solve's tolerance). On the central film's scale that read
+/// "`h_min` ±2.6 % (order −4.85)", a flag for 1.8 pm. No film this floor touches is a
+/// Reynolds film (its central films are 3.3 nm and up on every sweep).
+const FILM_SCALE_FLOOR_M: f64 = 1e-9;
+
+/// The scale a point's film changes are judged on: its central film, at least
+/// [`FILM_SCALE_FLOOR_M`].
+fn film_scale(central_film_m: f64) -> f64 {
+    central_film_m.max(FILM_SCALE_FLOOR_M)
+}
+
+/// The relative changes from `b` to `a`, over `b`'s value; the films' over `b`'s film scale
+/// ([`film_scale`]: the minimum's too, as a minimum that is zero, the solids touching, has no
 /// relative change, and 0.1 nm in a 0.5 nm minimum of a 4 nm film is 2.5 % of the film, not
 /// 20 %); films only where there is a film (not the dry contact's zero gap).
 fn changes(a: &Observables, b: &Observables, lubricated: bool) -> [Option<f64>; 3] {
-    let film = |v: Option<f64>| v.filter(|_| lubricated);
+    let film =
+        |v: f64| Some(v / film_scale(b.central_film_m)).filter(|v| lubricated && v.is_finite());
     [
-        film(rel(a.central_film_m, b.central_film_m)),
-        film(
-            Some((a.minimum_film_m - b.minimum_film_m) / b.central_film_m)
-                .filter(|v| v.is_finite()),
-        ),
+        film(a.central_film_m - b.central_film_m),
+        film(a.minimum_film_m - b.minimum_film_m),
         rel(a.max_pressure_pa, b.max_pressure_pa),
     ]
 }
 
-/// The estimated grid errors of `h_c`, `h_min` (on the scale of `h_c`, as [`changes`]),
+/// The estimated grid errors of `h_c`, `h_min` (on the film's scale, as [`changes`]),
 /// `p_max` from the point's answer, the half grid's and the quarter's (when it answered);
 /// films only for lubricated models.
 fn grid_errors(
@@ -404,7 +418,8 @@ fn grid_errors(
     let values = |o: &Observables| [o.central_film_m, o.minimum_film_m, o.max_pressure_pa];
     let (f1, f2) = (values(point), values(half));
     let f3 = quarter.map(values);
-    let scales = [point.central_film_m, point.central_film_m, point.max_pressure_pa];
+    let film = film_scale(point.central_film_m);
+    let scales = [film, film, point.max_pressure_pa];
     std::array::from_fn(|k| {
         (lubricated || k == 2)
             .then(|| convergence::grid_error(f1[k], f2[k], f3.map(|f| f[k]), scales[k]))
@@ -691,5 +706,36 @@ mod tests {
         let far = CheckRecord { change: Some([Some(0.03), None, None]), ..domain.clone() };
         let f = flag(0.02, &record(None), None, &far).unwrap();
         assert_eq!(f, "grid check failed; domain h_c +3.0 %");
+    }
+
+    /// The layer squeezed out at 2 mm/s, 40 N (measured on 1793², 897², 449²: h_c 0.21436,
+    /// 0.21436, 0.21378 nm; h_min −2.3, −0.46, −0.40 pm, the solids touching): judged on the
+    /// 0.21 nm film, 1.8 pm read as `h_min` ±2.6 %, a flag. On the nanometre floor it is
+    /// 0.55 %, and no flag. The floor must not blunt the check where films are films: the
+    /// 2 mm/s, 20 N Reynolds series above keeps its 1.24 % (the floor is a quarter of that
+    /// film), and a sub-nanometre film that moves by a fifth of a nanometre is still flagged.
+    #[test]
+    fn picometre_changes_of_a_squeezed_out_film_are_judged_on_a_nanometre_not_flagged() {
+        let point = obs(0.214362e-9, -2.3e-12, 5.2e8);
+        let half = obs(0.214359e-9, -0.46e-12, 5.2e8);
+        let quarter = obs(0.213779e-9, -0.40e-12, 5.2e8);
+        let domain = CheckRecord { change: Some([Some(0.0); 3]), ..record(Some(half)) };
+        let es = grid_errors(&point, &half, Some(&quarter), true);
+        // The changes grow as the grid refines (order −4.85, credited 0.5):
+        // 1.25 / (√2 − 1) ≈ 3.0 × 1.84 pm / 1 nm.
+        let hmin = es[1].unwrap();
+        assert!((hmin.error - 3.0 * 1.84e-3).abs() < 1e-4, "{hmin:?}");
+        assert_eq!(flag(0.02, &record(Some(half)), Some(&es), &domain), None);
+        // Judged on the film itself, it was flagged (the bug this floor removes).
+        let on_film = convergence::grid_error(-2.3e-12, -0.46e-12, Some(-0.40e-12), 0.214e-9);
+        assert!(on_film.unwrap().error > 0.02);
+        // A sub-nanometre film that moves by 0.2 nm is flagged on the floor.
+        let moved = obs(0.414e-9, -2.3e-12, 5.2e8);
+        let es = grid_errors(&moved, &half, None, true);
+        let f = flag(0.02, &record(Some(half)), Some(&es), &domain).unwrap();
+        assert!(f.contains("grid error h_c ±20.0 %"), "{f}");
+        // A film above the floor keeps its own scale.
+        let four = obs(4.1554e-9, 1.0027e-9, 5.2668e8);
+        assert_eq!(film_scale(four.central_film_m), four.central_film_m);
     }
 }
