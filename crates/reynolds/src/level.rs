@@ -524,8 +524,7 @@ impl Level {
     /// oil is conserved whichever each face takes. A face carries the second-order upwind flux
     /// `(3q_i − q_(i−1))/2`; on a coarser grid that solves for the film content
     /// ([`Self::first_order_partial`]) a face that reads a partly filled point carries the
-    /// first-order `q_i`. The finest
-    /// grid's equations, the answer's, are the same everywhere.
+    /// first-order `q_i`. The finest grid's equations, the answer's, are the same everywhere.
     ///
     /// Why first order there: `θ` where the gap is partly filled is carried by the surfaces,
     /// and the second-order flux over a jump in `θ` (the edges of the side bands behind the
