@@ -3,8 +3,8 @@
 //! Python half (`ehl/__init__.py`) turns them into objects.
 //!
 //! Every solve runs on a worker thread with the GIL released; the calling thread waits in short
-//! slices and checks for signals between them, so Ctrl-C raises `KeyboardInterrupt` at once. The
-//! abandoned solve cannot be stopped mid-cycle: it finishes on its thread and writes nothing.
+//! slices and checks for signals between them. Ctrl-C asks the solve to stop (it does so at its
+//! next cycle or step, writing nothing) and raises `KeyboardInterrupt` once it has.
 
 use ehl_scene::{Scene, SceneError as RustSceneError, Sweep};
 use ehl_workbench::{compare, output, run_scene, sweep};
@@ -14,25 +14,33 @@ use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
 
 pyo3::create_exception!(_ehl, SceneError, pyo3::exceptions::PyValueError, "A scene or sweep refused: `field` names the field (its path), `allowed` what it may hold.");
 pyo3::create_exception!(_ehl, ModelError, pyo3::exceptions::PyRuntimeError, "A model that did not converge or could not run: the message is its diagnosis.");
 
-/// A refused scene as `SceneError(message)` with `.field`, `.value` and `.allowed` set when the
-/// scene names them.
+/// A refused scene as `SceneError(message)` with `.field` (the field's path, bare:
+/// `conditions.load_n`), `.value` and `.allowed` set when the scene names them. A parse error's
+/// place in the JSON text ("at line 1 column 211") is left out: that text is the one this
+/// package made from a dict or a loaded scene, never the user's.
 fn scene_error(py: Python<'_>, e: &RustSceneError) -> PyErr {
-    let err = SceneError::new_err(e.to_string());
-    let (field, value, allowed) = match e {
-        RustSceneError::Range { field, value, allowed, .. } => {
-            (Some(field.clone()), Some(value.clone()), Some(allowed.clone()))
-        }
-        RustSceneError::Parse { path, message, .. } => (Some(path.clone()), None, Some(message.clone())),
-        _ => (None, None, None),
+    let unplaced = |m: &str| match m.rfind(" at line ") {
+        Some(k) if m[k + 9..].split(" column ").all(|n| n.parse::<u64>().is_ok()) => m[..k].to_string(),
+        _ => m.to_string(),
     };
+    let (text, field, value, allowed) = match e {
+        RustSceneError::Range { field, value, allowed, .. } => {
+            (e.to_string(), Some(field.clone()), Some(value.clone()), Some(allowed.clone()))
+        }
+        RustSceneError::Parse { path, message, .. } => {
+            let message = unplaced(message);
+            let field = (!path.is_empty()).then(|| path.clone());
+            (unplaced(&e.to_string()), field, None, Some(message))
+        }
+        _ => (e.to_string(), None, None, None),
+    };
+    let err = SceneError::new_err(text);
     let v = err.value(py);
     let _ = v.setattr("field", field);
     let _ = v.setattr("value", value);
@@ -40,18 +48,22 @@ fn scene_error(py: Python<'_>, e: &RustSceneError) -> PyErr {
     err
 }
 
+/// How long an interrupted call waits for its solve to stop before it raises anyway: the
+/// solvers check for a stop between cycles and steps, well within this.
+const STOP_WAIT: Duration = Duration::from_secs(10);
+
 /// Runs `work` on a worker thread with the GIL released, checking for signals every 50 ms.
-/// On an interrupt the work is marked abandoned (it writes nothing) and the signal's exception
-/// is raised.
+/// On an interrupt the work is asked to stop ([`ehl_workbench::cancel`]: the solve returns at
+/// its next cycle or step, and writes nothing), the call waits for it to end (at most
+/// [`STOP_WAIT`]), and the signal's exception is raised: nothing keeps the cores busy after.
 fn off_thread<T: Send + 'static>(
     py: Python<'_>,
-    work: impl FnOnce(&AtomicBool) -> T + Send + 'static,
+    work: impl FnOnce() -> T + Send + 'static,
 ) -> PyResult<T> {
-    let abandoned = Arc::new(AtomicBool::new(false));
+    ehl_workbench::cancel::clear();
     let (tx, rx) = mpsc::channel();
-    let flag = abandoned.clone();
     std::thread::spawn(move || {
-        let _ = tx.send(work(&flag));
+        let _ = tx.send(work());
     });
     let mut rx = rx;
     loop {
@@ -62,7 +74,9 @@ fn off_thread<T: Send + 'static>(
             Ok(v) => return Ok(v),
             Err(mpsc::RecvTimeoutError::Timeout) => {
                 if let Err(e) = py.check_signals() {
-                    abandoned.store(true, Ordering::SeqCst);
+                    ehl_workbench::cancel::request();
+                    let _ = py.detach(move || rx.recv_timeout(STOP_WAIT));
+                    ehl_workbench::cancel::clear();
                     return Err(e);
                 }
             }
@@ -151,9 +165,12 @@ fn to_py<'py>(py: Python<'py>, a: Answer) -> PyResult<Bound<'py, PyDict>> {
 #[pyo3(signature = (scene_json, out=None))]
 fn run<'py>(py: Python<'py>, scene_json: &str, out: Option<PathBuf>) -> PyResult<Bound<'py, PyDict>> {
     let scene = Scene::from_json(scene_json, "(scene)").map_err(|e| scene_error(py, &e))?;
-    let got = off_thread(py, move |abandoned| -> Result<Answer, String> {
+    if let Some(dir) = &out {
+        output::check_out_dir(dir).map_err(|e| ModelError::new_err(e.to_string()))?;
+    }
+    let got = off_thread(py, move || -> Result<Answer, String> {
         let outcome = run_scene(&scene).map_err(|e| e.to_string())?;
-        if let Some(dir) = out.filter(|_| !abandoned.load(Ordering::SeqCst)) {
+        if let Some(dir) = out {
             output::write(outcome.as_ref(), &dir).map_err(|e| e.to_string())?;
         }
         answer(outcome.as_ref())
@@ -174,9 +191,12 @@ fn compare_scene<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = Scene::from_json(scene_json, "(scene)").map_err(|e| scene_error(py, &e))?;
     #[allow(clippy::type_complexity)]
-    let got = off_thread(py, move |abandoned| -> Result<(String, String, Vec<(String, Result<Answer, String>)>), String> {
+    if let Some(dir) = &out {
+        output::check_out_dir(dir).map_err(|e| ModelError::new_err(e.to_string()))?;
+    }
+    let got = off_thread(py, move || -> Result<(String, String, Vec<(String, Result<Answer, String>)>), String> {
         let c = compare::run_with(&scene, compare::Schedule::one_at_a_time(one_at_a_time));
-        if let Some(dir) = out.filter(|_| !abandoned.load(Ordering::SeqCst)) {
+        if let Some(dir) = out {
             c.write(&dir).map_err(|e| e.to_string())?;
         }
         let entries = c
@@ -225,7 +245,7 @@ fn run_sweep<'py>(
         ehl_scene::load_sweep(spec).map_err(|e| scene_error(py, &e))?
     };
     let dir = out.clone();
-    let got = off_thread(py, move |_| -> Result<String, String> {
+    let got = off_thread(py, move || -> Result<String, String> {
         let jobs = jobs.unwrap_or_else(sweep::default_jobs);
         sweep::run_local(&sw, base.as_deref(), &dir, jobs).map_err(|e| e.to_string())?;
         std::fs::read_to_string(dir.join("results.csv")).map_err(|e| e.to_string())

@@ -98,15 +98,40 @@ enum Command {
 }
 
 fn main() {
-    // An interrupted run leaves no partial output: the staging folder goes with it.
+    // A signal asks the solvers and the writer to stop: they return within about a second, and
+    // the output folder is left as it was (or, if the new output was already in place, whole).
+    // A second signal stops at once; the next run into the folder tidies what that leaves.
     let _ = ctrlc::set_handler(|| {
-        output::abandon_stage();
-        eprintln!("interrupted: no output written");
-        std::process::exit(130);
+        if ehl_workbench::cancel::requested() {
+            eprintln!("interrupted again: stopping at once");
+            std::process::exit(130);
+        }
+        ehl_workbench::cancel::request();
     });
-    if let Err(e) = real_main() {
-        eprintln!("error: {e:#}");
-        std::process::exit(1);
+    let result = real_main();
+    let interrupted = ehl_workbench::cancel::requested();
+    match result {
+        Err(e) if interrupted => {
+            eprintln!("{}", interruption_text(&e));
+            std::process::exit(130);
+        }
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::exit(1);
+        }
+        Ok(()) if interrupted => {
+            eprintln!("interrupted after the results were complete: they are in place, whole");
+            std::process::exit(130);
+        }
+        Ok(()) => {}
+    }
+}
+
+/// What an interrupted run says: the writer's account of the output folder when it has one.
+fn interruption_text(e: &anyhow::Error) -> String {
+    match e.downcast_ref::<ehl_workbench::Error>() {
+        Some(w @ ehl_workbench::Error::Interrupted(_)) => w.to_string(),
+        _ => "interrupted: no output written".into(),
     }
 }
 
@@ -137,6 +162,7 @@ fn real_main() -> Result<()> {
                 );
             }
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
+            output::check_out_dir(&dir)?;
             let outcome = run_scene(&s)?;
             let files = output::write(outcome.as_ref(), &dir)?;
             print!("{}", outcome.report());
@@ -151,6 +177,7 @@ fn real_main() -> Result<()> {
         }) => {
             let s = prepare(comparison(&scene)?, grid, threads)?;
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
+            output::check_out_dir(&dir)?;
             let c = compare::run_with(&s, compare::Schedule::one_at_a_time(one_at_a_time));
             let files = c.write(&dir)?;
             print!("{}", c.table());

@@ -42,6 +42,22 @@ impl Default for DrySettings {
     }
 }
 
+impl DrySettings {
+    /// Range checks, each naming its field: a tolerance a double can meet and that still means
+    /// a contact (below 1e-2 `a²/R` of gap), and an iteration limit that ends (a 4097² solve
+    /// takes seconds an iteration: 10⁵ of them is a day).
+    pub fn check(&self) -> Result<(), crate::FieldError> {
+        crate::check::within(
+            "tolerance",
+            self.tolerance,
+            1e-14,
+            1e-2,
+            "RMS gap on the contact, units of a²/R",
+        )?;
+        crate::check::count("max_iterations", self.max_iterations, 1, 100_000, "iterations")
+    }
+}
+
 /// One dry contact problem on the solver's grid (all Hertz units).
 #[derive(Clone, Copy)]
 pub struct DryProblem<'a> {
@@ -290,6 +306,7 @@ fn pcg(
     let mut last_residual = f64::NAN;
 
     for it in 0..=max_iter {
+        crate::cancel::check()?;
         let p = p_arr.as_slice().unwrap();
         let w = w_arr.as_slice().unwrap();
         // The gap before the approach `h0` (a mean over the contact, added below).

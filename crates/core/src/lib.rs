@@ -9,6 +9,8 @@
 //! Units: SI at the boundary (the `params` types), Hertzian dimensionless form inside:
 //! `X = x/a`, `P = p/p_h`, gaps and deformations in units of the Hertz approach `a²/R`.
 
+pub mod cancel;
+pub mod check;
 pub mod deformation;
 pub mod dry;
 pub mod features;
@@ -30,6 +32,7 @@ pub fn par_min_len(work: usize) -> usize {
     PAR_MIN_WORK.div_ceil(work.max(1))
 }
 
+pub use check::FieldError;
 pub use deformation::Deformation;
 pub use dry::{DryProblem, DryReport, DrySettings, DrySolver, Start};
 pub use features::{Dent, Hole, Passing, Supply};
@@ -76,6 +79,9 @@ pub enum NumericError {
     #[error("{0}")]
     /// Input refused before any work, with what was wrong.
     Invalid(String),
+    /// Stopped on request ([`cancel`]) before it converged.
+    #[error(transparent)]
+    Cancelled(#[from] cancel::Cancelled),
 }
 
 /// Returns the first non-finite entry of `a` as an error naming `quantity` and `iteration`.

@@ -74,6 +74,72 @@ fn one() -> f64 {
 }
 
 impl LayerSpec {
+    /// Range checks, each naming its field: the layer's elastic constants where the oedometric
+    /// law holds, the law set's own inputs (the reconstruction needs its damper constant; the
+    /// seed fit fixes those and refuses them), and a smoothing narrower than the contact.
+    pub fn check(&self) -> Result<(), ehl_core::FieldError> {
+        use ehl_core::check::{above, within};
+        let err = |field: &str, value: String, allowed: &str| ehl_core::FieldError {
+            field: field.into(),
+            value,
+            allowed: allowed.into(),
+        };
+        within("modulus_pa", self.modulus_pa, 1e3, 1e13, "Pa")?;
+        if !(self.poisson_ratio.is_finite() && (0.0..0.5).contains(&self.poisson_ratio)) {
+            return Err(err(
+                "poisson_ratio",
+                ehl_core::check::num(self.poisson_ratio),
+                "must be in [0, 0.5) (the oedometric modulus diverges at 0.5)",
+            ));
+        }
+        match self.laws {
+            LawSet::Reconstruction => {
+                let Some(k) = self.damper_constant else {
+                    return Err(err(
+                        "damper_constant",
+                        "(missing)".into(),
+                        "required with the reconstruction laws (a factor, or Pa s when literal)",
+                    ));
+                };
+                above("damper_constant", k, 0.0, 1e15, "1, or Pa s when literal")?;
+                if let Some(p) = self.reference_pressure_pa {
+                    within("reference_pressure_pa", p, 1e3, 1e12, "Pa")?;
+                }
+                within(
+                    "damper_pressure_scale",
+                    self.damper_pressure_scale,
+                    0.0,
+                    5.0,
+                    "1: Roelands' pressure dependence, 0: none",
+                )?;
+            }
+            LawSet::SeedFit => {
+                // The fit fixes these: a scene stating them too would be silently overridden.
+                let fixed = [
+                    ("damper_constant", self.damper_constant.is_some()),
+                    ("reference_pressure_pa", self.reference_pressure_pa.is_some()),
+                    ("damper_pressure_scale", self.damper_pressure_scale != 1.0),
+                    ("damper_reading", self.damper_reading != DamperReading::Factor),
+                    ("modulus_law", self.modulus_law != ModulusLaw::Power),
+                ];
+                if let Some((field, _)) = fixed.iter().find(|(_, set)| *set) {
+                    return Err(err(
+                        field,
+                        "(given)".into(),
+                        "the seed-fit laws fix it (reference/seed-fit.json): remove it, or use \"laws\": \"reconstruction\"",
+                    ));
+                }
+            }
+        }
+        within(
+            "coefficient_smoothing_a",
+            self.coefficient_smoothing_a,
+            0.0,
+            0.5,
+            "units of a; wider smooths the contact itself away",
+        )
+    }
+
     /// The law parameters this spec selects, with pressures in units of `p_h` [Pa]. `None` when
     /// the `reconstruction` laws lack a damper constant (a scene's checks refuse that first).
     pub fn law_parameters(&self, p_h: f64) -> Option<LawParameters> {

@@ -83,6 +83,16 @@ fn default_true() -> bool {
     true
 }
 
+impl SteadySettings {
+    /// Range checks, each naming its field.
+    pub fn check(&self) -> Result<(), ehl_core::FieldError> {
+        use ehl_core::check::{count, within};
+        within("strain_tolerance", self.strain_tolerance, 1e-12, 1e-2, "")?;
+        count("max_iterations", self.max_iterations, 1, 100_000, "iterations")?;
+        count("substeps", self.substeps, 1, 64, "sub-steps a cell")
+    }
+}
+
 impl Default for SteadySettings {
     fn default() -> Self {
         Self {

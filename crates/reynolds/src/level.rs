@@ -99,6 +99,47 @@ pub struct RelaxSettings {
     pub poiseuille_full_step: f64,
 }
 
+impl RelaxSettings {
+    /// Range checks, each naming its field: thresholds and factors where the relaxation they
+    /// steer can converge, pass counts that end.
+    pub fn check(&self) -> Result<(), ehl_core::FieldError> {
+        use ehl_core::check::{above, count, within};
+        within(
+            "distributive_threshold",
+            self.distributive_threshold,
+            0.0,
+            1000.0,
+            "Poiseuille over wedge diagonal",
+        )?;
+        above(
+            "transient_threshold",
+            self.transient_threshold,
+            0.0,
+            1000.0,
+            "times the time term's elastic self-coupling",
+        )?;
+        above(
+            "transient_threshold_at_rest",
+            self.transient_threshold_at_rest,
+            0.0,
+            1000.0,
+            "times the time term's elastic self-coupling",
+        )?;
+        above("omega_gs", self.omega_gs, 0.0, 1.5, "Gauss-Seidel under-relaxation")?;
+        above("omega_jd", self.omega_jd, 0.0, 1.5, "distributive under-relaxation")?;
+        within("coefficient_lag", self.coefficient_lag, 0.0, 1.0, "0: laws follow at once")?;
+        count("meniscus_passes", self.meniscus_passes, 0, 32, "passes")?;
+        above(
+            "omega_contact",
+            self.omega_contact,
+            0.0,
+            1.5,
+            "under-relaxation where the solids touch",
+        )?;
+        within("poiseuille_full_step", self.poiseuille_full_step, 0.0, 1e6, "0: none")
+    }
+}
+
 impl Default for RelaxSettings {
     fn default() -> Self {
         Self {

@@ -6,6 +6,7 @@ use crate::extrapolate::ModeExtrapolation;
 use crate::formulas::{self, moes_to_hertz_film, nvm_central_moes};
 use crate::level::{Level, RelaxSettings};
 use crate::params::ReynoldsParams;
+use ehl_core::FieldError;
 use ehl_core::grid::{inject, prolong};
 use ehl_core::{Grid, hertz};
 use ndarray::{Array2, Zip};
@@ -215,6 +216,67 @@ impl Default for ReynoldsSettings {
     }
 }
 
+impl ReynoldsSettings {
+    /// Range checks, each naming its field (its path inside these settings): counts that end
+    /// (a cycle on 4097² takes seconds: 10⁴ of them is hours), gains and factors where the
+    /// iteration they steer can converge, tolerances a double can meet, and the coarsest grid
+    /// no smaller than the least grid a scene may have.
+    pub fn check(&self) -> Result<(), FieldError> {
+        use ehl_core::check::{above, count, within};
+        count("max_cycles", self.max_cycles, 1, 10_000, "cycles")?;
+        count("pre_sweeps", self.pre_sweeps, 1, 20, "sweeps")?;
+        count("post_sweeps", self.post_sweeps, 0, 20, "sweeps")?;
+        count("coarse_sweeps", self.coarse_sweeps, 1, 1000, "sweeps")?;
+        count("gamma", self.gamma, 1, 2, "1: V-cycles, 2: W-cycles")?;
+        count("step_gamma", self.step_gamma, 1, 2, "1: V-cycles, 2: W-cycles")?;
+        above("h00_gain", self.h00_gain, 0.0, 10.0, "times the Hertz compliance 1/pi")?;
+        above("step_h00_gain", self.step_h00_gain, 0.0, 10.0, "times the Hertz compliance 1/pi")?;
+        count(
+            "step_pre_sweeps",
+            self.step_pre_sweeps,
+            1,
+            4,
+            "sweeps before a time step's coarse-grid correction",
+        )?;
+        count("step_max_cycles", self.step_max_cycles, 1, 10_000, "cycles")?;
+        count("coarsest_points", self.coarsest_points, 5, 4097, "points per side")?;
+        within("film_tolerance", self.film_tolerance, 1e-12, 0.1, "relative change a cycle")?;
+        within("load_tolerance", self.load_tolerance, 1e-14, 0.1, "relative")?;
+        within(
+            "mass_tolerance",
+            self.mass_tolerance,
+            1e-8,
+            1.0,
+            "oil unaccounted for, over the supply",
+        )?;
+        count("stall_cycles", self.stall_cycles, 0, 10_000, "cycles; 0: no stall watch")?;
+        count(
+            "fmg_cycles",
+            self.fmg_cycles,
+            0,
+            100,
+            "cycles a coarser grid; 0: no full-multigrid start",
+        )?;
+        within("fallback_lag", self.fallback_lag, 0.0, 1.0, "0: no second attempt")?;
+        within("fallback_omega_gs", self.fallback_omega_gs, 0.0, 1.0, "0: no third attempt")?;
+        within(
+            "mode_extrapolation",
+            self.mode_extrapolation,
+            0.0,
+            100.0,
+            "0: no jumps; the largest factor of a jump along the slow mode",
+        )?;
+        if self.stop == StopRule::Discretisation && self.fmg_cycles == 0 {
+            return Err(FieldError {
+                field: "stop".into(),
+                value: "\"discretisation\"".into(),
+                allowed: "needs the full-multigrid start (fmg_cycles >= 1): its grid below gives the discretisation error estimate".into(),
+            });
+        }
+        self.relax.check().map_err(|e| e.under("relax"))
+    }
+}
+
 /// One cycle's record.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct CycleLog {
@@ -406,6 +468,9 @@ pub enum ReynoldsError {
     /// closed, or the cycle limit came): the report, with its diagnosis (what, where, when).
     #[error("the Reynolds solve did not converge: {}", diagnosis_text(.0))]
     NotConverged(Box<ReynoldsReport>),
+    /// Stopped on request ([`ehl_core::cancel`]) between two cycles.
+    #[error(transparent)]
+    Cancelled(#[from] ehl_core::cancel::Cancelled),
 }
 
 /// The diagnosis of a report in words (empty when it has none).
@@ -428,7 +493,7 @@ impl ReynoldsError {
     pub fn cycle(&self) -> usize {
         match self {
             ReynoldsError::Diverged { cycle, .. } => *cycle,
-            ReynoldsError::NoSteadyStart => 0,
+            ReynoldsError::NoSteadyStart | ReynoldsError::Cancelled(_) => 0,
             ReynoldsError::NotConverged(r) => r.cycles,
         }
     }
@@ -1122,6 +1187,7 @@ impl ReynoldsSolver {
         cycle: usize,
         t0: Instant,
     ) -> Result<CycleLog, ReynoldsError> {
+        ehl_core::cancel::check()?;
         let target = 2.0 * PI / 3.0;
         self.levels[l].theta_free = true;
         self.cycle(l, target);
@@ -1328,6 +1394,8 @@ impl ReynoldsSolver {
             r
         });
         self.rho_h = vec![self.levels[0].rho_film(&self.prm)];
+        // Stopped inside a later attempt: the stop is the answer, not the attempts before it.
+        ehl_core::cancel::check()?;
         converged(rep)
     }
 
@@ -1366,6 +1434,7 @@ impl ReynoldsSolver {
             }
         };
         self.rho_h = vec![self.levels[0].rho_film(&self.prm)];
+        ehl_core::cancel::check()?;
         converged(rep.map(|mut r| {
             // Only a converged answer is the fed one: the flooded solve's settled answer is not.
             r.settled = None;
@@ -1600,6 +1669,8 @@ impl ReynoldsSolver {
 /// ([`ReynoldsSettings::flooded_start_fallback`]).
 fn given_up(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option<(String, usize)> {
     match rep {
+        // A stop asked for ends the solve: no attempt follows.
+        Err(ReynoldsError::Cancelled(_)) => None,
         Err(e) => Some((e.to_string(), e.cycle())),
         Ok(r) => r
             .diagnosis

@@ -164,7 +164,7 @@ impl Scene {
             return Ok(None);
         };
         let c = load(name)?;
-        let ck = Check { origin: &format!("scene `{}`", self.name) };
+        let ck = Check { origin: &format!("`{}`", self.name) };
         if !c.is_comparison() {
             return Err(ck.err(
                 "comparison",
@@ -188,7 +188,7 @@ impl Scene {
         s.model = None;
         s.models = models.to_vec();
         s.comparison = None;
-        s.validate(&format!("{} as a comparison", self.name))?;
+        s.validate(&format!("`{}` as a comparison", self.name))?;
         Ok(s)
     }
 
@@ -328,6 +328,51 @@ impl DentSpec {
 /// table knot at 4097 m/s in `stop-start-compare`, 0.01 m/s reference, ran for 365 s on 17²).
 pub const MAX_SPEED_M_S: f64 = 100.0;
 
+/// A number as a message shows it: plain where that is short, else in `e` notation (1e308 as
+/// `1e308`, not 309 digits).
+pub fn num(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || (1e-4..1e6).contains(&a) || !a.is_finite() {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// The plausible range of each physical input, SI: `(field, least, most, unit, why)`. Beyond
+/// them no ball-on-disc contact the models describe exists (a ball of a kilometre, a modulus of
+/// a gas), and the arithmetic would overflow or lose every digit before a model could say so.
+pub const PLAUSIBLE: &[(&str, f64, f64, &str, &str)] = &[
+    ("conditions.ball_radius_m", 1e-6, 10.0, "m", "from a micro-sphere to a large bearing ball"),
+    ("conditions.load_n", 1e-6, 1e7, "N", "from a micro-newton probe to a heavy bearing"),
+    ("conditions.reduced_modulus_pa", 1e5, 1e13, "Pa", "from a soft elastomer to diamond"),
+    ("lubricant.eta0_pa_s", 1e-6, 1e6, "Pa s", "from a gas to a bitumen"),
+    ("lubricant.alpha_per_pa", 0.0, 1e-6, "1/Pa", "oils are 1e-8 to 4e-8"),
+    ("lubricant.p0_roelands_pa", 1e6, 1e10, "Pa", "Roelands' constant is 1.96e8"),
+    ("supply.thickness_m", 1e-12, 1e-3, "m", "from a molecular layer to a millimetre of oil"),
+];
+
+/// The largest distance of any place in a scene from the contact's centre, in units of `a`:
+/// a feature or a hole further out never reaches a domain the checks allow.
+pub const MAX_PLACE_A: f64 = 1e4;
+
+/// The most snapshots a run may take (times and positions together): each holds two whole
+/// fields in memory until the run is written (1000 on 1025² is 16 GB).
+pub const MAX_SNAPSHOTS: usize = 1000;
+
+/// The farthest a domain may reach from the contact's centre, in units of `a` (an inlet 50 `a`
+/// long is already far beyond any starvation study's).
+pub const MAX_DOMAIN_A: f64 = 1000.0;
+
+/// The largest `a / R` a scene may reach: Hertz's half-space and the small-slope gap hold for
+/// a contact small against the ball (`a/R` ≤ 0.2 keeps the parabolic gap within 1 % of the
+/// sphere's at the contact's edge).
+pub const MAX_A_OVER_R: f64 = 0.2;
+
+/// The longest time a scene may ask for [s]: a stop, a ramp, a table's knot, a snapshot, a time
+/// limit. Steps are held to a budget too; this keeps the plan's arithmetic finite.
+pub const MAX_TIME_S: f64 = 1e4;
+
 /// The range checks' vocabulary: each refusal names the scene, the field, the value and what is
 /// allowed.
 struct Check<'a> {
@@ -347,7 +392,7 @@ impl Check<'_> {
         if v.is_finite() && v > 0.0 {
             Ok(())
         } else {
-            Err(self.err(field, format!("{v}"), &format!("must be finite and > 0 ({unit})")))
+            Err(self.err(field, num(v), &format!("must be finite and > 0 ({unit})")))
         }
     }
     /// A name used for folders: letters, digits, `-`, `_`.
@@ -380,14 +425,39 @@ impl Check<'_> {
         if u.is_finite() && (0.0..=MAX_SPEED_M_S).contains(&u) {
             Ok(())
         } else {
-            Err(self.err(field, format!("{u}"), &format!("must be in [0, {MAX_SPEED_M_S}] (m/s)")))
+            Err(self.err(field, num(u), &format!("must be in [0, {MAX_SPEED_M_S}] (m/s)")))
         }
+    }
+    /// A time [s]: from 0 to [`MAX_TIME_S`].
+    fn time(&self, field: &str, t: f64) -> Result<(), SceneError> {
+        self.own("", ehl_core::check::within(field, t, 0.0, MAX_TIME_S, "s"))
+    }
+    /// A solver's own check ([`ehl_core::FieldError`]), its field put under `prefix`.
+    fn own(&self, prefix: &str, r: Result<(), ehl_core::FieldError>) -> Result<(), SceneError> {
+        r.map_err(|e| {
+            let e = e.under(prefix);
+            self.err(&e.field, e.value, &e.allowed)
+        })
+    }
+    /// A physical input within its plausible range ([`PLAUSIBLE`]).
+    fn plausible(&self, field: &str, v: f64) -> Result<(), SceneError> {
+        let Some(&(_, lo, hi, unit, why)) = PLAUSIBLE.iter().find(|p| p.0 == field) else {
+            return Ok(());
+        };
+        if v.is_finite() && v >= lo && v <= hi {
+            return Ok(());
+        }
+        Err(self.err(
+            field,
+            num(v),
+            &format!("must be in [{}, {}] ({unit}): {why}", num(lo), num(hi)),
+        ))
     }
     fn nonneg(&self, field: &str, v: f64, unit: &str) -> Result<(), SceneError> {
         if v.is_finite() && v >= 0.0 {
             Ok(())
         } else {
-            Err(self.err(field, format!("{v}"), &format!("must be finite and >= 0 ({unit})")))
+            Err(self.err(field, num(v), &format!("must be finite and >= 0 ({unit})")))
         }
     }
 }
@@ -727,12 +797,13 @@ impl Default for Outputs {
 /// Refused input: which field, what it holds, what is allowed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SceneError {
-    #[error("scene {origin}: {path}: {message}")]
+    #[error("scene {origin}: {}{message}", if path.is_empty() { String::new() } else { format!("field `{path}`: ") })]
     /// The JSON does not parse, or a field is missing or unknown.
     Parse {
         /// Which scene.
         origin: String,
-        /// The field's path.
+        /// The field's path (`conditions.load_n`); empty at the top level, where the message
+        /// names the field when there is one.
         path: String,
         /// The parser's words.
         message: String,
@@ -752,6 +823,16 @@ pub enum SceneError {
     #[error("no built-in scene or file named `{0}` (built-ins: {list})", list = builtin_names().join(", "))]
     /// No built-in scene or file of that name.
     Unknown(String),
+    #[error(
+        "`{name}` is both a built-in {kind} and a file here: write `./{name}` for the file, or rename it"
+    )]
+    /// A name that is a built-in and a file in the working folder.
+    Ambiguous {
+        /// The name given.
+        name: String,
+        /// `scene` or `sweep`.
+        kind: &'static str,
+    },
     #[error("scene file {path}: {message}")]
     /// The scene file cannot be read.
     Io {
@@ -810,31 +891,65 @@ pub fn builtin(name: &str) -> Result<Scene, SceneError> {
     Scene::from_json(text, &format!("`{name}` (built-in)"))
 }
 
-/// A built-in name, or else a path to a JSON file.
+/// A built-in name, or else a path to a JSON file. A name that is both (a file `hertz` in the
+/// working folder) is refused as ambiguous rather than guessed. A file's relative
+/// `comparison` path is read from the file's own folder.
 pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
-    if BUILTINS.iter().find(|(n, _)| *n == name_or_path).is_some() {
-        return builtin(name_or_path);
-    }
     let path = Path::new(name_or_path);
-    if !path.exists() {
-        return Err(SceneError::Unknown(name_or_path.into()));
+    let named = BUILTINS.iter().any(|(n, _)| *n == name_or_path);
+    match (named, path.exists()) {
+        (true, false) => return builtin(name_or_path),
+        (true, true) => {
+            return Err(SceneError::Ambiguous { name: name_or_path.into(), kind: "scene" });
+        }
+        (false, false) => return Err(SceneError::Unknown(name_or_path.into())),
+        (false, true) => {}
     }
     let text = std::fs::read_to_string(path)
         .map_err(|e| SceneError::Io { path: name_or_path.into(), message: e.to_string() })?;
-    Scene::from_json(&text, &format!("file {name_or_path}"))
+    let mut scene = Scene::from_json(&text, &format!("file {name_or_path}"))?;
+    if let Some(c) = &scene.comparison
+        && !BUILTINS.iter().any(|(n, _)| n == c)
+        && Path::new(c).is_relative()
+        && let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
+    {
+        scene.comparison = Some(dir.join(c).to_string_lossy().into_owned());
+    }
+    Ok(scene)
 }
 
-/// Deserialises scene-crate JSON (scenes, sweeps), a refusal naming the field's path.
+/// Deserialises scene-crate JSON (scenes, sweeps), a refusal naming the field's path. The text
+/// must be one JSON object and nothing after it: a second scene pasted below the first, or a
+/// merge's leftover, is refused rather than ignored.
 fn parse<T: serde::de::DeserializeOwned>(text: &str, origin: &str) -> Result<T, SceneError> {
+    let refuse =
+        |message: String| SceneError::Parse { origin: origin.into(), path: String::new(), message };
+    match text.trim_start().chars().next() {
+        Some('{') => {}
+        Some(c) => {
+            return Err(refuse(format!(
+                "expected a JSON object `{{ … }}`, found text starting with `{c}`"
+            )));
+        }
+        None => return Err(refuse("the text is empty: expected a JSON object".into())),
+    }
     let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|e| {
+    let value = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
         let path = e.path().to_string();
         SceneError::Parse {
             origin: origin.into(),
-            path: if path == "." { "(top level)".into() } else { format!("field `{path}`") },
+            path: if path == "." { String::new() } else { path },
             message: e.into_inner().to_string(),
         }
-    })
+    })?;
+    de.end().map_err(|e| {
+        refuse(format!(
+            "more text after the JSON object ends (line {}, column {}): one object per file",
+            e.line(),
+            e.column()
+        ))
+    })?;
+    Ok(value)
 }
 
 impl Scene {
@@ -854,7 +969,7 @@ impl Scene {
     pub fn with_points(&self, n: usize) -> Result<Scene, SceneError> {
         let mut s = self.clone();
         s.grid = GridSpec { nx: n, ny: n };
-        s.validate("with --grid")?;
+        s.validate(&format!("`{}` with the grid {n}²", self.name))?;
         Ok(s)
     }
 
@@ -924,35 +1039,12 @@ impl Scene {
         ck.positive("conditions.ball_radius_m", c.ball_radius_m, "m")?;
         ck.positive("conditions.load_n", c.load_n, "N")?;
         ck.positive("conditions.reduced_modulus_pa", c.reduced_modulus_pa, "Pa")?;
-        for (field, r) in [("domain.x_a", self.domain.x_a), ("domain.y_a", self.domain.y_a)] {
-            if !(r[0].is_finite() && r[1].is_finite() && r[0] < r[1]) {
-                return Err(ck.err(
-                    field,
-                    format!("{r:?}"),
-                    "must be [min, max] with finite min < max (units of a)",
-                ));
-            }
-            if !(r[0] <= 0.0 && r[1] >= 0.0) {
-                return Err(ck.err(field, format!("{r:?}"), "must contain 0 (the contact centre)"));
-            }
-        }
-        // 5 points is the least that resolves anything; 4097² fields are 128 MiB each.
-        for (field, n) in [("grid.nx", self.grid.nx), ("grid.ny", self.grid.ny)] {
-            if !(5..=4097).contains(&n) {
-                return Err(ck.err(field, n.to_string(), "must be 5 ..= 4097 points"));
-            }
-        }
-        let s = &self.solver;
-        if !(s.tolerance.is_finite() && s.tolerance > 0.0 && s.tolerance < 1.0) {
-            return Err(ck.err(
-                "solver.tolerance",
-                format!("{}", s.tolerance),
-                "must be in (0, 1) (RMS gap on the contact, units of a²/R)",
-            ));
-        }
-        if s.max_iterations == 0 {
-            return Err(ck.err("solver.max_iterations", "0".into(), "must be >= 1"));
-        }
+        ck.plausible("conditions.ball_radius_m", c.ball_radius_m)?;
+        ck.plausible("conditions.load_n", c.load_n)?;
+        ck.plausible("conditions.reduced_modulus_pa", c.reduced_modulus_pa)?;
+        self.validate_contact_size(&ck, &self.conditions.contact(), "conditions.load_n")?;
+        self.validate_domain(&ck)?;
+        ck.own("solver", self.solver.check())?;
         if let Some(u) = c.rolling_velocity_m_s {
             ck.speed("conditions.rolling_velocity_m_s", u)?;
         }
@@ -960,86 +1052,99 @@ impl Scene {
             ck.positive("lubricant.eta0_pa_s", l.eta0_pa_s, "Pa s")?;
             ck.nonneg("lubricant.alpha_per_pa", l.alpha_per_pa, "1/Pa")?;
             ck.positive("lubricant.p0_roelands_pa", l.p0_roelands_pa, "Pa")?;
+            ck.plausible("lubricant.eta0_pa_s", l.eta0_pa_s)?;
+            ck.plausible("lubricant.alpha_per_pa", l.alpha_per_pa)?;
+            ck.plausible("lubricant.p0_roelands_pa", l.p0_roelands_pa)?;
         }
         if let Some(sup) = &self.supply {
             ck.positive("supply.thickness_m", sup.thickness_m, "m")?;
+            ck.plausible("supply.thickness_m", sup.thickness_m)?;
             for (k, h) in sup.holes.iter().enumerate() {
-                ck.positive(&format!("supply.holes[{k}].radius_a"), h.radius_a, "units of a")?;
-                if !(h.x_start_a.is_finite() && h.y_a.is_finite()) {
-                    return Err(ck.err(
-                        &format!("supply.holes[{k}]"),
-                        "non-finite position".into(),
-                        "x_start_a, y_a must be finite",
-                    ));
+                let f = |n: &str| format!("supply.holes[{k}].{n}");
+                ck.own(
+                    "",
+                    ehl_core::check::above(&f("radius_a"), h.radius_a, 0.0, 100.0, "units of a"),
+                )?;
+                for (n, v) in [("x_start_a", h.x_start_a), ("y_a", h.y_a)] {
+                    ck.own(
+                        "",
+                        ehl_core::check::within(&f(n), v, -MAX_PLACE_A, MAX_PLACE_A, "units of a"),
+                    )?;
                 }
             }
         }
         if let Some(l) = &self.layer {
-            ck.positive("layer.modulus_pa", l.modulus_pa, "Pa")?;
-            if !(l.poisson_ratio.is_finite() && (0.0..0.5).contains(&l.poisson_ratio)) {
-                return Err(ck.err(
-                    "layer.poisson_ratio",
-                    format!("{}", l.poisson_ratio),
-                    "must be in [0, 0.5) (the oedometric modulus diverges at 0.5)",
-                ));
-            }
-            match l.laws {
-                ehl_layer::LawSet::Reconstruction => {
-                    let Some(k) = l.damper_constant else {
-                        return Err(ck.err(
-                            "layer.damper_constant",
-                            "(missing)".into(),
-                            "required with the reconstruction laws (a factor, or Pa s when literal)",
-                        ));
-                    };
-                    ck.positive("layer.damper_constant", k, "1, or Pa s when literal")?;
-                    if let Some(p) = l.reference_pressure_pa {
-                        ck.positive("layer.reference_pressure_pa", p, "Pa")?;
-                    }
-                    let s = l.damper_pressure_scale;
-                    if !(s.is_finite() && (0.0..=5.0).contains(&s)) {
-                        return Err(ck.err(
-                            "layer.damper_pressure_scale",
-                            format!("{s}"),
-                            "must be in [0, 5] (1: Roelands' pressure dependence, 0: none)",
-                        ));
-                    }
-                }
-                ehl_layer::LawSet::SeedFit => {
-                    // The fit fixes these: a scene stating them too would be silently overridden.
-                    let fixed = [
-                        ("layer.damper_constant", l.damper_constant.is_some()),
-                        ("layer.reference_pressure_pa", l.reference_pressure_pa.is_some()),
-                        ("layer.damper_pressure_scale", l.damper_pressure_scale != 1.0),
-                        (
-                            "layer.damper_reading",
-                            l.damper_reading != ehl_layer::DamperReading::Factor,
-                        ),
-                        ("layer.modulus_law", l.modulus_law != ehl_layer::ModulusLaw::Power),
-                    ];
-                    if let Some((field, _)) = fixed.iter().find(|(_, set)| *set) {
-                        return Err(ck.err(
-                            field,
-                            "(given)".into(),
-                            "the seed-fit laws fix it (reference/seed-fit.json): remove it, or use \"laws\": \"reconstruction\"",
-                        ));
-                    }
-                }
-            }
-            let sm = l.coefficient_smoothing_a;
-            if !(sm.is_finite() && (0.0..=0.5).contains(&sm)) {
-                return Err(ck.err(
-                    "layer.coefficient_smoothing_a",
-                    format!("{sm}"),
-                    "must be in [0, 0.5] (units of a; wider smooths the contact itself away)",
-                ));
-            }
+            ck.own("layer", l.check())?;
         }
         match self.model {
             Some(Model::Reynolds | Model::ReynoldsFlooded) => self.validate_reynolds(&ck),
             Some(Model::Layer) => self.validate_layer(&ck),
             _ => Ok(()),
         }
+    }
+
+    /// The contact small against the ball ([`MAX_A_OVER_R`]), `field` named as the cause.
+    fn validate_contact_size(
+        &self,
+        ck: &Check,
+        c: &Contact,
+        field: &str,
+    ) -> Result<(), SceneError> {
+        let a = ehl_core::HertzScales::new(c).a;
+        let ratio = a / c.ball_radius;
+        if ratio.is_finite() && ratio <= MAX_A_OVER_R {
+            return Ok(());
+        }
+        Err(ck.err(
+            field,
+            num(if field == "conditions.load_n" { c.load } else { ratio }),
+            &format!(
+                "gives a Hertz radius a = {} m, {} of the ball's radius: the half-space contact needs a/R <= {MAX_A_OVER_R} (a lighter load, a stiffer pair or a larger ball)",
+                num(a),
+                num(ratio)
+            ),
+        ))
+    }
+
+    /// The domain holds the Hertz contact (±1 `a` either way) and lies within [`MAX_DOMAIN_A`];
+    /// the grid has 5 to 4097 points a side and at least two cells across the contact.
+    fn validate_domain(&self, ck: &Check) -> Result<(), SceneError> {
+        for (field, r) in [("domain.x_a", self.domain.x_a), ("domain.y_a", self.domain.y_a)] {
+            if !(r[0].is_finite() && r[1].is_finite() && r[0] < r[1]) {
+                return Err(ck.err(
+                    field,
+                    format!("[{}, {}]", num(r[0]), num(r[1])),
+                    "must be [min, max] with finite min < max (units of a)",
+                ));
+            }
+            if !(r[0] <= -1.0 && r[1] >= 1.0 && r[0] >= -MAX_DOMAIN_A && r[1] <= MAX_DOMAIN_A) {
+                return Err(ck.err(
+                    field,
+                    format!("[{}, {}]", num(r[0]), num(r[1])),
+                    &format!("must hold the Hertz contact and stay within ±{MAX_DOMAIN_A}: min in [-{MAX_DOMAIN_A}, -1], max in [1, {MAX_DOMAIN_A}] (units of a)"),
+                ));
+            }
+        }
+        // 5 points is the least that resolves anything; 4097² fields are 128 MiB each.
+        for (field, n, r) in
+            [("grid.nx", self.grid.nx, self.domain.x_a), ("grid.ny", self.grid.ny, self.domain.y_a)]
+        {
+            if !(5..=4097).contains(&n) {
+                return Err(ck.err(field, n.to_string(), "must be 5 ..= 4097 points"));
+            }
+            let cell = (r[1] - r[0]) / (n - 1) as f64;
+            if cell > 1.0 {
+                return Err(ck.err(
+                    field,
+                    n.to_string(),
+                    &format!(
+                        "gives cells of {} a: at least two cells across the Hertz contact's diameter need cells <= 1 a (more points, or a shorter domain)",
+                        num(cell)
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// The Reynolds model's block and grid.
@@ -1053,17 +1158,26 @@ impl Scene {
                 if let Some(u) = c.rolling_velocity_m_s {
                     return Err(ck.err(
                         "conditions.rolling_velocity_m_s",
-                        format!("{u}"),
+                        num(u),
                         "must be absent with reynolds.moes (M and L set the load and the velocity; conditions.load_n is replaced too, and the run says so)",
                     ));
                 }
-                ck.positive("reynolds.moes.m", m.m, "1")?;
-                ck.positive("reynolds.moes.l", m.l, "1")?;
+                ck.own(
+                    "reynolds.moes",
+                    ehl_core::check::above("m", m.m, 0.0, 1e5, "Moes' load parameter"),
+                )?;
+                ck.own(
+                    "reynolds.moes",
+                    ehl_core::check::above("l", m.l, 0.0, 1e3, "Moes' material parameter"),
+                )?;
                 ck.positive(
                     "lubricant.alpha_per_pa",
                     l.alpha_per_pa,
                     "1/Pa (Moes input derives U from L)",
                 )?;
+                let (contact, u_sum) = self.reynolds_conditions();
+                self.validate_contact_size(ck, &contact, "reynolds.moes.m")?;
+                ck.speed("reynolds.moes.l", 0.5 * u_sum)?;
             }
             None => {
                 let u = c.rolling_velocity_m_s.unwrap_or(0.0);
@@ -1077,66 +1191,7 @@ impl Scene {
         if let Some(run) = &self.run {
             self.validate_reynolds_run(ck, run)?;
         }
-        let s = &r.solver;
-        if s.max_cycles == 0 || !(1..=2).contains(&s.gamma) || !(1..=2).contains(&s.step_gamma) {
-            return Err(ck.err(
-                "reynolds.solver",
-                format!(
-                    "max_cycles {}, gamma {}, step_gamma {}",
-                    s.max_cycles, s.gamma, s.step_gamma
-                ),
-                "max_cycles >= 1, gamma and step_gamma 1 (V) or 2 (W)",
-            ));
-        }
-        for (field, gain) in [("h00_gain", s.h00_gain), ("step_h00_gain", s.step_h00_gain)] {
-            if !(gain > 0.0 && gain <= 10.0) {
-                return Err(ck.err(
-                    &format!("reynolds.solver.{field}"),
-                    format!("{gain}"),
-                    "0 < gain <= 10 (times the Hertz compliance 1/pi)",
-                ));
-            }
-        }
-        for (field, t) in [
-            ("transient_threshold", s.relax.transient_threshold),
-            ("transient_threshold_at_rest", s.relax.transient_threshold_at_rest),
-        ] {
-            if !(t > 0.0 && t <= 1000.0) {
-                return Err(ck.err(
-                    &format!("reynolds.solver.relax.{field}"),
-                    format!("{t}"),
-                    "0 < threshold <= 1000 (times the time term's elastic self-coupling)",
-                ));
-            }
-        }
-        if !(1..=4).contains(&s.step_pre_sweeps) {
-            return Err(ck.err(
-                "reynolds.solver.step_pre_sweeps",
-                s.step_pre_sweeps.to_string(),
-                "1 to 4 (sweeps before a time step's coarse-grid correction)",
-            ));
-        }
-        if !(0.0..=1.0).contains(&s.fallback_omega_gs) {
-            return Err(ck.err(
-                "reynolds.solver.fallback_omega_gs",
-                format!("{}", s.fallback_omega_gs),
-                "0 (no third attempt) to 1 (the Gauss-Seidel changes' factor of a third attempt)",
-            ));
-        }
-        if !(0.0..=100.0).contains(&s.mode_extrapolation) {
-            return Err(ck.err(
-                "reynolds.solver.mode_extrapolation",
-                format!("{}", s.mode_extrapolation),
-                "0 (no jumps) to 100 (the largest factor of a jump along the slow mode)",
-            ));
-        }
-        if s.stop == ehl_reynolds::StopRule::Discretisation && s.fmg_cycles == 0 {
-            return Err(ck.err(
-                "reynolds.solver.stop",
-                "\"discretisation\"".into(),
-                "needs the full-multigrid start (fmg_cycles >= 1): its grid below gives the discretisation error estimate",
-            ));
-        }
+        ck.own("reynolds.solver", r.solver.check())?;
         if self.grid.nx != self.grid.ny
             || ((self.domain.x_a[1] - self.domain.x_a[0]) / (self.grid.nx - 1) as f64
                 - (self.domain.y_a[1] - self.domain.y_a[0]) / (self.grid.ny - 1) as f64)
@@ -1218,8 +1273,8 @@ impl Scene {
     /// rolls at it.
     fn validate_motion(ck: &Check, r: &RunSpec, u: f64) -> Result<(), SceneError> {
         match &r.motion {
-            Motion::StopAt { at_s } => ck.nonneg("run.motion.stop.at_s", *at_s, "s")?,
-            Motion::StartUp { ramp_s } => ck.nonneg("run.motion.start-up.ramp_s", *ramp_s, "s")?,
+            Motion::StopAt { at_s } => ck.time("run.motion.stop.at_s", *at_s)?,
+            Motion::StartUp { ramp_s } => ck.time("run.motion.start-up.ramp_s", *ramp_s)?,
             Motion::Table { knots } if knots.is_empty() => {
                 return Err(ck.err(
                     "run.motion.table.knots",
@@ -1229,6 +1284,7 @@ impl Scene {
             }
             Motion::Table { knots } => {
                 for (k, knot) in knots.iter().enumerate() {
+                    ck.time(&format!("run.motion.table.knots[{k}][0]"), knot[0])?;
                     ck.speed(&format!("run.motion.table.knots[{k}][1]"), knot[1])?;
                 }
             }
@@ -1239,7 +1295,7 @@ impl Scene {
         if uses_scene_speed && !(u > 0.0) {
             return Err(ck.err(
                 "conditions.rolling_velocity_m_s",
-                format!("{u}"),
+                num(u),
                 &format!("must be > 0 (m/s): run.motion `{}` rolls at it", r.motion.label()),
             ));
         }
@@ -1295,27 +1351,7 @@ impl Scene {
                 |allowed| format!("{allowed} with run.method \"steady\" (use \"march\")"),
             )?;
         }
-        let sd = &r.steady;
-        if !(sd.strain_tolerance.is_finite()
-            && sd.strain_tolerance >= 1e-12
-            && sd.strain_tolerance <= 1e-2)
-        {
-            return Err(ck.err(
-                "run.steady.strain_tolerance",
-                format!("{}", sd.strain_tolerance),
-                "must be in [1e-12, 1e-2]",
-            ));
-        }
-        if !(1..=100_000).contains(&sd.max_iterations) {
-            return Err(ck.err(
-                "run.steady.max_iterations",
-                sd.max_iterations.to_string(),
-                "must be 1 ..= 100000",
-            ));
-        }
-        if !(1..=64).contains(&sd.substeps) {
-            return Err(ck.err("run.steady.substeps", sd.substeps.to_string(), "must be 1 ..= 64"));
-        }
+        ck.own("run.steady", r.steady.check())?;
         let u = kin.speed_before();
         if r.start == Some(StartState::SteadyRolling) && !(u > 0.0) {
             return Err(ck.err(
@@ -1343,6 +1379,7 @@ impl Scene {
         }
         if let Some(dt) = t.dt_s {
             ck.positive("run.time.dt_s", dt, "s")?;
+            ck.time("run.time.dt_s", dt)?;
         }
         if !(t.error_tolerance.is_finite() && t.error_tolerance > 0.0 && t.error_tolerance < 1.0) {
             return Err(ck.err(
@@ -1378,9 +1415,23 @@ impl Scene {
         }
         ck.positive("run.stop.window_travel_a", st.window_travel_a, "units of a")?;
         ck.positive("run.stop.window_time_s", st.window_time_s, "s")?;
+        ck.time("run.stop.window_time_s", st.window_time_s)?;
+        ck.own(
+            "",
+            ehl_core::check::within(
+                "run.stop.window_travel_a",
+                st.window_travel_a,
+                0.0,
+                1e6,
+                "units of a",
+            ),
+        )?;
         let feature_ends = st.until_features_passed || st.until_feature_at_a.is_some();
         match st.max_time_s {
-            Some(t) => ck.positive("run.stop.max_time_s", t, "s")?,
+            Some(t) => {
+                ck.positive("run.stop.max_time_s", t, "s")?;
+                ck.time("run.stop.max_time_s", t)?;
+            }
             None if !feature_ends && r.method() == Method::March && r.motion.marches() => {
                 return Err(ck.err(
                     "run.stop.max_time_s",
@@ -1413,14 +1464,14 @@ impl Scene {
             if !(x.is_finite() && x > x0) {
                 return Err(ck.err(
                     "run.stop.until_feature_at_a",
-                    format!("{x}"),
+                    num(x),
                     &format!("finite and > the first feature's start {x0} (a)"),
                 ));
             }
             if kin.time_at_travel((x - x0) * a).is_none() {
                 return Err(ck.err(
                     "run.stop.until_feature_at_a",
-                    format!("{x}"),
+                    num(x),
                     &format!(
                         "a position run.motion `{}` carries the first feature to: it stops after {:.4} a",
                         r.motion.label(),
@@ -1431,7 +1482,7 @@ impl Scene {
             if let Some((k, &xs)) = r.snapshots_a.iter().enumerate().find(|(_, xs)| **xs > x) {
                 return Err(ck.err(
                     &format!("run.snapshots_a[{k}]"),
-                    format!("{xs}"),
+                    num(xs),
                     &format!("<= run.stop.until_feature_at_a = {x} (a): the run ends there"),
                 ));
             }
@@ -1455,7 +1506,7 @@ impl Scene {
                             ));
                         }
                         (Some(a), None) if !a.is_finite() => {
-                            return Err(ck.err(&f("amplitude"), format!("{a}"), "must be finite"));
+                            return Err(ck.err(&f("amplitude"), num(a), "must be finite"));
                         }
                         (Some(_), None) if self.supply.is_none() => {
                             return Err(ck.err(
@@ -1465,25 +1516,29 @@ impl Scene {
                             ));
                         }
                         (None, Some(m)) if !m.is_finite() => {
-                            return Err(ck.err(
-                                &f("depth_m"),
-                                format!("{m}"),
-                                "must be finite (m)",
-                            ));
+                            return Err(ck.err(&f("depth_m"), num(m), "must be finite (m)"));
                         }
                         _ => {}
                     }
-                    ck.positive(
-                        &format!("run.features[{k}].dent.width_a"),
-                        d.width_a,
-                        "units of a",
-                    )?;
-                    if !(d.x_start_a.is_finite() && d.y_a.is_finite()) {
-                        return Err(ck.err(
-                            &format!("run.features[{k}].dent"),
-                            "non-finite position".into(),
-                            "x_start_a, y_a must be finite",
-                        ));
+                    use ehl_core::check::{above, within};
+                    if let Some(m) = d.depth_m {
+                        ck.own("", within(&f("depth_m"), m, -1e-3, 1e-3, "m, negative a bump"))?;
+                    }
+                    if let Some(a) = d.amplitude {
+                        ck.own(
+                            "",
+                            within(
+                                &f("amplitude"),
+                                a,
+                                -1e6,
+                                1e6,
+                                "units of supply.thickness_m, negative a bump",
+                            ),
+                        )?;
+                    }
+                    ck.own("", above(&f("width_a"), d.width_a, 0.0, 100.0, "units of a"))?;
+                    for (n, v) in [("x_start_a", d.x_start_a), ("y_a", d.y_a)] {
+                        ck.own("", within(&f(n), v, -MAX_PLACE_A, MAX_PLACE_A, "units of a"))?;
                     }
                 }
                 Feature::Hole(_) => {
@@ -1506,8 +1561,16 @@ impl Scene {
         a: f64,
         first: Option<&Passing>,
     ) -> Result<(), SceneError> {
+        let n = r.snapshots_s.len() + r.snapshots_a.len();
+        if n > MAX_SNAPSHOTS {
+            return Err(ck.err(
+                "run.snapshots_s",
+                format!("{n} snapshots (with run.snapshots_a)"),
+                &format!("at most {MAX_SNAPSHOTS}: each holds whole fields"),
+            ));
+        }
         for (k, &ts) in r.snapshots_s.iter().enumerate() {
-            ck.nonneg(&format!("run.snapshots_s[{k}]"), ts, "s")?;
+            ck.time(&format!("run.snapshots_s[{k}]"), ts)?;
         }
         if !r.snapshots_a.is_empty() {
             let Some(x0) = first.map(|f| f.x_start_a) else {
@@ -1521,14 +1584,14 @@ impl Scene {
                 if !(x.is_finite() && x >= x0) {
                     return Err(ck.err(
                         &format!("run.snapshots_a[{k}]"),
-                        format!("{x}"),
+                        num(x),
                         &format!("finite and >= the first feature's start {x0} (a)"),
                     ));
                 }
                 if kin.time_at_travel((x - x0) * a).is_none() {
                     return Err(ck.err(
                         &format!("run.snapshots_a[{k}]"),
-                        format!("{x}"),
+                        num(x),
                         &format!(
                             "a position run.motion `{}` carries the first feature to (features travel with the surfaces; it stops at {:.4} a): give run.snapshots_s instead",
                             r.motion.label(),

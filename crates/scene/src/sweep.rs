@@ -2,7 +2,7 @@
 //! list or a linear/logarithmic range. Checked like scenes (field-named errors) before anything
 //! runs; every point's scene is built and validated up front.
 
-use crate::{Check, GridSpec, Scene, SceneError};
+use crate::{Check, GridSpec, Scene, SceneError, num};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -270,7 +270,7 @@ impl Sweep {
                         Parameter::Alpha => "finite and >= 0 (1/Pa)".to_string(),
                         p => format!("finite and > 0 ({})", p.unit()),
                     };
-                    return Err(ck.err(&f("values"), format!("{v}"), &allowed));
+                    return Err(ck.err(&f("values"), num(v), &allowed));
                 }
             }
             total = total.saturating_mul(a.values().len());
@@ -286,7 +286,7 @@ impl Sweep {
         if !(fl.is_finite() && fl > 0.0 && fl < 1.0) {
             return Err(ck.err(
                 "flag_change_above",
-                format!("{fl}"),
+                num(fl),
                 "must be in (0, 1) (relative change)",
             ));
         }
@@ -336,7 +336,7 @@ impl Sweep {
                     s = s.with_parameter(a.parameter, v).map_err(|e| SceneError::Range {
                         origin: format!("sweep {} point {k}", self.name),
                         field: a.parameter.name(),
-                        value: format!("{v}"),
+                        value: num(v),
                         allowed: e,
                     })?;
                 }
@@ -445,10 +445,13 @@ pub fn builtin_sweep_names() -> Vec<&'static str> {
 /// A built-in sweep name, or else a path to a sweep JSON file; with the folder a relative scene
 /// path is resolved against.
 pub fn load_sweep(name_or_path: &str) -> Result<(Sweep, Option<std::path::PathBuf>), SceneError> {
+    let path = Path::new(name_or_path);
     if let Some((n, text)) = SWEEPS.iter().find(|(n, _)| *n == name_or_path) {
+        if path.exists() {
+            return Err(SceneError::Ambiguous { name: name_or_path.into(), kind: "sweep" });
+        }
         return Ok((Sweep::from_json(text, &format!("`{n}` (built-in sweep)"))?, None));
     }
-    let path = Path::new(name_or_path);
     if !path.exists() {
         return Err(SceneError::Io {
             path: name_or_path.into(),

@@ -226,7 +226,25 @@ impl Plan {
                 }
             } else {
                 match (run.time.dt_s, controlled) {
-                    (Some(dt), _) => Steps::Fixed { dt_s: dt },
+                    (Some(dt), _) => {
+                        // At rest the steps are held to the same budget as rolling: to the
+                        // phase's end, or to the time limit when it runs until steady.
+                        let to = if (piece.t1 - piece.t0).is_finite() {
+                            piece.t1 - piece.t0
+                        } else {
+                            st.max_time_s.map_or(f64::INFINITY, |m| m - piece.t0)
+                        };
+                        if !(to / dt <= MAX_STEPS) {
+                            return Err(Diagnosis::Plan(format!(
+                                "run.time.dt_s: resting from {:.4e} s to {:.4e} s takes {:.3e} steps of {dt:.3e} s (at most {MAX_STEPS:e}): a longer run.time.dt_s, or a shorter run.stop.max_time_s",
+                                piece.t0,
+                                piece.t0 + to,
+                                to / dt
+                            ))
+                            .into());
+                        }
+                        Steps::Fixed { dt_s: dt }
+                    }
                     (None, Some((dt0, order))) => {
                         Steps::Controlled { dt0_s: dt0, tolerance: run.time.error_tolerance, order }
                     }
@@ -333,6 +351,11 @@ pub fn drive<T: Transient>(
     let mut dt_cap = f64::INFINITY;
     let (finished, stop_reason) = loop {
         let t = elapsed(model);
+        if ehl_core::cancel::requested() {
+            return Err(Error::Interrupted(format!(
+                "the march stopped at t = {t:.6e} s, after {steps} steps"
+            )));
+        }
         if let Some(limit) = plan.max_time_s {
             // Reached to rounding: ten steps of 0.05 s sum to 0.49999999999999994 s.
             if t >= limit * (1.0 - 1e-12) {

@@ -41,6 +41,10 @@ pub enum Error {
     /// plan, a sweep folder from another sweep).
     #[error("{0}")]
     Refused(String),
+    /// Stopped on request ([`ehl_core::cancel`]: a signal, Python's Ctrl-C): what was done and
+    /// what is in place.
+    #[error("interrupted: {0}")]
+    Interrupted(String),
 }
 
 /// A solver's diagnosis, by the solver it comes from.
@@ -64,15 +68,20 @@ pub enum Diagnosis {
 }
 
 impl Diagnosis {
-    /// The kind of failure in a word or two, what a map of many runs counts: `film closed`
+    /// The kind of failure in a word or two, what a map of many runs counts: `interrupted`
+    /// (stopped on request), `film closed`
     /// (the lubricated solution broke down where the film went negative), `stalled`, `limit
     /// cycle`, `diverged`, `cycle limit` (still converging when the iterations ran out),
     /// `unstable` (explicit steps past their limit), `contact solve` (the dry contact solver's
     /// own failure) or `refused` (a run that cannot be set up as asked).
     pub fn class(&self) -> &'static str {
+        use ehl_core::NumericError as N;
         use ehl_layer::LayerError as L;
         use ehl_reynolds::{FailureKind as K, ReynoldsError as R};
         match self {
+            Diagnosis::Contact(N::Cancelled(_))
+            | Diagnosis::Layer(L::Contact { source: N::Cancelled(_), .. })
+            | Diagnosis::Reynolds(R::Cancelled(_)) => "interrupted",
             Diagnosis::Contact(_) | Diagnosis::Layer(L::Contact { .. }) => "contact solve",
             Diagnosis::Layer(L::Unstable { .. }) => "unstable",
             Diagnosis::Layer(L::Steady { kind, .. }) => match kind {
@@ -109,6 +118,7 @@ impl Error {
             Error::Io { context, source } => Error::Io { context: join(context), source },
             Error::Output { context, message } => Error::Output { context: join(context), message },
             Error::Refused(m) => Error::Refused(join(m)),
+            Error::Interrupted(m) => Error::Interrupted(m),
             Error::Scene(e) => Error::Scene(e),
         }
     }
@@ -172,9 +182,17 @@ impl<T, E: Into<Error>> Within<T> for std::result::Result<T, E> {
     }
 }
 
-/// Writes `contents` to `path`, a failure naming the path.
+/// Writes `contents` to `path`, a failure naming the path; stops first when a stop was asked
+/// for ([`interruption`]).
 pub fn write_file(path: &std::path::Path, contents: impl AsRef<[u8]>) -> Result<()> {
+    interruption()?;
     std::fs::write(path, contents).map_err(io(format!("writing {}", path.display())))
+}
+
+/// `Err(Interrupted)` once a stop was asked for ([`ehl_core::cancel`]): the check a writer makes
+/// between files, so that it stops within a file's time of a signal.
+pub fn interruption() -> Result<()> {
+    ehl_core::cancel::check().map_err(|_| Error::Interrupted("the writing stopped".into()))
 }
 
 /// Creates the folder `path` and its parents, a failure naming the path.

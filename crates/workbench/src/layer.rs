@@ -563,6 +563,7 @@ impl LayerOutcome {
                 )?;
                 out.push(f);
                 for (k, (t, sn)) in rec.snapshots.iter().enumerate() {
+                    crate::error::interruption()?;
                     let f = dir.join(format!("{prefix}snapshot{k:02}_maps.png"));
                     self.maps(&f, &sn.l, &sn.p, &format!("at t = {t:.4} s"))?;
                     out.push(f);

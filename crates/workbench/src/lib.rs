@@ -18,6 +18,8 @@ pub mod run;
 pub mod sweep;
 
 pub use dry::DryOutcome;
+/// Stopping a run under way (a signal, Python's Ctrl-C): the core's one request, read by every solver.
+pub use ehl_core::cancel;
 pub use error::{Diagnosis, Error};
 pub use model::{ContactModel, Outcome};
 pub use run::{MODELS, run_scene};

@@ -2,7 +2,7 @@
 //! `.npy` and PNG figures, all in SI. Files are staged and moved into place only when all of
 //! them were written, so a failed run leaves nothing half-written.
 
-use crate::error::{Error, Result, create_dir, io, output, write_file};
+use crate::error::{Error, Result, create_dir, interruption, io, output, write_file};
 use crate::model::Outcome;
 pub use crate::model::{Centreline, q};
 use serde_json::Value;
@@ -14,69 +14,209 @@ pub fn write(outcome: &dyn Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
     replace_dir(dir, |stage| write_into(outcome, stage))
 }
 
-/// The staging folder of the run in progress, removed by the signal handler on SIGINT/SIGTERM.
-static STAGE: std::sync::Mutex<Option<PathBuf>> = std::sync::Mutex::new(None);
+/// The file the writer leaves in every folder it fills: what marks a folder as an `ehl`
+/// output, which a later run may replace. A folder without it is the user's, and is never
+/// removed.
+pub const MARKER: &str = ".ehl-output";
 
-/// Removes the staging folder of the write in progress, if any: what an interrupted run must do
-/// so it leaves no partial output (the binary calls it from its SIGINT/SIGTERM handler).
-pub fn abandon_stage() {
-    if let Ok(mut g) = STAGE.lock()
-        && let Some(p) = g.take()
-    {
-        let _ = std::fs::remove_dir_all(p);
+/// Whether `dir` may take a run's output, asked before any work: it does not exist yet (and
+/// nothing on its path is a file), is an empty folder, or is an earlier `ehl` output (it holds
+/// [`MARKER`]). Anything else is refused, naming it: a file, a folder of other files, the
+/// working folder or one holding it.
+pub fn check_out_dir(dir: &Path) -> Result<()> {
+    let refuse =
+        |why: String| Err(Error::Refused(format!("output folder {}: {why}", dir.display())));
+    for up in dir.ancestors().skip(1).filter(|p| !p.as_os_str().is_empty()) {
+        if up.exists() && !up.is_dir() {
+            return refuse(format!(
+                "{} is a file, so no folder can be made under it",
+                up.display()
+            ));
+        }
     }
+    if !dir.exists() {
+        return Ok(());
+    }
+    if !dir.is_dir() {
+        return refuse(
+            "is a file: refusing to replace it (give a new folder, or an earlier ehl output)"
+                .into(),
+        );
+    }
+    if let (Ok(here), Ok(there)) = (std::env::current_dir(), dir.canonicalize())
+        && here.starts_with(&there)
+    {
+        return refuse(
+            "is the working folder or holds it: refusing to replace it (give a folder inside it)"
+                .into(),
+        );
+    }
+    if dir.join(MARKER).is_file() {
+        return Ok(());
+    }
+    let entries: Vec<String> = std::fs::read_dir(dir)
+        .map_err(io(format!("reading {}", dir.display())))?
+        .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
+        .collect();
+    if entries.is_empty() {
+        return Ok(());
+    }
+    let shown: Vec<&str> = entries.iter().take(3).map(String::as_str).collect();
+    refuse(format!(
+        "holds {} entries that are not an ehl output ({}{}): refusing to replace it (give a new or empty folder)",
+        entries.len(),
+        shown.join(", "),
+        if entries.len() > 3 { ", …" } else { "" }
+    ))
 }
 
-/// Fills a fresh staging folder beside `dir` with `fill`, and only when that succeeded puts it in
-/// place of `dir`: an old run's files never mix with the new one's, and a failed or interrupted
-/// run leaves `dir` as it was. Returns the files at their final paths.
-pub fn replace_dir(
-    dir: &Path,
-    fill: impl FnOnce(&Path) -> Result<Vec<PathBuf>>,
-) -> Result<Vec<PathBuf>> {
+/// The longest part of an output folder's name that goes into its staging folders' names: with
+/// the dot and a `.partial-<pid>` tail they stay within the 255 bytes a file name may have.
+const STAGE_NAME_BYTES: usize = 200;
+
+/// The names of the staging and set-aside folders of runs into `dir`: `(prefix, parent)`; a
+/// run's own are `<prefix>partial-<pid>` and `<prefix>old-<pid>[-k]` in `parent`.
+fn stage_names(dir: &Path) -> Result<(String, PathBuf)> {
     let name = dir
         .file_name()
         .ok_or_else(|| Error::Refused(format!("output folder {} has no name", dir.display())))?
         .to_string_lossy()
         .to_string();
+    let mut cut = name.len().min(STAGE_NAME_BYTES);
+    while !name.is_char_boundary(cut) {
+        cut -= 1;
+    }
     let parent = match dir.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    create_dir(&parent)?;
-    let pid = std::process::id();
-    let stage = parent.join(format!(".{name}.partial-{pid}"));
-    let old = parent.join(format!(".{name}.old-{pid}"));
-    for p in [&stage, &old] {
-        if p.exists() {
-            std::fs::remove_dir_all(p).map_err(io(format!("removing {}", p.display())))?;
+    Ok((format!(".{}.", &name[..cut]), parent))
+}
+
+/// Whether process `pid` is running (on a system without `/proc`: assumed so, and its folders
+/// are left alone).
+fn alive(pid: u32) -> bool {
+    let proc = Path::new("/proc");
+    !proc.is_dir() || proc.join(pid.to_string()).exists()
+}
+
+/// What killed runs into `dir` left beside it (their staging and set-aside folders, each an ehl
+/// output by its marker, its run no longer alive): removed, but for a set-aside output where
+/// `dir` itself is missing (a run killed between its two renames), which is put back first.
+fn tidy_leftovers(dir: &Path, prefix: &str, parent: &Path) -> Result<()> {
+    let Ok(entries) = std::fs::read_dir(parent) else { return Ok(()) };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(rest) = name.strip_prefix(prefix) else { continue };
+        let (kind, tail) = match rest.split_once('-') {
+            Some((k @ ("partial" | "old"), t)) => (k, t),
+            _ => continue,
+        };
+        let pid = tail.split('-').next().and_then(|p| p.parse::<u32>().ok());
+        let path = e.path();
+        let ours = path.join(MARKER).is_file()
+            || std::fs::read_dir(&path).is_ok_and(|mut d| d.next().is_none());
+        if pid.is_none_or(alive) || !ours {
+            continue;
+        }
+        if kind == "old" && !dir.exists() {
+            std::fs::rename(&path, dir).map_err(io(format!(
+                "putting {} back as {}",
+                path.display(),
+                dir.display()
+            )))?;
+        } else {
+            std::fs::remove_dir_all(&path).map_err(io(format!(
+                "removing {}, left by a run that was killed",
+                path.display()
+            )))?;
         }
     }
+    Ok(())
+}
+
+/// Fills a fresh staging folder beside `dir` with `fill`, and only when that succeeded puts it
+/// in place of `dir`: an old run's files never mix with the new one's, and a failed or
+/// interrupted run leaves `dir` as it was. `dir` must pass [`check_out_dir`] (checked again
+/// here); what killed runs left beside it is tidied first. A stop asked for
+/// ([`ehl_core::cancel`]) before the new output is in place abandons it, the staging folder
+/// removed once `fill` has returned (never under a writer still filling it); once in place,
+/// the output stays, complete. Returns the files at their final paths.
+pub fn replace_dir(
+    dir: &Path,
+    fill: impl FnOnce(&Path) -> Result<Vec<PathBuf>>,
+) -> Result<Vec<PathBuf>> {
+    check_out_dir(dir)?;
+    let (prefix, parent) = stage_names(dir)?;
+    create_dir(&parent)?;
+    tidy_leftovers(dir, &prefix, &parent)?;
+    let pid = std::process::id();
+    let stage = parent.join(format!("{prefix}partial-{pid}"));
+    if stage.exists() {
+        std::fs::remove_dir_all(&stage).map_err(io(format!("removing {}", stage.display())))?;
+    }
     create_dir(&stage)?;
-    *STAGE.lock().unwrap() = Some(stage.clone());
-    let files = match fill(&stage) {
+    let interrupted =
+        || Error::Interrupted(format!("no output written; {} is as it was", dir.display()));
+    let filled = write_file(&stage.join(MARKER), MARKER_TEXT)
+        .and_then(|_| ehl_core::cancel::check().map_err(|_| interrupted()))
+        .and_then(|_| fill(&stage))
+        .and_then(|f| ehl_core::cancel::check().map(|_| f).map_err(|_| interrupted()));
+    let files = match filled {
         Ok(f) => f,
         Err(e) => {
-            abandon_stage();
+            let _ = std::fs::remove_dir_all(&stage);
             return Err(e);
         }
     };
-    if dir.exists() {
-        std::fs::rename(dir, &old)
-            .map_err(io(format!("moving the old {} aside", dir.display())))?;
+    // Another run may put its output in place between our two renames: set that aside too,
+    // a few times, before giving up.
+    let mut old = vec![];
+    let mut k = 0;
+    loop {
+        if dir.exists() {
+            if let Err(e) = check_out_dir(dir) {
+                let _ = std::fs::remove_dir_all(&stage);
+                return Err(e);
+            }
+            let aside = parent.join(format!("{prefix}old-{pid}-{k}"));
+            std::fs::rename(dir, &aside)
+                .map_err(io(format!("moving the old {} aside", dir.display())))?;
+            old.push(aside);
+        }
+        match std::fs::rename(&stage, dir) {
+            Ok(()) => break,
+            Err(_) if k < 8 && dir.exists() => k += 1,
+            Err(e) => {
+                let _ = std::fs::remove_dir_all(&stage);
+                return Err(io(format!("moving the results into {}", dir.display()))(e));
+            }
+        }
     }
-    std::fs::rename(&stage, dir)
-        .map_err(io(format!("moving the results into {}", dir.display())))?;
-    *STAGE.lock().unwrap() = None;
-    if old.exists() {
-        std::fs::remove_dir_all(&old).map_err(io(format!("removing {}", old.display())))?;
+    for o in old {
+        std::fs::remove_dir_all(&o).map_err(io(format!("removing {}", o.display())))?;
     }
     Ok(files.into_iter().map(|f| dir.join(f.strip_prefix(&stage).unwrap_or(&f))).collect())
 }
 
+/// What the marker file says, for a reader who finds it.
+const MARKER_TEXT: &str =
+    "This folder is an output of the ehl workbench: a later run into it replaces it whole.\n";
+
 /// Writes an outcome's files into `dir` (no staging: [`write`] stages).
 pub fn write_into(outcome: &dyn Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
     let outputs = outcome.scene().outputs;
+    // A field with a non-finite value is no answer: refused here, before any file says otherwise.
+    for (name, field) in [("pressure", outcome.pressure().clone()), ("film", outcome.film())] {
+        if let Some(((j, i), v)) = field.indexed_iter().find(|(_, v)| !v.is_finite()) {
+            return Err(Error::Output {
+                context: format!("scene `{}`", outcome.scene().name),
+                message: format!(
+                    "the answer's {name} is {v} at grid point (i={i}, j={j}): nothing written"
+                ),
+            });
+        }
+    }
     let mut files = vec![];
     let file = dir.join("summary.json");
     let text = serde_json::to_string_pretty(&summary(outcome)).map_err(output("summary.json"))?;
@@ -102,6 +242,7 @@ pub fn write_into(outcome: &dyn Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
             files.push(f);
         }
         for (stem, field) in outcome.fields() {
+            interruption()?;
             let f = dir.join(format!("{stem}.npy"));
             ndarray_npy::write_npy(&f, &field)
                 .map_err(output(format!("writing {}", f.display())))?;

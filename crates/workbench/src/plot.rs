@@ -131,6 +131,10 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(127, 127, 127),
 ];
 
+/// The most decades a log axis spans: the chart library builds its key points decade by decade
+/// and never returned from 400 of them; values further below the top are drawn at the bottom.
+const MAX_DECADES: f64 = 30.0;
+
 fn range(vals: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in vals.filter(|v| v.is_finite() && (!log || *v > 0.0)) {
@@ -138,14 +142,26 @@ fn range(vals: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
         hi = hi.max(v);
     }
     if !lo.is_finite() {
-        return (0.0, 1.0);
+        return (if log { 0.1 } else { 0.0 }, 1.0);
     }
+    sane(if log { (lo / 1.5, hi * 1.5) } else { (lo, hi) }, log)
+}
+
+/// An axis range the chart library can draw: finite, not empty, within [`MAX_DECADES`] on a log
+/// axis and without overflow on a linear one, padded by 5 % of its span on a linear axis.
+fn sane((lo, hi): (f64, f64), log: bool) -> (f64, f64) {
+    const BIG: f64 = 1e300;
     if log {
-        (lo / 1.5, hi * 1.5)
-    } else {
-        let pad = ((hi - lo) * 0.05).max(1e-12 * hi.abs().max(1.0));
-        (lo - pad, hi + pad)
+        let hi = if hi.is_finite() && hi > 0.0 { hi.clamp(1e-300, BIG) } else { 1.0 };
+        let floor = hi * 10f64.powf(-MAX_DECADES);
+        let lo = if lo.is_finite() && lo > 0.0 { lo.max(floor) } else { floor };
+        return if lo < hi { (lo, hi) } else { (hi / 10.0, hi * 10.0) };
     }
+    let (lo, hi) = (lo.clamp(-BIG, BIG), hi.clamp(-BIG, BIG));
+    let (lo, hi) = if lo.is_nan() || hi.is_nan() || lo > hi { (0.0, 1.0) } else { (lo, hi) };
+    let span = hi / 2.0 - lo / 2.0;
+    let pad = (span * 0.1).max(1e-12 * hi.abs().max(lo.abs()).max(1.0));
+    (lo - pad, hi + pad)
 }
 
 fn draw_panel<DB: DrawingBackend>(
@@ -156,7 +172,11 @@ where
     DB::ErrorType: 'static,
 {
     let xs = range(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.0)), panel.log_x);
-    let ys = panel.y_range.unwrap_or_else(|| {
+    let ys = panel.y_range.map(|(a, b)| {
+        let drawable = a.is_finite() && b.is_finite() && a < b && (!panel.log_y || a > 0.0);
+        if drawable { (a, b) } else { sane((a, b), panel.log_y) }
+    });
+    let ys = ys.unwrap_or_else(|| {
         range(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)), panel.log_y)
     });
     let x_tick = |v: &f64| tick_on(*v, xs.1 - xs.0);
@@ -582,5 +602,34 @@ mod tests {
         assert_eq!(tick_on(0.25, 2.5), "0.25");
         // On an axis of nanometres a tick of 1e-12 is a tick, not rounding.
         assert_eq!(tick_on(1e-12, 1e-11), "1e-12");
+    }
+
+    #[test]
+    fn charts_of_extreme_values_draw_and_return() {
+        // A sweep over 400 decades hung the chart library's log axis; extreme and non-finite
+        // values on linear axes overflowed its range. Each is drawn in its own thread, and a
+        // figure not done within 60 s (a few hundred ms is usual) is the hang come back.
+        let dir = tempfile::tempdir().unwrap();
+        let cases: Vec<(Vec<(f64, f64)>, bool)> = vec![
+            (vec![(1e-200, 1e-200), (1e200, 1e200)], true),
+            (vec![(1e-300, 5e-324), (1.7e308, 1.7e308)], true),
+            (vec![(-1.7e308, -1e308), (1.7e308, 1.7e308)], false),
+            (vec![(0.0, 0.0), (0.0, 0.0)], false),
+            (vec![(f64::NAN, f64::INFINITY), (1.0, f64::NEG_INFINITY)], true),
+        ];
+        for (k, (points, log)) in cases.into_iter().enumerate() {
+            let path = dir.path().join(format!("c{k}.png"));
+            let (tx, rx) = std::sync::mpsc::channel();
+            std::thread::spawn(move || {
+                let mut p =
+                    Panel::new("t", "x", "y", vec![Series::new("s", points, Mark::LinePoints)]);
+                if log {
+                    p = p.log_log();
+                }
+                let _ = tx.send(charts(&path, &[p], "footer").map_err(|e| e.to_string()));
+            });
+            let got = rx.recv_timeout(std::time::Duration::from_secs(60));
+            assert!(matches!(got, Ok(Ok(()))), "case {k}: {got:?}");
+        }
     }
 }

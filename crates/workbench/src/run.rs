@@ -31,5 +31,13 @@ pub fn run_scene(scene: &Scene) -> Result<Box<dyn Outcome>> {
             scene.models()
         )));
     };
-    model(kind)?.run(scene)
+    let outcome = model(kind)?.run(scene);
+    if ehl_core::cancel::requested() {
+        // Whatever the model ended with, it ended because a stop was asked for.
+        return Err(Error::Interrupted(format!(
+            "scene `{}`: stopped before it finished",
+            scene.name
+        )));
+    }
+    outcome
 }
