@@ -137,16 +137,7 @@ fn interruption_text(e: &anyhow::Error) -> String {
 
 fn real_main() -> Result<()> {
     match Cli::parse().command {
-        Command::Scenes => {
-            for s in ehl_scene::builtins() {
-                println!("{:<24} {}", s.name, s.description);
-            }
-            println!("\nbuilt-in sweeps (ehl sweep NAME):");
-            for n in ehl_scene::builtin_sweep_names() {
-                let (s, _) = ehl_scene::load_sweep(n)?;
-                println!("{:<24} {}", s.name, s.description);
-            }
-        }
+        Command::Scenes => scenes()?,
         Command::Sweep(args) => sweep(args)?,
         Command::Check { scene } => {
             let s = ehl_scene::load(&scene)?;
@@ -156,14 +147,22 @@ fn real_main() -> Result<()> {
             let s = prepare(ehl_scene::load(&scene)?, grid, threads)?;
             if s.is_comparison() {
                 bail!(
-                    "scene `{}` lists several models ({:?}): run it with `ehl compare`",
+                    "scene `{}` is a comparison of several models ({}): run it with `ehl compare`",
                     s.name,
-                    s.models()
+                    s.model_names()
                 );
             }
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
             output::check_out_dir(&dir)?;
+            eprintln!(
+                "running `{}` ({}) on {}, into {}",
+                s.name,
+                s.model_names(),
+                grid_words(&s),
+                dir.display()
+            );
             let outcome = run_scene(&s)?;
+            eprintln!("writing the results into {}", dir.display());
             let files = output::write(outcome.as_ref(), &dir)?;
             print!("{}", outcome.report());
             println!("wrote {} files to {}:", files.len(), dir.display());
@@ -178,7 +177,15 @@ fn real_main() -> Result<()> {
             let s = prepare(comparison(&scene)?, grid, threads)?;
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
             output::check_out_dir(&dir)?;
+            eprintln!(
+                "running `{}` ({}) on {}, into {}",
+                s.name,
+                s.model_names(),
+                grid_words(&s),
+                dir.display()
+            );
             let c = compare::run_with(&s, compare::Schedule::one_at_a_time(one_at_a_time));
+            eprintln!("writing the results into {}", dir.display());
             let files = c.write(&dir)?;
             print!("{}", c.table());
             println!(
@@ -254,6 +261,48 @@ fn sweep(args: SweepArgs) -> Result<()> {
     Ok(())
 }
 
+/// `ehl scenes`: the built-in scenes (what runs them, which models) and sweeps, aligned.
+fn scenes() -> Result<()> {
+    let scenes = ehl_scene::builtins();
+    let sweeps: Vec<ehl_scene::Sweep> = ehl_scene::builtin_sweep_names()
+        .into_iter()
+        .map(|n| ehl_scene::load_sweep(n).map(|(s, _)| s))
+        .collect::<Result<_, _>>()?;
+    let rows: Vec<(String, String, String)> = scenes
+        .iter()
+        .map(|s| {
+            let how = if s.is_comparison() {
+                format!("compare: {}", s.model_names())
+            } else {
+                match &s.comparison {
+                    Some(c) => format!("run: {} (compare: {c})", s.model_names()),
+                    None => format!("run: {}", s.model_names()),
+                }
+            };
+            (s.name.clone(), how, s.description.clone())
+        })
+        .collect();
+    let w0 = rows.iter().map(|r| r.0.len()).chain(sweeps.iter().map(|s| s.name.len())).max();
+    let w1 = rows.iter().map(|r| r.1.chars().count()).max().unwrap_or(0);
+    let w0 = w0.unwrap_or(0);
+    println!("{:<w0$}  {:<w1$}  what it shows", "scene", "how it runs");
+    for (name, how, what) in rows {
+        println!("{name:<w0$}  {how:<w1$}  {what}");
+    }
+    println!("\nbuilt-in sweeps (ehl sweep NAME):");
+    for s in sweeps {
+        println!("{:<w0$}  {}", s.name, s.description);
+    }
+    Ok(())
+}
+
+/// The grid in words: `129² over x [-1.5, 1.5] a, y [-1.5, 1.5] a`.
+fn grid_words(s: &ehl_scene::Scene) -> String {
+    let (g, d) = (&s.grid, &s.domain);
+    let side = if g.nx == g.ny { format!("{}²", g.nx) } else { format!("{}x{}", g.nx, g.ny) };
+    format!("{side} over x [{}, {}] a, y [{}, {}] a", d.x_a[0], d.x_a[1], d.y_a[0], d.y_a[1])
+}
+
 /// The merged sweep's terminal table.
 fn print_table(dir: &std::path::Path) -> Result<()> {
     use ehl_workbench::sweep;
@@ -282,7 +331,16 @@ fn comparison(scene: &str) -> Result<ehl_scene::Scene> {
             );
             c
         }
-        None => s,
+        None => {
+            if !s.is_comparison() {
+                println!(
+                    "scene `{}` names no comparison: running its one model ({})",
+                    s.name,
+                    names(&s)
+                );
+            }
+            s
+        }
     })
 }
 

@@ -89,6 +89,37 @@ fn a_reused_output_folder_holds_only_the_new_run() {
     assert_eq!(leftovers, vec![std::ffi::OsString::from("x")], "staging folders left behind");
 }
 
+/// Starts `ehl` with `args`, waits until its standard error has a line containing `event` (the
+/// run says when it starts solving and when it starts writing), then sends `signal`; returns
+/// the output and how long the process took to end after the signal.
+fn signal_at(args: &[&str], event: &str, signal: &str) -> (std::process::Output, f64) {
+    use std::io::BufRead;
+    let mut child = ehl()
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut err = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut said = String::new();
+    loop {
+        let mut line = String::new();
+        assert!(err.read_line(&mut line).unwrap() > 0, "ended before `{event}`: {said}");
+        said += &line;
+        if line.contains(event) {
+            break;
+        }
+    }
+    let sent = std::time::Instant::now();
+    let kill = Command::new("kill").args([signal, &child.id().to_string()]).status().unwrap();
+    assert!(kill.success());
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut err, &mut rest).unwrap();
+    let status = child.wait().unwrap();
+    let waited = sent.elapsed().as_secs_f64();
+    (std::process::Output { status, stdout: vec![], stderr: (said + &rest).into_bytes() }, waited)
+}
+
 fn interrupted(signal: &str) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run");
@@ -96,19 +127,15 @@ fn interrupted(signal: &str) {
     assert!(
         ehl().args(["run", "hertz", "--grid", "17", "--out"]).arg(&out).status().unwrap().success()
     );
-    // rolling-from-uniform on 129² marches ~1600 steps (4-5 s): interrupted 1.5 s in.
-    let child = ehl()
-        .args(["run", "rolling-from-uniform", "--grid", "129", "--out"])
-        .arg(&out)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(1500));
-    let kill = Command::new("kill").args([signal, &child.id().to_string()]).status().unwrap();
-    assert!(kill.success());
-    let o = child.wait_with_output().unwrap();
-    assert!(!o.status.success(), "{signal}: the run was not interrupted");
+    // rolling-from-uniform on 129² marches ~1600 steps (seconds): interrupted as it starts.
+    let (o, _) = signal_at(
+        &["run", "rolling-from-uniform", "--grid", "129", "--out", out.to_str().unwrap()],
+        "running",
+        signal,
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(130), "{signal}: {err}");
+    assert!(err.contains("interrupted") && err.contains("as it was"), "{signal}: {err}");
     assert_eq!(
         read_json(&out.join("summary.json"))["scene"],
         "hertz",
@@ -120,13 +147,120 @@ fn interrupted(signal: &str) {
 }
 
 #[test]
-fn sigint_leaves_no_partial_output() {
+fn sigint_while_solving_leaves_the_old_output_as_it_was() {
     interrupted("-INT");
 }
 
 #[test]
-fn sigterm_leaves_no_partial_output() {
+fn sigterm_while_solving_leaves_the_old_output_as_it_was() {
     interrupted("-TERM");
+}
+
+#[test]
+fn a_signal_while_the_output_is_written_leaves_the_old_output_whole() {
+    // 300 snapshots, each a map figure: seconds of writing, interrupted as it starts. The writer
+    // stops between files, and its stage is removed once it has stopped.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    assert!(
+        ehl().args(["run", "hertz", "--grid", "17", "--out"]).arg(&out).status().unwrap().success()
+    );
+    let mut v: serde_json::Value =
+        serde_json::from_str(&ehl_scene::builtin("rolling-from-uniform").unwrap().to_json())
+            .unwrap();
+    let times: Vec<f64> = (0..300).map(|k| k as f64 * 1e-4).collect();
+    v["run"]["snapshots_s"] = serde_json::json!(times);
+    let scene = dir.path().join("many.json");
+    std::fs::write(&scene, v.to_string()).unwrap();
+    for signal in ["-TERM", "-HUP", "-INT"] {
+        let (o, _) = signal_at(
+            &["run", scene.to_str().unwrap(), "--grid", "33", "--out", out.to_str().unwrap()],
+            "writing",
+            signal,
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(130), "{signal}: {err}");
+        assert_eq!(read_json(&out.join("summary.json"))["scene"], "hertz", "{signal}: {err}");
+        let mut names: Vec<_> =
+            std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+        names.sort();
+        assert_eq!(names, ["many.json", "run"], "{signal}: a stage left behind");
+    }
+}
+
+#[test]
+fn a_signal_stops_a_long_solve_within_seconds() {
+    // The seed's fed Reynolds contact on 1025² takes a minute; the solver checks for a stop
+    // between its cycles (a cycle there is ~0.3 s), so it ends well within 10 s of the signal
+    // (the bound leaves room for shared, slow cores; a solve that ignored the stop runs on).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("seed");
+    let (o, waited) = signal_at(
+        &["run", "reynolds-seed", "--grid", "1025", "--out", out.to_str().unwrap()],
+        "running",
+        "-TERM",
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    assert!(waited < 10.0, "ended {waited:.1} s after the signal: {err}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn an_output_folder_that_is_not_ours_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let thesis = dir.path().join("mythesis");
+    std::fs::create_dir_all(thesis.join("chapters")).unwrap();
+    std::fs::write(thesis.join("chapters/ch1.tex"), "x").unwrap();
+    let file = dir.path().join("afile");
+    std::fs::write(&file, "mine").unwrap();
+    for (target, says) in [
+        (thesis.clone(), "not an ehl output"),
+        (file.clone(), "is a file"),
+        (file.join("sub"), "is a file"),
+        (dir.path().to_path_buf(), "working folder"),
+    ] {
+        let o = ehl()
+            .current_dir(dir.path())
+            .args(["run", "hertz", "--grid", "17", "--out"])
+            .arg(&target)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(says), "{}: {err}", target.display());
+        assert!(!err.contains("running"), "refused only after starting: {err}");
+    }
+    assert_eq!(std::fs::read_to_string(thesis.join("chapters/ch1.tex")).unwrap(), "x");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
+}
+
+#[test]
+fn runs_racing_into_one_folder_each_leave_a_whole_output() {
+    // Two runs at once into one folder, twenty times: each succeeds, the folder holds one run's
+    // files whole, and nothing is left beside it.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("race");
+    for _ in 0..20 {
+        let kids: Vec<_> = (0..2)
+            .map(|_| {
+                ehl()
+                    .args(["run", "hertz", "--grid", "17", "--out"])
+                    .arg(&out)
+                    .stdout(std::process::Stdio::null())
+                    .stderr(std::process::Stdio::piped())
+                    .spawn()
+                    .unwrap()
+            })
+            .collect();
+        for k in kids {
+            let o = k.wait_with_output().unwrap();
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        }
+        assert_eq!(read_json(&out.join("summary.json"))["scene"], "hertz");
+        let names: Vec<_> =
+            std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(names, vec![std::ffi::OsString::from("race")], "left beside it");
+    }
 }
 
 #[test]

@@ -232,6 +232,24 @@ impl Kinematics {
         out
     }
 
+    /// The times the surfaces come to rest (`"stop"`) and begin to move from rest (`"start"`)
+    /// [s], in order: what a history marks.
+    pub fn events(&self) -> Vec<(f64, &'static str)> {
+        self.knots
+            .windows(2)
+            .filter_map(|w| {
+                let ((ta, ua), (tb, ub)) = (w[0], w[1]);
+                if ua > 0.0 && ub == 0.0 {
+                    Some((tb, "stop"))
+                } else if ua == 0.0 && ub > 0.0 {
+                    Some((ta, "start"))
+                } else {
+                    None
+                }
+            })
+            .collect()
+    }
+
     /// The speed just before `t` [m/s] (at a jump, the speed before it).
     fn speed_left(&self, t: f64) -> f64 {
         let k = &self.knots;

@@ -104,6 +104,16 @@ pub enum Block {
 }
 
 impl Model {
+    /// The name a scene gives it (`reynolds-flooded`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Model::Dry => "dry",
+            Model::Layer => "layer",
+            Model::Reynolds => "reynolds",
+            Model::ReynoldsFlooded => "reynolds-flooded",
+        }
+    }
+
     /// The blocks this model reads: a comparison hands each model these and no others (one
     /// line per model, not a rule per pair).
     pub fn blocks(self) -> &'static [Block] {
@@ -142,6 +152,11 @@ impl Scene {
             Some(m) => vec![m],
             None => self.models.clone(),
         }
+    }
+
+    /// The models as a scene names them: `layer, reynolds, dry`.
+    pub fn model_names(&self) -> String {
+        self.models().iter().map(|m| m.name()).collect::<Vec<_>>().join(", ")
     }
 
     /// The one model of a one-model scene; `None` for a comparison (take [`Scene::for_model`]
@@ -962,7 +977,11 @@ impl Scene {
 
     /// The scene as JSON, every default filled in.
     pub fn to_json(&self) -> String {
-        serde_json::to_string_pretty(self).unwrap()
+        let mut filled = self.clone();
+        if let Some(r) = filled.run.as_mut() {
+            r.method = Some(r.method());
+        }
+        serde_json::to_string_pretty(&filled).unwrap_or_default()
     }
 
     /// The same scene with `n` points per side (the `--grid` override).
@@ -1620,9 +1639,16 @@ mod tests {
 
     #[test]
     fn builtins_parse_and_round_trip() {
+        // The JSON spells out every default (the run's method resolved): reading it back gives
+        // the same scene, whose JSON is the same again.
         for s in builtins() {
             let again = Scene::from_json(&s.to_json(), "round trip").unwrap();
-            assert_eq!(s, again);
+            assert_eq!(
+                s.run.as_ref().map(RunSpec::method),
+                again.run.as_ref().map(|r| r.method.unwrap())
+            );
+            assert_eq!(s.to_json(), again.to_json());
+            assert_eq!(Scene::from_json(&again.to_json(), "again").unwrap(), again);
         }
         assert_eq!(load("hertz").unwrap().name, "hertz");
     }
@@ -1708,7 +1734,7 @@ mod tests {
         }
         // A comparison is its own, and a scene that names none runs as itself.
         assert!(builtin("stop-compare").unwrap().as_comparison().unwrap().is_none());
-        assert!(builtin("hole").unwrap().as_comparison().unwrap().is_none());
+        assert!(builtin("squeeze-steady").unwrap().as_comparison().unwrap().is_none());
         // Refused: the field on a comparison scene, a name that is not a comparison, and a
         // comparison of another contact, each naming the field.
         let text = |n: &str| BUILTINS.iter().find(|b| b.0 == n).unwrap().1.to_string();
@@ -1867,14 +1893,17 @@ mod tests {
         Scene::from_json(&with("{\"step_pre_sweeps\": 1, \"mode_extrapolation\": 0}"), "t")
             .unwrap();
         let m = refused(&with("{\"step_pre_sweeps\": 0}"));
-        assert!(m.contains("reynolds.solver.step_pre_sweeps") && m.contains("1 to 4"), "{m}");
+        assert!(m.contains("reynolds.solver.step_pre_sweeps") && m.contains("1 ..= 4"), "{m}");
         let m = refused(&with("{\"fallback_omega_gs\": 1.5}"));
         assert!(
-            m.contains("reynolds.solver.fallback_omega_gs") && m.contains("0 (no third"),
+            m.contains("reynolds.solver.fallback_omega_gs") && m.contains("0: no third"),
             "{m}"
         );
         let m = refused(&with("{\"mode_extrapolation\": -1}"));
-        assert!(m.contains("reynolds.solver.mode_extrapolation") && m.contains("0 (no"), "{m}");
+        assert!(
+            m.contains("reynolds.solver.mode_extrapolation") && m.contains("0: no jumps"),
+            "{m}"
+        );
         let m = refused(&with("{\"relax\": {\"transient_threshold_at_rest\": 0}}"));
         assert!(
             m.contains("reynolds.solver.relax.transient_threshold_at_rest") && m.contains("1000"),
@@ -1926,7 +1955,7 @@ mod tests {
         // Refusals name the field: a stop before 0, a table running backwards, a steady-rolling
         // start for a motion that starts at rest.
         let m = refused(&with("{ \"stop\": { \"at_s\": -1.0 } }"));
-        assert!(m.contains("run.motion.stop.at_s") && m.contains(">= 0"), "{m}");
+        assert!(m.contains("run.motion.stop.at_s") && m.contains("[0, 10000]"), "{m}");
         let m = refused(&with("{ \"table\": { \"knots\": [[1.0, 0.01], [0.5, 0.0]] } }"));
         assert!(m.contains("run.motion") && m.contains("must not decrease"), "{m}");
         let m = refused(&with("{ \"table\": { \"knots\": [[0, 0.01], [0.1, 4097.0]] } }"));

@@ -9,7 +9,6 @@ use crate::output::{self, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use ehl_core::HertzScales;
 use ehl_scene::{Model, Scene};
-use plotters::prelude::SeriesLabelPosition;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -33,7 +32,7 @@ impl Entry {
 
 /// The scene's spelling of a model.
 pub fn model_name(m: Model) -> String {
-    serde_json::to_value(m).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default()
+    m.name().into()
 }
 
 /// Every model's run of one scene.
@@ -373,27 +372,30 @@ impl Comparison {
             })
             .collect();
         let f = dir.join("comparison_history.png");
-        plot::charts(
-            &f,
-            &[
-                Panel::new("Central film", "t [ms]", "h_c [nm]", series(|o| o.central_film_m, 1e9)),
-                Panel::new(
-                    "Minimum film",
-                    "t [ms]",
-                    "h_min [nm]",
-                    series(|o| o.minimum_film_m, 1e9),
-                ),
-                Panel::new(
-                    "Maximum pressure",
-                    "t [ms]",
-                    "p_max / p_h",
-                    series(|o| o.max_pressure_pa, 1.0 / p_h),
-                ),
-                Panel::new("Approach since the start", "t [ms]", "δ − δ(0) [nm]", approach),
-            ],
-            note,
-        )?;
+        // The motion's stops and starts, marked on every panel.
+        let events = self.motion_events();
+        let panel = |title: &str, y: &str, s: Vec<Series>| {
+            events.iter().fold(Panel::new(title, "t [ms]", y, styled(s)), |p, (t, what)| {
+                p.mark_x(t * 1e3, *what)
+            })
+        };
+        let panels: Vec<Panel> = [
+            panel("Central film", "h_c [nm]", series(|o| o.central_film_m, 1e9)),
+            panel("Minimum film", "h_min [nm]", series(|o| o.minimum_film_m, 1e9)),
+            panel("Maximum pressure", "p_max / p_h", series(|o| o.max_pressure_pa, 1.0 / p_h)),
+            panel("Approach since the start", "δ − δ(0) [nm]", approach),
+        ]
+        .into_iter()
+        .filter(Panel::has_data)
+        .collect();
+        plot::charts(&f, &panels, note)?;
         Ok(Some(f))
+    }
+
+    /// When the scene's motion stops and starts [s] (none for a scene that does not march).
+    fn motion_events(&self) -> Vec<(f64, &'static str)> {
+        let u = self.scene.conditions.rolling_velocity_m_s.unwrap_or(0.0);
+        self.scene.run.as_ref().and_then(|r| r.kinematics(u).ok()).map_or(vec![], |k| k.events())
     }
 
     /// Every model's snapshots at the plan's snapshot times, pressure and film along `y = 0`
@@ -463,7 +465,7 @@ impl Comparison {
                         .iter()
                         .skip_while(|(t, _)| *t <= t_stop)
                         .take_while(|(t, _)| motion.speed(*t) == 0.0)
-                        .filter(|(_, o)| f(o) > 0.0)
+                        .filter(|(_, o)| f(o) > CONTACT_FILM_M)
                         .map(|(t, o)| ((t - t_stop) * 1e3, f(o) * 1e9))
                         .collect();
                     Series::new(name.clone(), pts, Mark::Line)
@@ -478,14 +480,14 @@ impl Comparison {
                     "Central film after the stop",
                     "time since the stop [ms]",
                     "h_c [nm]",
-                    series(|o| o.central_film_m),
+                    styled(series(|o| o.central_film_m)),
                 )
                 .log_log(),
                 Panel::new(
-                    "Minimum film after the stop (where positive)",
+                    "Minimum film after the stop (above 0.01 nm: below, the solids touch)",
                     "time since the stop [ms]",
                     "h_min [nm]",
-                    series(|o| o.minimum_film_m),
+                    styled(series(|o| o.minimum_film_m)),
                 )
                 .log_log(),
             ],
@@ -545,15 +547,13 @@ impl Comparison {
         plot::charts(
             &centre,
             &[
-                Panel::new("Pressure along y = 0", "x / a", "p / p_h", p_series)
-                    .legend(SeriesLabelPosition::UpperLeft),
+                Panel::new("Pressure along y = 0", "x / a", "p / p_h", styled(p_series)),
                 Panel::new(
                     &format!("Film along y = 0 (up to {cap_nm:.0} nm)"),
                     "x / a",
                     "h [nm]",
-                    h_series,
-                )
-                .legend(SeriesLabelPosition::UpperRight),
+                    styled(h_series),
+                ),
             ],
             &note,
         )?;
@@ -575,6 +575,7 @@ impl Comparison {
                     field: &clip,
                     title: format!("Film difference {name_a} − {name_b}"),
                     bar_label: "Δh [nm]".into(),
+                    diverging: true,
                 }],
                 &g,
                 &note,
@@ -583,6 +584,21 @@ impl Comparison {
         }
         Ok(files)
     }
+}
+
+/// The film below which the squeeze figure counts the solids as touching [m]: 0.01 nm, a
+/// twentieth of a molecular diameter of any oil; what a solver reports below it is its own
+/// noise about `H = 0`.
+const CONTACT_FILM_M: f64 = 1e-11;
+
+/// A comparison's curves styled: the first two models (what the comparison is about) solid,
+/// the references listed after them (the flooded solve, the dry contact) dashed, so that a
+/// reference drawn over a curve it nearly equals leaves that curve showing between its dashes.
+fn styled(mut series: Vec<Series>) -> Vec<Series> {
+    for s in series.iter_mut().skip(2) {
+        s.dashed = true;
+    }
+    series
 }
 
 /// A model's approach [m] on the times of its history, or `None` when it reports none or its

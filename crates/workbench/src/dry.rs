@@ -249,6 +249,7 @@ fn dry_figures(o: &DryOutcome, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>
             field: &o.p,
             title: "Pressure p / p_h".into(),
             bar_label: "p / p_h".into(),
+            diverging: false,
         }],
         g,
         &conditions_note(o),

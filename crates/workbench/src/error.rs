@@ -21,13 +21,14 @@ pub enum Error {
         /// The solver's own diagnosis.
         diagnosis: Diagnosis,
     },
-    /// A file or folder could not be read or written.
-    #[error("{context}: {source}")]
+    /// A file or folder could not be read or written. The system's error is part of the
+    /// message, not a separate cause: a report that prints causes says it once.
+    #[error("{context}: {error}")]
     Io {
         /// What was being done, and to which path.
         context: String,
         /// The system's error.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// An output (a figure, JSON, an `.npy` file) could not be produced.
     #[error("{context}: {message}")]
@@ -115,7 +116,7 @@ impl Error {
             Error::Model { context, diagnosis } => {
                 Error::Model { context: join(context), diagnosis }
             }
-            Error::Io { context, source } => Error::Io { context: join(context), source },
+            Error::Io { context, error } => Error::Io { context: join(context), error },
             Error::Output { context, message } => Error::Output { context: join(context), message },
             Error::Refused(m) => Error::Refused(join(m)),
             Error::Interrupted(m) => Error::Interrupted(m),
@@ -203,7 +204,7 @@ pub fn create_dir(path: &std::path::Path) -> Result<()> {
 /// An I/O failure, saying what was being done.
 pub fn io(context: impl fmt::Display) -> impl FnOnce(std::io::Error) -> Error {
     let context = context.to_string();
-    move |source| Error::Io { context, source }
+    move |error| Error::Io { context, error }
 }
 
 /// An output failure (a drawing backend, a serialiser), saying which output.

@@ -425,21 +425,22 @@ impl LayerOutcome {
     pub fn note(&self) -> String {
         let (spec, r) = (&self.view.layer, &self.view.run);
         format!(
-            "{}: F = {} N, u1 = {} m/s, l0 = {} nm, E law {:?}, damper {:?} (κ = {:e}, {:?} laws){}, {:?} n_t = {}; grid {}x{}; a = {:.4} mm",
+            "{}: R = {} mm, F = {} N, u1 = {} m/s, l0 = {} nm, E law {}, damper {} (κ = {:e}, {} laws){}, {} n_t = {}; grid {}x{}; a = {:.4} mm",
             self.scene.name,
+            self.scene.conditions.ball_radius_m * 1e3,
             self.scene.conditions.load_n,
             self.scene.conditions.rolling_velocity_m_s.unwrap_or(0.0),
             self.supply_thickness_m() * 1e9,
-            spec.modulus_law,
-            spec.damper_reading,
+            crate::model::word(&spec.modulus_law),
+            crate::model::word(&spec.damper_reading),
             spec.law_parameters(self.scales.p_h).map_or(f64::NAN, |l| l.damper_constant),
-            spec.laws,
+            crate::model::word(&spec.laws),
             if spec.coefficient_smoothing_a > 0.0 {
                 format!(", smoothing {} a", spec.coefficient_smoothing_a)
             } else {
                 String::new()
             },
-            r.time.scheme,
+            crate::model::word(&r.time.scheme),
             r.time.steps_per_cell,
             self.grid.nx,
             self.grid.ny,
@@ -447,7 +448,8 @@ impl LayerOutcome {
         )
     }
 
-    /// Layer thickness [nm] and pressure [p_h] maps side by side.
+    /// Pressure [p_h] and layer thickness [nm] maps side by side (pressure first, as every
+    /// model's maps).
     fn maps(&self, f: &Path, l: &Array2<f64>, p: &Array2<f64>, when: &str) -> Result<()> {
         let g = &self.grid;
         let lnm = l.mapv(|v| v * self.scales.delta * 1e9);
@@ -455,14 +457,16 @@ impl LayerOutcome {
             f,
             &[
                 MapPanel {
-                    field: &lnm,
-                    title: format!("l [nm] {when}"),
-                    bar_label: "l [nm]".into(),
+                    field: p,
+                    title: format!("Pressure p / p_h {when}"),
+                    bar_label: "p / p_h".into(),
+                    diverging: false,
                 },
                 MapPanel {
-                    field: p,
-                    title: format!("p / p_h {when}"),
-                    bar_label: "p / p_h".into(),
+                    field: &lnm,
+                    title: format!("Layer l [nm] {when}"),
+                    bar_label: "l [nm]".into(),
+                    diverging: false,
                 },
             ],
             g,

@@ -183,6 +183,16 @@ pub fn q(value: f64, unit: &str) -> Value {
     json!({ "value": value, "unit": unit })
 }
 
+/// A setting's value as the scene spells it (`dowson-higginson`, `implicit`): what figure
+/// footnotes and reports print, never the code's own type names.
+pub fn word<T: serde::Serialize>(v: &T) -> String {
+    match serde_json::to_value(v) {
+        Ok(Value::String(s)) => s,
+        Ok(other) => other.to_string(),
+        Err(_) => String::new(),
+    }
+}
+
 /// Columns of the centreline table: header (with unit) and values.
 pub struct Centreline {
     /// `(header with unit, values)` per column.

@@ -166,7 +166,8 @@ pub fn replace_dir(
         Ok(f) => f,
         Err(e) => {
             let _ = std::fs::remove_dir_all(&stage);
-            return Err(e);
+            // A writer stopped by the request says only that it stopped: say what stands.
+            return Err(if ehl_core::cancel::requested() { interrupted() } else { e });
         }
     };
     // Another run may put its output in place between our two renames: set that aside too,
@@ -180,13 +181,20 @@ pub fn replace_dir(
                 return Err(e);
             }
             let aside = parent.join(format!("{prefix}old-{pid}-{k}"));
-            std::fs::rename(dir, &aside)
-                .map_err(io(format!("moving the old {} aside", dir.display())))?;
-            old.push(aside);
+            match std::fs::rename(dir, &aside) {
+                Ok(()) => old.push(aside),
+                // Another run moved it first.
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+                Err(e) => {
+                    let _ = std::fs::remove_dir_all(&stage);
+                    return Err(io(format!("moving the old {} aside", dir.display()))(e));
+                }
+            }
         }
         match std::fs::rename(&stage, dir) {
             Ok(()) => break,
-            Err(_) if k < 8 && dir.exists() => k += 1,
+            // Another run's output landed between the two renames: set it aside too.
+            Err(_) if k < 8 => k += 1,
             Err(e) => {
                 let _ = std::fs::remove_dir_all(&stage);
                 return Err(io(format!("moving the results into {}", dir.display()))(e));

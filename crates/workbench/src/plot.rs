@@ -40,12 +40,19 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// How it is drawn.
     pub mark: Mark,
+    /// A dashed line: a curve that lies on or near another stays visible through it.
+    pub dashed: bool,
 }
 
 impl Series {
     /// A series named `label`.
     pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, mark: Mark) -> Self {
-        Self { label: label.into(), points, mark }
+        Self { label: label.into(), points, mark, dashed: false }
+    }
+    /// The same series dashed.
+    pub fn dashed(mut self) -> Self {
+        self.dashed = true;
+        self
     }
 }
 
@@ -63,10 +70,12 @@ pub struct Panel {
     pub log_x: bool,
     /// Logarithmic `y` axis.
     pub log_y: bool,
-    /// Where the legend goes (pick the corner the data leaves empty).
-    pub legend: SeriesLabelPosition,
+    /// Where the legend goes; `None`: the corner the data leaves emptiest.
+    pub legend: Option<SeriesLabelPosition>,
     /// The `y` axis when the data's own range leaves the legend no room.
     pub y_range: Option<(f64, f64)>,
+    /// Vertical lines at `x` with their labels (an event: the stop, the start).
+    pub marks: Vec<(f64, String)>,
 }
 
 impl Panel {
@@ -79,9 +88,26 @@ impl Panel {
             series,
             log_x: false,
             log_y: false,
-            legend: SeriesLabelPosition::UpperRight,
+            legend: None,
             y_range: None,
+            marks: vec![],
         }
+    }
+    /// The same panel with a vertical line at `x`, labelled.
+    pub fn mark_x(mut self, x: f64, label: impl Into<String>) -> Self {
+        self.marks.push((x, label.into()));
+        self
+    }
+    /// Whether the panel has anything to draw: a finite point.
+    pub fn has_data(&self) -> bool {
+        self.series.iter().any(|s| {
+            s.points.iter().any(|p| {
+                p.0.is_finite()
+                    && p.1.is_finite()
+                    && (!self.log_x || p.0 > 0.0)
+                    && (!self.log_y || p.1 > 0.0)
+            })
+        })
     }
     /// The same panel with its `y` axis from `lo` to `hi`.
     pub fn y_range(mut self, lo: f64, hi: f64) -> Self {
@@ -101,7 +127,7 @@ impl Panel {
     }
     /// The same panel with its legend at `at`.
     pub fn legend(mut self, at: SeriesLabelPosition) -> Self {
-        self.legend = at;
+        self.legend = Some(at);
         self
     }
 }
@@ -171,6 +197,37 @@ fn draw_panel<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
+    // A log axis within one decade would carry one tick label at most: such an axis is drawn
+    // linear (the ratio it shows is small anyway).
+    let narrow = |log: bool, v: &mut dyn Iterator<Item = f64>| {
+        log && {
+            let r = range(v, true);
+            r.1 / r.0 < 10.0
+        }
+    };
+    let mut lin = None;
+    let (lx, ly) = (
+        narrow(panel.log_x, &mut panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.0))),
+        panel.y_range.is_none()
+            && narrow(
+                panel.log_y,
+                &mut panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)),
+            ),
+    );
+    if lx || ly {
+        lin = Some(Panel {
+            title: panel.title.clone(),
+            x_label: panel.x_label.clone(),
+            y_label: panel.y_label.clone(),
+            series: panel.series.clone(),
+            log_x: panel.log_x && !lx,
+            log_y: panel.log_y && !ly,
+            legend: panel.legend.clone(),
+            y_range: panel.y_range,
+            marks: panel.marks.clone(),
+        });
+    }
+    let panel = lin.as_ref().unwrap_or(panel);
     let xs = range(panel.series.iter().flat_map(|s| s.points.iter().map(|p| p.0)), panel.log_x);
     let ys = panel.y_range.map(|(a, b)| {
         let drawable = a.is_finite() && b.is_finite() && a < b && (!panel.log_y || a > 0.0);
@@ -183,7 +240,7 @@ where
     let y_tick = |v: &f64| tick_on(*v, ys.1 - ys.0);
     let mut builder = ChartBuilder::on(area);
     builder
-        .caption(&panel.title, (FONT, 20))
+        .caption(&panel.title, (FONT, title_size(&panel.title, area.dim_in_pixel().0)))
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(70);
@@ -216,53 +273,73 @@ where
                     })
                     .collect();
                 let legend_color = color;
+                let key_len = if s.dashed { 8 } else { 20 };
+                let line_key = move |(x, y): (i32, i32)| {
+                    PathElement::new(vec![(x, y), (x + key_len, y)], legend_color.stroke_width(2))
+                };
                 match s.mark {
-                    Mark::Line => chart
-                        .draw_series(LineSeries::new(pts, color.stroke_width(2)))?
-                        .label(s.label.as_str())
-                        .legend(move |(x, y)| {
-                            PathElement::new(
-                                vec![(x, y), (x + 20, y)],
-                                legend_color.stroke_width(2),
-                            )
-                        }),
-                    Mark::Points => chart
-                        .draw_series(pts.into_iter().map(|p| Circle::new(p, 3, color.filled())))?
-                        .label(s.label.as_str())
-                        .legend(move |(x, y)| Circle::new((x + 10, y), 3, legend_color.filled())),
+                    Mark::Line => {
+                        let a = if s.dashed {
+                            chart.draw_series(DashedLineSeries::new(
+                                pts,
+                                9,
+                                6,
+                                color.stroke_width(2),
+                            ))?
+                        } else {
+                            chart.draw_series(LineSeries::new(pts, color.stroke_width(2)))?
+                        };
+                        a.label(s.label.as_str()).legend(line_key);
+                    }
+                    Mark::Points => {
+                        let a = chart.draw_series(
+                            pts.into_iter().map(|p| Circle::new(p, 3, color.filled())),
+                        )?;
+                        a.label(s.label.as_str()).legend(move |(x, y)| {
+                            Circle::new((x + 10, y), 3, legend_color.filled())
+                        });
+                    }
                     Mark::Segments => {
                         let segs: Vec<Vec<(f64, f64)>> =
                             pts.chunks_exact(2).map(|c| c.to_vec()).collect();
                         let style = color.stroke_width(1);
-                        chart
-                            .draw_series(segs.into_iter().map(move |s| PathElement::new(s, style)))?
-                            .label(s.label.as_str())
-                            .legend(move |(x, y)| {
-                                PathElement::new(
-                                    vec![(x, y), (x + 20, y)],
-                                    legend_color.stroke_width(1),
-                                )
-                            })
+                        let a = chart.draw_series(
+                            segs.into_iter().map(move |s| PathElement::new(s, style)),
+                        )?;
+                        a.label(s.label.as_str()).legend(move |(x, y)| {
+                            PathElement::new(
+                                vec![(x, y), (x + 20, y)],
+                                legend_color.stroke_width(1),
+                            )
+                        });
                     }
                     Mark::LinePoints => {
                         chart.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?;
-                        chart
-                            .draw_series(
-                                pts.into_iter().map(|p| Circle::new(p, 4, color.filled())),
-                            )?
-                            .label(s.label.as_str())
-                            .legend(move |(x, y)| {
-                                PathElement::new(
-                                    vec![(x, y), (x + 20, y)],
-                                    legend_color.stroke_width(2),
-                                )
-                            })
+                        let a = chart.draw_series(
+                            pts.into_iter().map(|p| Circle::new(p, 4, color.filled())),
+                        )?;
+                        a.label(s.label.as_str()).legend(line_key);
                     }
                 };
             }
+            for (x, label) in &panel.marks {
+                let (lo, hi) = (ys.0, ys.1);
+                chart.draw_series(DashedLineSeries::new(
+                    vec![(*x, lo), (*x, hi)],
+                    4,
+                    4,
+                    RGBColor(90, 90, 90).stroke_width(1),
+                ))?;
+                chart.draw_series(std::iter::once(Text::new(
+                    label.clone(),
+                    (*x, hi),
+                    (FONT, 13).into_font().color(&RGBColor(60, 60, 60)),
+                )))?;
+            }
+            let corner = panel.legend.clone().unwrap_or_else(|| emptiest_corner(panel, xs, ys));
             chart
                 .configure_series_labels()
-                .position(panel.legend.clone())
+                .position(corner)
                 .label_font((FONT, 14))
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
@@ -278,6 +355,48 @@ where
         }
     }
     Ok(())
+}
+
+/// The corner of the plot area whose legend box covers the fewest points of the panel's
+/// curves (their points and the midpoints between them), the box's size estimated from the
+/// labels: a legend never sits on the data it describes when a corner is free.
+fn emptiest_corner(panel: &Panel, xs: (f64, f64), ys: (f64, f64)) -> SeriesLabelPosition {
+    use SeriesLabelPosition::*;
+    let unit = |v: f64, r: (f64, f64), log: bool| {
+        if log {
+            (v.max(1e-300).ln() - r.0.ln()) / (r.1.ln() - r.0.ln())
+        } else {
+            (v - r.0) / (r.1 - r.0)
+        }
+    };
+    // The legend's box as a share of a panel's plot area (≈ 550 × 390 px): a line of 20 px per
+    // series, 8 px a character and 40 px of key and margins.
+    let longest = panel.series.iter().map(|s| s.label.chars().count()).max().unwrap_or(0);
+    let (w, h) = (
+        ((longest * 8 + 40) as f64 / 550.0).min(0.9),
+        ((panel.series.len() * 20 + 12) as f64 / 390.0).min(0.9),
+    );
+    let mut pts = vec![];
+    for s in &panel.series {
+        let u: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+            .map(|p| (unit(p.0, xs, panel.log_x), unit(p.1, ys, panel.log_y)))
+            .collect();
+        pts.extend(u.windows(2).map(|w| (0.5 * (w[0].0 + w[1].0), 0.5 * (w[0].1 + w[1].1))));
+        pts.extend(u);
+    }
+    let corners = [
+        (UpperRight, 1.0 - w, 1.0 - h),
+        (UpperLeft, 0.0, 1.0 - h),
+        (LowerRight, 1.0 - w, 0.0),
+        (LowerLeft, 0.0, 0.0),
+    ];
+    let covered = |x0: f64, y0: f64| {
+        pts.iter().filter(|p| p.0 >= x0 && p.0 <= x0 + w && p.1 >= y0 && p.1 <= y0 + h).count()
+    };
+    corners.into_iter().min_by_key(|c| covered(c.1, c.2)).map_or(UpperRight, |c| c.0)
 }
 
 /// Panels side by side (one row), with an optional footnote line (conditions, laws).
@@ -305,9 +424,11 @@ pub fn history_chart(
     )
 }
 
-/// Rows and columns for `n` panels: one row up to three, then rows of three.
+/// Rows and columns for `n` panels: one row up to three, two by two for four, then rows of
+/// three.
 fn layout(n: usize) -> (usize, usize) {
-    let cols = n.clamp(1, 3);
+    // Four panels make a square rather than a row of three and a lone fourth.
+    let cols = if n == 4 { 2 } else { n.clamp(1, 3) };
     (n.div_ceil(cols).max(1), cols)
 }
 
@@ -316,10 +437,7 @@ pub fn charts(path: &Path, panels: &[Panel], footnote: &str) -> Result<()> {
     register_font();
     let (rows, cols) = layout(panels.len());
     let (width, height) = (640 * cols as u32, 490 * rows as u32);
-    let root = BitMapBackend::new(path, (width, height + 30)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (main, foot) = root.split_vertically(height);
-    foot.draw(&Text::new(footnote.to_string(), (12, 6), (FONT, 14).into_font().color(&BLACK)))?;
+    let (root, main) = figure(path, width, height, footnote)?;
     for (area, panel) in main.split_evenly((rows, cols)).iter().zip(panels) {
         draw_panel(area, panel)?;
     }
@@ -327,10 +445,77 @@ pub fn charts(path: &Path, panels: &[Panel], footnote: &str) -> Result<()> {
     Ok(())
 }
 
+/// A footnote's lines for a figure `width` px wide: broken between words so that none runs off
+/// the figure (DejaVu Sans at 14 px: about 7.6 px a character).
+fn footnote_lines(text: &str, width: u32) -> Vec<String> {
+    let most = ((width.saturating_sub(24)) as f64 / 7.6).max(20.0) as usize;
+    let mut lines = vec![];
+    let mut line = String::new();
+    for word in text.split_whitespace() {
+        if !line.is_empty() && line.chars().count() + 1 + word.chars().count() > most {
+            lines.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+    }
+    if !line.is_empty() || lines.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+/// A figure `width` × `height` px of panels with `footnote` below them: the drawing area, the
+/// panels' part of it, and the footnote drawn (as many lines as it needs).
+fn figure<'a>(
+    path: &'a Path,
+    width: u32,
+    height: u32,
+    footnote: &str,
+) -> Result<(
+    DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>,
+    DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>,
+)> {
+    let lines = footnote_lines(footnote, width);
+    let foot_h = 10 + 20 * lines.len() as u32;
+    let root = BitMapBackend::new(path, (width, height + foot_h)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (main, foot) = root.split_vertically(height);
+    for (k, line) in lines.into_iter().enumerate() {
+        foot.draw(&Text::new(line, (12, 6 + 20 * k as i32), (FONT, 14).into_font().color(&BLACK)))?;
+    }
+    Ok((root, main))
+}
+
+/// A title's font size for a panel `width` px wide: 20 px, smaller for a long title so that
+/// it does not run into the next panel's (DejaVu Sans: about 0.56 em a character).
+fn title_size(title: &str, width: u32) -> u32 {
+    let chars = title.chars().count().max(1) as f64;
+    ((width.saturating_sub(30)) as f64 / (0.56 * chars)).clamp(11.0, 20.0) as u32
+}
+
 /// Colour for `t ∈ [0, 1]`: a perceptually ordered blue–green–yellow ramp (viridis-like).
 fn ramp(t: f64) -> RGBColor {
     const STOPS: [(f64, f64, f64); 5] =
         [(68., 1., 84.), (59., 82., 139.), (33., 145., 140.), (94., 201., 98.), (253., 231., 37.)];
+    let t = t.clamp(0.0, 1.0) * 4.0;
+    let k = (t.floor() as usize).min(3);
+    let f = t - k as f64;
+    let (a, b) = (STOPS[k], STOPS[k + 1]);
+    let mix = |x: f64, y: f64| (x + (y - x) * f).round() as u8;
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// Colour for `t ∈ [0, 1]` of a signed quantity: blue below the middle, white at it, red above.
+fn diverging(t: f64) -> RGBColor {
+    const STOPS: [(f64, f64, f64); 5] = [
+        (33., 102., 172.),
+        (146., 197., 222.),
+        (247., 247., 247.),
+        (244., 165., 130.),
+        (178., 24., 43.),
+    ];
     let t = t.clamp(0.0, 1.0) * 4.0;
     let k = (t.floor() as usize).min(3);
     let f = t - k as f64;
@@ -347,6 +532,9 @@ pub struct MapPanel<'a> {
     pub title: String,
     /// Title of the colour bar (the quantity and its unit).
     pub bar_label: String,
+    /// A signed quantity (a difference): a diverging colour map, white at zero, its range
+    /// symmetric about zero.
+    pub diverging: bool,
 }
 
 /// Heat maps of `field[[j, i]]` over the grid (axes in units of `a`), side by side, each with a
@@ -359,10 +547,7 @@ pub fn heat_maps(
 ) -> Result<()> {
     register_font();
     let width = 760 * panels.len() as u32;
-    let root = BitMapBackend::new(path, (width, 640)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (main, foot) = root.split_vertically(610);
-    foot.draw(&Text::new(footnote.to_string(), (12, 6), (FONT, 14).into_font().color(&BLACK)))?;
+    let (root, main) = figure(path, width, 610, footnote)?;
     for (area, panel) in main.split_evenly((1, panels.len())).iter().zip(panels) {
         draw_map(
             area,
@@ -392,10 +577,17 @@ where
     let (ny, nx) = field.dim();
     let lo = field.iter().cloned().filter(|v| v.is_finite()).fold(f64::INFINITY, f64::min);
     let hi = field.iter().cloned().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
+    let (lo, hi) = if panel.diverging {
+        let m = lo.abs().max(hi.abs()).max(f64::MIN_POSITIVE);
+        (-m, m)
+    } else {
+        (lo, hi)
+    };
     let span = if hi > lo { hi - lo } else { 1.0 };
+    let colour = |t: f64| if panel.diverging { diverging(t) } else { ramp(t) };
     let (left, right) = area.split_horizontally(630);
     let mut chart = ChartBuilder::on(&left)
-        .caption(&panel.title, (FONT, 20))
+        .caption(&panel.title, (FONT, title_size(&panel.title, 630)))
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(60)
@@ -413,7 +605,7 @@ where
         let (x, y) = (xr.0 + i as f64 * dx, yr.0 + j as f64 * dy);
         Rectangle::new(
             [(x - 0.5 * dx, y - 0.5 * dy), (x + 0.5 * dx, y + 0.5 * dy)],
-            ramp((v - lo) / span).filled(),
+            colour((v - lo) / span).filled(),
         )
     }))?;
     // Tick labels to the right of the bar, left-aligned from its edge: drawn on the left they
@@ -441,7 +633,7 @@ where
     bar.draw_series((0..steps).map(|k| {
         let v0 = lo + span * k as f64 / steps as f64;
         let v1 = lo + span * (k + 1) as f64 / steps as f64;
-        Rectangle::new([(0.0, v0), (1.0, v1)], ramp((k as f64 + 0.5) / steps as f64).filled())
+        Rectangle::new([(0.0, v0), (1.0, v1)], colour((k as f64 + 0.5) / steps as f64).filled())
     }))?;
     Ok(())
 }
@@ -488,10 +680,7 @@ pub fn cell_maps(
     register_font();
     let (rows, cols) = layout(panels.len());
     let (width, height) = (700 * cols as u32, 570 * rows as u32);
-    let root = BitMapBackend::new(path, (width, height + 30)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (main, foot) = root.split_vertically(height);
-    foot.draw(&Text::new(footnote.to_string(), (12, 6), (FONT, 14).into_font().color(&BLACK)))?;
+    let (root, main) = figure(path, width, height, footnote)?;
     for (area, panel) in main.split_evenly((rows, cols)).iter().zip(panels) {
         let (nx, ny) = (x_ticks.len(), y_ticks.len());
         let key = |v: f64| if panel.log_colour { v.max(1e-300).ln() } else { v };
@@ -502,7 +691,7 @@ pub fn cell_maps(
         let xt = x_ticks.to_vec();
         let yt = y_ticks.to_vec();
         let mut chart = ChartBuilder::on(area)
-            .caption(&panel.title, (FONT, 18))
+            .caption(&panel.title, (FONT, title_size(&panel.title, area.dim_in_pixel().0).min(18)))
             .margin(12)
             .x_label_area_size(45)
             .y_label_area_size(70)

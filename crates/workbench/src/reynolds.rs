@@ -848,14 +848,15 @@ impl ReynoldsOutcome {
     fn note(&self) -> String {
         let (c, u) = self.scene.reynolds_conditions();
         format!(
-            "{}: M = {:.1}, L = {:.2} (F = {:.3} N, u_s = {:.4} m/s), {:?} viscosity, {:?} density; grid {}x{}",
+            "{}: R = {} mm, F = {:.4} N, u1 = {:.4} m/s (M = {:.1}, L = {:.2}), {} viscosity, {} density; grid {}x{}",
             self.scene.name,
+            c.ball_radius * 1e3,
+            c.load,
+            0.5 * u,
             self.prm.moes.m,
             self.prm.moes.l,
-            c.load,
-            u,
-            self.view.spec.viscosity,
-            self.view.spec.density,
+            crate::model::word(&self.view.spec.viscosity),
+            crate::model::word(&self.view.spec.density),
             self.grid.nx,
             self.grid.ny
         )
@@ -879,11 +880,13 @@ impl ReynoldsOutcome {
                     field: &self.p,
                     title: "Pressure p / p_h".into(),
                     bar_label: "p / p_h".into(),
+                    diverging: false,
                 },
                 MapPanel {
                     field: &film_nm,
                     title: "Film h [nm] (scale capped at 3 h_c)".into(),
                     bar_label: "h [nm]".into(),
+                    diverging: false,
                 },
             ],
             g,
@@ -904,11 +907,13 @@ impl ReynoldsOutcome {
                         field: &self.theta,
                         title: format!("Film content θ (1: full; inlet meniscus at x = {xm:.3} a)"),
                         bar_label: "θ".into(),
+                        diverging: false,
                     },
                     MapPanel {
                         field: &oil_nm,
                         title: "Oil θ h [nm] (scale capped at 3 h_c)".into(),
                         bar_label: "θ h [nm]".into(),
+                        diverging: false,
                     },
                 ],
                 g,

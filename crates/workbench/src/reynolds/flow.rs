@@ -157,6 +157,7 @@ impl ReynoldsOutcome {
                 field: &log_r,
                 title: "log10 |pressure-driven / boundary-driven flux|".into(),
                 bar_label: "log10 |r|".into(),
+                diverging: false,
             }],
             g,
             &note,
