@@ -152,16 +152,20 @@ pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
         println!("wrote {}", f.display());
     }
     if wanted(Part::Starved) {
-        println!("wrote {}", crate::starvation::bench(max.min(257), 3)?.display());
+        println!(
+            "wrote {}",
+            crate::starvation::bench(crate::seed_grid(max), if crate::quick() { 1 } else { 3 })?
+                .display()
+        );
     }
     if wanted(Part::Steps) {
-        steps(max.min(257))?;
+        steps(crate::seed_grid(max))?;
     }
     if wanted(Part::Squeeze) {
-        squeeze(max.min(257))?;
+        squeeze(crate::seed_grid(max))?;
     }
     if wanted(Part::Compare) {
-        compare(3)?;
+        compare(if crate::quick() { 1 } else { 3 })?;
     }
     Ok(())
 }
@@ -392,6 +396,12 @@ fn squeeze(n: usize) -> Result<std::path::PathBuf> {
     for threshold in [1.0, own] {
         let mut scene = base.clone();
         scene.grid = ehl_scene::GridSpec { nx: n, ny: n };
+        if crate::quick() {
+            // Quickly: the stop and 15 ms at rest.
+            if let Some(r) = scene.run.as_mut() {
+                r.stop.max_time_s = Some(0.02);
+            }
+        }
         if let Some(r) = scene.reynolds.as_mut() {
             r.solver.relax.transient_threshold_at_rest = threshold;
         }
@@ -452,8 +462,10 @@ fn compare(runs: usize) -> Result<std::path::PathBuf> {
         "ratio",
         "each model alone [s]",
     ]);
-    for name in ["dent-shallow-compare", "seed"] {
+    let names: &[&str] = if crate::quick() { &["seed"] } else { &["dent-shallow-compare", "seed"] };
+    for &name in names {
         let mut scene = ehl_scene::builtin(name)?;
+        scene = scene.with_points(crate::scene_points(&scene))?;
         scene.outputs.figures = false;
         let (mut together, mut apart) = (vec![], vec![]);
         let mut own = String::new();
@@ -541,7 +553,8 @@ fn dent_passage(n: usize, prm: ehl_reynolds::ReynoldsParams) -> Result<crate::me
         s.solve(&mut |_| {}).map_err(|e| anyhow::anyhow!("steady solve: {e}"))?;
         s.settings = steps;
         let dt = grid.dx() / per_cell as f64;
-        let cells = (2.5 / grid.dx()).round() as usize;
+        // Quickly: the dent's first eight cells of travel.
+        let cells = if crate::quick() { 8 } else { (2.5 / grid.dx()).round() as usize };
         let (clock, mut cycles, mut out) = (Instant::now(), 0, vec![]);
         for k in 1..=cells * per_cell {
             let xc = dent.x_start_a + k as f64 * dt;

@@ -20,6 +20,7 @@ pub fn fig12(out: &Path) -> Result<Vec<PathBuf>> {
 /// Runs a built-in comparison scene into `out/dir` and prints its table; every model must run.
 fn comparison(out: &Path, scene: &str, dir: &str) -> Result<Vec<PathBuf>> {
     let scene = ehl_scene::builtin(scene)?;
+    let scene = scene.with_points(crate::scene_points(&scene))?;
     let c = ehl_workbench::compare::run(&scene);
     print!("{}", c.table());
     if !c.all_converged() {
@@ -31,7 +32,7 @@ fn comparison(out: &Path, scene: &str, dir: &str) -> Result<Vec<PathBuf>> {
 /// The seed's Fig. 1: the flow in the Reynolds film under Table 1 on 1025² (the seed's grid for
 /// it), velocity profiles and vectors and the flux-ratio map (`fig1_*`).
 pub fn fig1(out: &Path) -> Result<Vec<PathBuf>> {
-    let scene = ehl_scene::builtin("reynolds-seed")?.with_points(1025)?;
+    let scene = ehl_scene::builtin("reynolds-seed")?.with_points(crate::points(1025))?;
     let o = ehl_workbench::reynolds::run_reynolds(&scene)?;
     println!(
         "Fig. 1 (reynolds-seed, 1025²): mean |pressure-driven / boundary-driven flux| over the loaded zone {:.4}",

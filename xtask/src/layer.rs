@@ -174,7 +174,10 @@ pub fn convergence(out: &Path, max_points: usize, nt_points: usize) -> Result<Ve
         (imp_t[imp_t.len() - 2].minimum_nm - a.minimum_nm).abs(),
     );
 
-    let stability = stability_limit(&[65, 129, 257.min(max_points)])?;
+    let mut limit_grids: Vec<usize> =
+        [65, 129, 257].into_iter().map(crate::points).map(|n| n.min(max_points)).collect();
+    limit_grids.dedup();
+    let stability = stability_limit(&limit_grids)?;
 
     println!("Lateral instability: the model as published (smoothing 0), implicit, n_t = 10:");
     let default_sigma = rolling(65, Scheme::Implicit, 10.0).layer.unwrap().coefficient_smoothing_a;

@@ -24,6 +24,25 @@ use std::path::PathBuf;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Run the study on coarse grids, in seconds: the code paths of the real study, not its
+    /// numbers (CI runs every study so). Measured pages go to `target/quick-measured/`, never
+    /// to `docs/measured/`.
+    #[arg(long, global = true)]
+    quick: bool,
+}
+
+/// Whether this run is a quick one (`--quick`).
+static QUICK: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether the study runs quickly, on coarse grids (`--quick`).
+pub fn quick() -> bool {
+    QUICK.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// The points per side a study runs `n` at: `n` itself, or quickly a grid of the same rank
+/// eight times coarser per side (129 → 17, 257 → 33, 1025 → 129), at least 17.
+pub fn points(n: usize) -> usize {
+    if quick() { ((n.saturating_sub(1)) / 8 + 1).max(17) } else { n }
 }
 
 #[derive(Subcommand)]
@@ -148,9 +167,14 @@ enum Study {
 }
 
 fn main() -> Result<()> {
-    match Cli::parse().command {
+    let cli = Cli::parse();
+    QUICK.store(cli.quick, std::sync::atomic::Ordering::Relaxed);
+    match cli.command {
         Command::Figures { out } => figures(&out),
         Command::Convergence { study, grids, out, max_points, nt_points } => {
+            let (max_points, nt_points) = (points(max_points), points(nt_points));
+            let mut grids: Vec<usize> = grids.into_iter().map(points).collect();
+            grids.dedup();
             match <Study as clap::ValueEnum>::from_str(&study, false) {
                 Ok(Study::Dry) => convergence::dry(&out, max_points).map(|_| ()),
                 Ok(Study::Layer) => layer::convergence(&out, max_points, nt_points).map(|_| ()),
@@ -159,12 +183,14 @@ fn main() -> Result<()> {
                 Err(_) => scene_study::run(&study, &grids, &out).map(|_| ()),
             }
         }
-        Command::Bench { out, max_points, only } => bench::run(&out, max_points, only),
-        Command::Identify { out, points, squeeze_points, check_points } => {
-            identify::run(&out, points, squeeze_points, check_points)
+        Command::Bench { out, max_points, only } => bench::run(&out, points(max_points), only),
+        Command::Identify { out, points: n, squeeze_points, check_points } => {
+            identify::run(&out, points(n), points(squeeze_points), points(check_points))
         }
-        Command::Starvation { out, points, grids } => {
-            for f in starvation::run(&out, points, &grids)? {
+        Command::Starvation { out, points: n, grids } => {
+            // Quickly: the seed's contact on the least grids its films exist on.
+            let (n, grids) = if quick() { (129, vec![129, 193]) } else { (n, grids) };
+            for f in starvation::run(&out, n, &grids)? {
                 println!("  {}", f.display());
             }
             Ok(())
@@ -173,15 +199,32 @@ fn main() -> Result<()> {
         Command::Mutants { file, shard, timeout, out } => {
             mutants::run(&file, shard.as_deref(), timeout, &out)
         }
-        Command::Stability { which: Which::Reynolds, out, points, narrow_from_m } => {
-            reynolds::stability(&out, points, narrow_from_m).map(|_| ())
+        Command::Stability { which: Which::Reynolds, out, points: n, narrow_from_m } => {
+            reynolds::stability(&out, points(n), narrow_from_m).map(|_| ())
         }
     }
 }
 
-/// Grid sizes 65, 129, … up to `max` points per side.
+/// The points per side a scene runs at in a study: [`points`] of its own, but never below 129
+/// quickly for a scene that runs the Reynolds solver: the seed's thin films close on coarser
+/// grids (the film needs cells of 0.02 a there), and a study of a failure is not the study.
+pub fn scene_points(scene: &ehl_scene::Scene) -> usize {
+    use ehl_scene::Model::{Reynolds, ReynoldsFlooded};
+    let lubricated = scene.models().iter().any(|m| matches!(m, Reynolds | ReynoldsFlooded));
+    let n = scene.grid.nx;
+    if quick() && lubricated { n.min(129) } else { points(n) }
+}
+
+/// The grid of a study of the seed's contact through the Reynolds solver, at most `max`: 257
+/// points per side, quickly 129 (the least its films exist on).
+pub fn seed_grid(max: usize) -> usize {
+    if quick() { 129 } else { max.min(257) }
+}
+
+/// Grid sizes 65, 129, … up to `max` points per side (quickly: 17, 33, 65 up to `max`).
 pub fn grid_sizes(max: usize) -> Vec<usize> {
-    (6..=12).map(|k| (1usize << k) + 1).filter(|&n| n <= max).collect()
+    let from = if quick() { 4 } else { 6 };
+    (from..=12).map(|k| (1usize << k) + 1).filter(|&n| n <= max).collect()
 }
 
 fn figures(out: &std::path::Path) -> Result<()> {
@@ -191,6 +234,7 @@ fn figures(out: &std::path::Path) -> Result<()> {
         if scene.is_comparison() {
             continue; // comparison scenes: Figs. 7 and 12 below
         }
+        let scene = scene.with_points(scene_points(&scene))?;
         let outcome = ehl_workbench::run_scene(&scene)?;
         written.extend(outcome.figures(out, &format!("{}_", scene.name))?);
         // The numbers behind the figures, for the validation table.
@@ -208,7 +252,7 @@ fn figures(out: &std::path::Path) -> Result<()> {
     written.extend(compare::fig7(out)?);
     written.extend(compare::fig12(out)?);
     written.extend(compare::fig1(out)?);
-    written.extend(convergence::dry(out, 513)?);
+    written.extend(convergence::dry(out, points(513))?);
     written.push(layer::modulus_figure(out)?);
     written.extend(identify::figures(out)?);
     println!("figures written to {}:", out.display());

@@ -33,7 +33,9 @@ impl Table {
 
 /// Where a generated page goes, beside the workspace's `docs/`.
 pub fn page_path(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/measured").join(format!("{name}.md"))
+    // A quick run's numbers are coarse grids': they never replace a measured page.
+    let dir = if crate::quick() { "../target/quick-measured" } else { "../docs/measured" };
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(dir).join(format!("{name}.md"))
 }
 
 /// Writes `docs/measured/NAME.md`: a title, how it was made (`command`, the date, the cores),

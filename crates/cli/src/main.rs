@@ -161,7 +161,13 @@ fn real_main() -> Result<()> {
                 grid_words(&s),
                 dir.display()
             );
-            let outcome = run_scene(&s)?;
+            let outcome = run_scene(&s).map_err(|e| match e {
+                ehl_workbench::Error::Interrupted(m) => ehl_workbench::Error::Interrupted(format!(
+                    "{m}; no output written, {} is as it was",
+                    dir.display()
+                )),
+                e => e,
+            })?;
             eprintln!("writing the results into {}", dir.display());
             let files = output::write(outcome.as_ref(), &dir)?;
             print!("{}", outcome.report());

@@ -90,9 +90,9 @@ fn a_reused_output_folder_holds_only_the_new_run() {
 }
 
 /// Starts `ehl` with `args`, waits until its standard error has a line containing `event` (the
-/// run says when it starts solving and when it starts writing), then sends `signal`; returns
-/// the output and how long the process took to end after the signal.
-fn signal_at(args: &[&str], event: &str, signal: &str) -> (std::process::Output, f64) {
+/// run says when it starts solving and when it starts writing) and `after` seconds more, then
+/// sends `signal`; returns the output and how long the process took to end after the signal.
+fn signal_at(args: &[&str], event: &str, after: f64, signal: &str) -> (std::process::Output, f64) {
     use std::io::BufRead;
     let mut child = ehl()
         .args(args)
@@ -110,6 +110,7 @@ fn signal_at(args: &[&str], event: &str, signal: &str) -> (std::process::Output,
             break;
         }
     }
+    std::thread::sleep(std::time::Duration::from_secs_f64(after));
     let sent = std::time::Instant::now();
     let kill = Command::new("kill").args([signal, &child.id().to_string()]).status().unwrap();
     assert!(kill.success());
@@ -131,6 +132,7 @@ fn interrupted(signal: &str) {
     let (o, _) = signal_at(
         &["run", "rolling-from-uniform", "--grid", "129", "--out", out.to_str().unwrap()],
         "running",
+        0.0,
         signal,
     );
     let err = String::from_utf8_lossy(&o.stderr);
@@ -176,6 +178,7 @@ fn a_signal_while_the_output_is_written_leaves_the_old_output_whole() {
         let (o, _) = signal_at(
             &["run", scene.to_str().unwrap(), "--grid", "33", "--out", out.to_str().unwrap()],
             "writing",
+            0.0,
             signal,
         );
         let err = String::from_utf8_lossy(&o.stderr);
@@ -190,14 +193,16 @@ fn a_signal_while_the_output_is_written_leaves_the_old_output_whole() {
 
 #[test]
 fn a_signal_stops_a_long_solve_within_seconds() {
-    // The seed's fed Reynolds contact on 1025² takes a minute; the solver checks for a stop
-    // between its cycles (a cycle there is ~0.3 s), so it ends well within 10 s of the signal
-    // (the bound leaves room for shared, slow cores; a solve that ignored the stop runs on).
+    // The seed's fed Reynolds contact on 1025² takes a minute; signalled 3 s in, in its cycles,
+    // it checks for a stop between them (a cycle there is ~0.3 s), so it ends well within 10 s
+    // of the signal (the bound leaves room for shared, slow cores; a solve that ignored the
+    // stop runs on for the rest of its minute).
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("seed");
     let (o, waited) = signal_at(
         &["run", "reynolds-seed", "--grid", "1025", "--out", out.to_str().unwrap()],
         "running",
+        3.0,
         "-TERM",
     );
     let err = String::from_utf8_lossy(&o.stderr);
