@@ -136,7 +136,13 @@ fn check(text: &str) -> Result<(), TestCaseError> {
                     prop_assert!(v.is_finite(), "{}: non-finite result {ob:?}", e.name());
                 }
             }
-            Err(d) => prop_assert!(!d.to_string().is_empty()),
+            Err(d) => {
+                // FUZZ_FAILURES=1 lists every model failure of an accepted scene, to read.
+                if std::env::var("FUZZ_FAILURES").is_ok() {
+                    eprintln!("FAILED {} [{}]: {d}", e.name(), d.class());
+                }
+                prop_assert!(!d.to_string().is_empty())
+            }
         }
     }
     Ok(())

@@ -334,19 +334,19 @@ impl Sweep {
                 let mut s = base.clone();
                 for (a, &v) in self.parameters.iter().zip(&vals) {
                     s = s.with_parameter(a.parameter, v).map_err(|e| SceneError::Range {
-                        origin: format!("sweep {} point {k}", self.name),
+                        origin: format!("of sweep {} point {k}", self.name),
                         field: a.parameter.name(),
                         value: num(v),
                         allowed: e,
                     })?;
                 }
                 let origin = format!(
-                    "sweep {} point {k} ({})",
+                    "of sweep {} point {k} ({})",
                     self.name,
                     self.parameters
                         .iter()
                         .zip(&vals)
-                        .map(|(a, v)| format!("{} = {v}", a.parameter.name()))
+                        .map(|(a, &v)| format!("{} = {}", a.parameter.name(), num(v)))
                         .collect::<Vec<_>>()
                         .join(", ")
                 );

@@ -107,6 +107,21 @@ fn the_writer_replaces_only_its_own_folders_and_a_stop_leaves_them_as_they_were(
     output::replace_dir(&long, filler(2, None)).unwrap();
     assert_eq!(names(&long), [".ehl-output", "f0.txt", "f1.txt"]);
 
+    // A sweep writes into a new or empty folder or its own (its plan.json), never into a folder
+    // of other files.
+    let sw = ehl_scene::Sweep::from_json(
+        r#"{"name": "s", "scene": "hertz", "parameters": [{"parameter": "conditions.load_n", "values": [10, 20]}]}"#,
+        "test",
+    )
+    .unwrap();
+    let plan = ehl_workbench::sweep::Plan::new(&sw, None).unwrap();
+    let e = plan.write(&thesis).unwrap_err();
+    assert!(e.to_string().contains("no sweep's plan.json"), "{e}");
+    assert_eq!(names(&thesis), ["chapters"]);
+    let fresh = top.join("sweep");
+    plan.write(&fresh).unwrap();
+    plan.write(&fresh).unwrap();
+
     // The working folder, and a folder holding it, are never replaced.
     let here = std::env::current_dir().unwrap();
     let e = output::check_out_dir(&here).unwrap_err();

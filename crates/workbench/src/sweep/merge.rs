@@ -569,7 +569,23 @@ fn one_parameter(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
         a.log_x = log;
         panels.push(a);
     }
+    // An indicator with one value at every point gets no panel of its own: it is named in the
+    // footnote with its value.
+    let mut constant = vec![];
     for ind in indicators(models, recs) {
+        let name = ind.name.as_str();
+        let values: Vec<f64> = ind
+            .models
+            .iter()
+            .flat_map(|&k| recs.iter().filter_map(move |r| r.models[k].indicators.get(name)))
+            .map(|i| i.value)
+            .collect();
+        if let Some(&v) = values.first()
+            && values.iter().all(|&x| x == v)
+        {
+            constant.push(format!("{} = {} {} at every point", ind.name, v, ind.unit));
+            continue;
+        }
         let series = ind
             .models
             .iter()
@@ -590,7 +606,12 @@ fn one_parameter(ctx: &Ctx, files: &mut Vec<PathBuf>) -> Result<()> {
         panels.push(p);
     }
     if !panels.is_empty() {
-        put(files, ctx.dir, "sweep_agreement.png", &|f| plot::charts(f, &panels, note))?;
+        let note = if constant.is_empty() {
+            note.to_string()
+        } else {
+            format!("{note}; {}", constant.join(", "))
+        };
+        put(files, ctx.dir, "sweep_agreement.png", &|f| plot::charts(f, &panels, &note))?;
     }
     put(files, ctx.dir, "sweep_cost.png", &|f| {
         let mut p =

@@ -146,7 +146,7 @@ impl Plan {
                 } else {
                     (scene, None)
                 };
-                scene.validate(&format!("sweep {} point {index} (adapted)", sweep.name))?;
+                scene.validate(&format!("of sweep {} point {index} (adapted)", sweep.name))?;
                 let mut scene = scene;
                 scene.name = format!("{}-{index:05}", sweep.name);
                 Ok(PlannedPoint { index, values, scene, adapted })
@@ -168,6 +168,20 @@ impl Plan {
                 )));
             }
             return Ok(());
+        }
+        // No plan: the folder must be new or empty, never a folder of the user's files (its
+        // `results.csv` would be overwritten).
+        if dir.is_file() {
+            return Err(Error::Refused(format!(
+                "sweep folder {}: is a file (give a new folder, or an earlier sweep's)",
+                dir.display()
+            )));
+        }
+        if std::fs::read_dir(dir).is_ok_and(|mut d| d.next().is_some()) {
+            return Err(Error::Refused(format!(
+                "sweep folder {}: holds files but no sweep's plan.json: refusing to write into it (give a new or empty folder, or an earlier sweep's)",
+                dir.display()
+            )));
         }
         std::fs::create_dir_all(dir.join("points"))
             .map_err(io(format!("creating {}", dir.display())))?;
