@@ -11,12 +11,18 @@ table as rows a ``pandas.DataFrame`` takes as they are.
     rows = c.table()              # list of dicts: pandas.DataFrame(rows)
     p = c["reynolds"].fields["pressure_pa"]
 
+Every answer carries its estimated discretisation error (the same model on half and a quarter
+of the points per side): ``Result.errors``, and ``± error`` in the printed table. An answer whose
+error is beyond the limit (5 %, or the ``accuracy`` asked), or whose film went below zero,
+is flagged: ``Result.flags`` lists why, and an :class:`AccuracyWarning` says so. Ask for an
+accuracy instead of a grid with ``accuracy=0.02``: the grid then follows the accuracy rule.
+
 Errors: a refused scene or sweep raises :class:`SceneError` (``.field``, ``.value``,
 ``.allowed``); a model that does not converge raises :class:`ModelError` from :func:`run` (its
 message is the solver's diagnosis), and in :func:`compare` is listed in the table with its
 diagnosis (``Comparison.errors``), as on the command line. Solves run with the GIL released;
-Ctrl-C raises ``KeyboardInterrupt`` at once (the abandoned solve finishes on its own thread and
-writes nothing).
+Ctrl-C stops the solve (within about a second: the solvers check between cycles and steps,
+and nothing is written) and raises ``KeyboardInterrupt``.
 """
 
 from __future__ import annotations
@@ -24,6 +30,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import warnings
 from typing import Any, Dict, List, Optional, Union
 
 import numpy as np
@@ -36,14 +43,21 @@ __all__ = [
     "Result",
     "Comparison",
     "SweepResult",
+    "Table",
     "SceneError",
     "ModelError",
+    "AccuracyWarning",
     "scene",
     "run",
     "compare",
     "sweep",
     "builtins",
 ]
+
+
+class AccuracyWarning(UserWarning):
+    """An answer whose estimated error is beyond the limit (5 %, or the accuracy asked), whose
+    film went below zero, or whose error could not be estimated: ``Result.flags`` says which."""
 
 
 class Scene:
@@ -82,6 +96,15 @@ def scene(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[i
     return Scene(spec, grid)
 
 
+def _with_accuracy(s: Scene, accuracy: Optional[float]) -> Scene:
+    """``s`` asking for the relative ``accuracy`` (checked), or ``s`` itself."""
+    if accuracy is None:
+        return s
+    d = s.to_dict()
+    d["accuracy"] = float(accuracy)
+    return Scene(d)
+
+
 class Result:
     """One model's answer.
 
@@ -90,9 +113,12 @@ class Result:
     two fields every model defines, arrays ``(ny, nx)`` on ``x``, ``y`` [m]; ``fields``: every
     field the model writes, ``{name: array (ny, nx)}``, SI (units in the names). ``history``: for a marching run, ``{column: array}`` (times and the
     model's quantities, SI, units in the names), else ``None``. ``summary``: the ``summary.json``
-    the command line writes. ``report``: the text it prints. ``caveat``: why an answer returned
-    is not converged to the solver's tolerance (a steady solve that settled on a cycle, with its
-    bound; a film negative somewhere), else ``None``.
+    the command line writes. ``report``: the text it prints. ``errors``: each standard
+    observable's estimated discretisation error, ``{name: (value, error, unit)}`` (``error``
+    ``None`` where none was estimated). ``flags``: why the answer is flagged (an error beyond
+    the limit, with the grid that would meet it; a film below zero; an error not estimated),
+    empty when it is not; ``flagged``: whether it is. ``caveat``: the flags and any solver
+    caveat in one line (a steady solve that settled on a cycle), else ``None``.
     """
 
     def __init__(self, raw: Dict[str, Any]):
@@ -107,6 +133,12 @@ class Result:
         self.history: Optional[Dict[str, np.ndarray]] = _columns(rows) if rows else None
         self.model: str = self.summary.get("model", "")
         self.caveat: Optional[str] = self.summary.get("caveat")
+        acc = self.summary.get("accuracy", {})
+        self.errors: Dict[str, tuple] = {
+            k: (v["value"], v["error"], v["unit"]) for k, v in acc.get("observables", {}).items()
+        }
+        self.flags: List[str] = list(raw.get("flags", []))
+        self.flagged: bool = bool(self.flags)
 
     @property
     def observables(self) -> Dict[str, tuple]:
@@ -124,10 +156,12 @@ class Result:
 class Comparison:
     """Every model of a comparison scene side by side.
 
-    ``table()``: the rows of ``comparison.json`` (one dict per model). ``results``: ``{model:
-    Result}`` of the models that converged; ``errors``: ``{model: diagnosis}`` of those that did
-    not. ``comparison``: the whole ``comparison.json`` (with ``schedule``, how the models shared
-    the cores, and ``total_wall_time_s``).
+    ``table()``: the rows of ``comparison.json`` (one dict per model), which print as the
+    table the command line prints and go into ``pandas.DataFrame`` as they are. ``results``:
+    ``{model: Result}`` of the models that converged (each with its ``errors`` and ``flags``);
+    ``errors``: ``{model: diagnosis}`` of those that did not. ``comparison``: the whole
+    ``comparison.json`` (with ``schedule``, how the models shared the cores, and
+    ``total_wall_time_s``).
     """
 
     def __init__(self, raw: Dict[str, Any]):
@@ -136,13 +170,33 @@ class Comparison:
         self.results: Dict[str, Result] = {k: Result(v) for k, v in raw["results"].items()}
         self.errors: Dict[str, str] = dict(raw["errors"])
 
-    def table(self) -> List[Dict[str, Any]]:
-        return [dict(r) for r in self.comparison["models"]]
+    def table(self) -> "Table":
+        return Table([dict(r) for r in self.comparison["models"]], self.text)
+
+    @property
+    def flagged(self) -> Dict[str, List[str]]:
+        """``{model: flags}`` of the answers that are flagged."""
+        return {k: r.flags for k, r in self.results.items() if r.flags}
 
     def __getitem__(self, model: str) -> Result:
         if model in self.errors:
             raise ModelError(self.errors[model])
         return self.results[model]
+
+    def __repr__(self) -> str:
+        return self.text
+
+
+class Table(list):
+    """Rows (one dict per model) that print as the command line's table: a list, so
+    ``pandas.DataFrame(table)`` takes it as it is."""
+
+    def __init__(self, rows: List[Dict[str, Any]], text: str):
+        super().__init__(rows)
+        self.text = text
+
+    def __str__(self) -> str:
+        return self.text
 
     def __repr__(self) -> str:
         return self.text
@@ -165,22 +219,36 @@ class SweepResult:
         return f"SweepResult({len(self._rows)} rows in {self.folder})"
 
 
-def run(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int] = None, out: Optional[Union[str, os.PathLike]] = None) -> Result:
-    """Runs a one-model scene; writes the command line's files to ``out`` when given."""
-    s = Scene(spec, grid)
+def _warn(results: Dict[str, Result]) -> None:
+    for name, r in results.items():
+        if r.flags:
+            warnings.warn(f"{name}: " + "; ".join(r.flags), AccuracyWarning, stacklevel=3)
+
+
+def run(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int] = None, out: Optional[Union[str, os.PathLike]] = None, accuracy: Optional[float] = None, estimate: bool = True) -> Result:
+    """Runs a one-model scene; writes the command line's files to ``out`` when given. With
+    ``accuracy`` (``0.02``: 2 %) the grid follows the accuracy rule; ``estimate=False`` skips
+    the error estimate (the answer then says it was not checked)."""
+    s = _with_accuracy(Scene(spec, grid), accuracy)
     if len(s.models) != 1 or not s.data.get("model"):
-        raise SceneError(f"scene `{s.name}` lists several models ({s.models}): use ehl.compare")
-    return Result(_ehl.run(s.json, None if out is None else os.fspath(out)))
+        raise SceneError(f"scene `{s.name}` is a comparison of several models ({', '.join(s.models)}): use ehl.compare")
+    r = Result(_ehl.run(s.json, None if out is None else os.fspath(out), bool(estimate)))
+    _warn({r.model: r})
+    return r
 
 
-def compare(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int] = None, out: Optional[Union[str, os.PathLike]] = None, one_at_a_time: bool = False) -> Comparison:
+def compare(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int] = None, out: Optional[Union[str, os.PathLike]] = None, one_at_a_time: bool = False, accuracy: Optional[float] = None, estimate: bool = True) -> Comparison:
     """Runs every model of a comparison scene on one grid, all at once sharing the cores (or one
     after the other with ``one_at_a_time=True``, so that each wall time is that model's own
     cost); writes the command line's files (``comparison.json``, ``.csv``, each model's folder)
     to ``out`` when given. A one-model scene that names its comparison (the seed's
-    ``squeeze-after-stop``: ``stop-compare``) runs that comparison, as the command line does."""
-    s = Scene(spec, grid, for_compare=True)
-    return Comparison(_ehl.compare_scene(s.json, None if out is None else os.fspath(out), bool(one_at_a_time)))
+    ``squeeze-after-stop``: ``stop-compare``) runs that comparison, as the command line does.
+    ``accuracy`` and ``estimate`` as for :func:`run`; a flagged answer warns
+    (:class:`AccuracyWarning`)."""
+    s = _with_accuracy(Scene(spec, grid, for_compare=True), accuracy)
+    c = Comparison(_ehl.compare_scene(s.json, None if out is None else os.fspath(out), bool(one_at_a_time), bool(estimate)))
+    _warn(c.results)
+    return c
 
 
 def sweep(spec: Union[str, os.PathLike, Dict[str, Any]], out: Optional[Union[str, os.PathLike]] = None, jobs: Optional[int] = None) -> SweepResult:

@@ -7,7 +7,7 @@
 //! next cycle or step, writing nothing) and raises `KeyboardInterrupt` once it has.
 
 use ehl_scene::{Scene, SceneError as RustSceneError, Sweep};
-use ehl_workbench::{compare, output, run_scene, sweep};
+use ehl_workbench::{accuracy, compare, output, sweep};
 use ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::PyRuntimeError;
@@ -123,6 +123,7 @@ struct Answer {
     x: Vec<f64>,
     y: Vec<f64>,
     time_series: Option<String>,
+    flags: Vec<String>,
 }
 
 fn answer(o: &dyn ehl_workbench::Outcome) -> Result<Answer, String> {
@@ -138,6 +139,11 @@ fn answer(o: &dyn ehl_workbench::Outcome) -> Result<Answer, String> {
         x: g.xs().iter().map(|&v| s.x_si(v)).collect(),
         y: g.ys().iter().map(|&v| s.x_si(v)).collect(),
         time_series: rows.map(|r| serde_json::Value::Array(r).to_string()),
+        flags: o
+            .as_any()
+            .downcast_ref::<accuracy::Checked>()
+            .map(|c| c.flags.clone())
+            .unwrap_or_default(),
     })
 }
 
@@ -157,23 +163,29 @@ fn to_py<'py>(py: Python<'py>, a: Answer) -> PyResult<Bound<'py, PyDict>> {
     d.set_item("x", PyArray1::from_vec(py, a.x))?;
     d.set_item("y", PyArray1::from_vec(py, a.y))?;
     d.set_item("time_series", a.time_series)?;
+    d.set_item("flags", a.flags)?;
     Ok(d)
 }
 
 /// Runs a one-model scene (JSON text); writes the command line's files to `out` when given.
 #[pyfunction]
-#[pyo3(signature = (scene_json, out=None))]
-fn run<'py>(py: Python<'py>, scene_json: &str, out: Option<PathBuf>) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (scene_json, out=None, estimate=true))]
+fn run<'py>(
+    py: Python<'py>,
+    scene_json: &str,
+    out: Option<PathBuf>,
+    estimate: bool,
+) -> PyResult<Bound<'py, PyDict>> {
     let scene = Scene::from_json(scene_json, "(scene)").map_err(|e| scene_error(py, &e))?;
     if let Some(dir) = &out {
         output::check_out_dir(dir).map_err(|e| ModelError::new_err(e.to_string()))?;
     }
     let got = off_thread(py, move || -> Result<Answer, String> {
-        let outcome = run_scene(&scene).map_err(|e| e.to_string())?;
+        let outcome = accuracy::run(&scene, estimate).map_err(|e| e.to_string())?;
         if let Some(dir) = out {
-            output::write(outcome.as_ref(), &dir).map_err(|e| e.to_string())?;
+            output::write(&outcome, &dir).map_err(|e| e.to_string())?;
         }
-        answer(outcome.as_ref())
+        answer(&outcome)
     })?;
     to_py(py, got.map_err(ModelError::new_err)?)
 }
@@ -182,12 +194,13 @@ fn run<'py>(py: Python<'py>, scene_json: &str, out: Option<PathBuf>) -> PyResult
 /// "text": the printed table, "results": {model: answer}, "errors": {model: diagnosis}}`; writes
 /// the command line's files to `out` when given. The models run at once unless `one_at_a_time`.
 #[pyfunction]
-#[pyo3(signature = (scene_json, out=None, one_at_a_time=false))]
+#[pyo3(signature = (scene_json, out=None, one_at_a_time=false, estimate=true))]
 fn compare_scene<'py>(
     py: Python<'py>,
     scene_json: &str,
     out: Option<PathBuf>,
     one_at_a_time: bool,
+    estimate: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = Scene::from_json(scene_json, "(scene)").map_err(|e| scene_error(py, &e))?;
     #[allow(clippy::type_complexity)]
@@ -195,7 +208,11 @@ fn compare_scene<'py>(
         output::check_out_dir(dir).map_err(|e| ModelError::new_err(e.to_string()))?;
     }
     let got = off_thread(py, move || -> Result<(String, String, Vec<(String, Result<Answer, String>)>), String> {
-        let c = compare::run_with(&scene, compare::Schedule::one_at_a_time(one_at_a_time));
+        let c = compare::run_checked(
+            &scene,
+            compare::Schedule::one_at_a_time(one_at_a_time),
+            estimate,
+        );
         if let Some(dir) = out {
             c.write(&dir).map_err(|e| e.to_string())?;
         }

@@ -127,6 +127,9 @@ pub enum Part {
     /// Comparison scenes with their models at once and one at a time
     /// (`docs/measured/bench-compare.md`).
     Compare,
+    /// The error estimate's cost against the solve alone, every model on the seed's 257²
+    /// (`docs/measured/bench-estimate.md`).
+    Estimate,
 }
 
 pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
@@ -167,7 +170,71 @@ pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
     if wanted(Part::Compare) {
         compare(if crate::quick() { 1 } else { 3 })?;
     }
+    if wanted(Part::Estimate) {
+        estimate(crate::seed_grid(max), if crate::quick() { 1 } else { 3 })?;
+    }
     Ok(())
+}
+
+/// The error estimate ([`ehl_workbench::accuracy::estimate`]: the same model on half and a
+/// quarter of the points per side) against the solve alone, each model of the seed's comparison
+/// and the textbook `M = 20, L = 10` contact on `n`², the median of `runs` each; what the
+/// estimate found.
+fn estimate(n: usize, runs: usize) -> Result<std::path::PathBuf> {
+    use ehl_workbench::{accuracy, run_scene};
+    let mut t = crate::measured::Table::new(&[
+        "scene",
+        "model",
+        "grid",
+        "solve [s]",
+        "estimate [s]",
+        "estimate / solve",
+        "grids answering",
+        "h_c error",
+    ]);
+    let seed = ehl_scene::builtin("seed")?.with_points(n)?;
+    let mut cases: Vec<(String, ehl_scene::Scene)> =
+        seed.models().into_iter().map(|m| ("seed".to_string(), seed.for_model(m))).collect();
+    cases
+        .push(("reynolds-m20-l10".into(), ehl_scene::builtin("reynolds-m20-l10")?.with_points(n)?));
+    for (name, scene) in cases {
+        let (mut solve, mut est) = (vec![], vec![]);
+        let mut last = None;
+        for _ in 0..runs {
+            let clock = Instant::now();
+            let o = run_scene(&scene)?;
+            solve.push(clock.elapsed().as_secs_f64());
+            let clock = Instant::now();
+            let e = accuracy::estimate(&scene, o.as_ref());
+            est.push(clock.elapsed().as_secs_f64());
+            last = Some(e);
+        }
+        let e = last.context("at least one run")?;
+        let (s, x) = (median(&solve), median(&est));
+        let model = scene.model().map_or("", |m| m.name());
+        println!("{name} {model} {n}²: solve {s:.2} s, estimate {x:.2} s ({:.0} %)", 100.0 * x / s);
+        t.rows.push(vec![
+            name,
+            model.into(),
+            format!("{n}²"),
+            format!("{s:.2}"),
+            format!("{x:.2}"),
+            format!("{:.0} %", 100.0 * x / s),
+            e.grids.iter().map(|g| format!("{g}²")).collect::<Vec<_>>().join(", "),
+            e.errors[0].map_or("—".into(), |b| format!("{:.2} %", 100.0 * b.relative)),
+        ]);
+    }
+    crate::measured::write(
+        "bench-estimate",
+        "The error estimate's cost",
+        &format!("cargo xtask bench --only estimate --max-points {n}"),
+        "Each model's answer on the scene's grid, then its error estimate: the same model on half \
+         and a quarter of the points per side over the same domain, the two at once, a coarser \
+         grid wider than the model's answer can exist on not run, a Reynolds coarse grid given \
+         its first attempt and 25 cycles at most. Wall times on 2 cores, the median of the runs; \
+         the grids that answered and the central film's estimated error (relative).",
+        &[("Solve and estimate", &t)],
+    )
 }
 
 /// The deformation operator and the dry solver.

@@ -3,6 +3,7 @@
 //!
 //! Fine grids live here, not in the tests: these commands take seconds to minutes.
 
+mod accuracy;
 mod bench;
 mod compare;
 mod convergence;
@@ -126,6 +127,16 @@ enum Command {
         #[arg(long, value_enum)]
         only: Option<bench::Part>,
     },
+    /// Whether every answer's error estimate holds: the Reynolds stability map and `seed-speed`
+    /// on `--points`², each estimate against the Richardson limit of grids 2× and 4× finer;
+    /// writes `docs/measured/accuracy.md`.
+    Accuracy {
+        #[arg(long, default_value = "out/accuracy")]
+        out: PathBuf,
+        /// The answers' grid, points per side.
+        #[arg(long, default_value_t = 257)]
+        points: usize,
+    },
     /// The sweep's cluster path against a real SLURM: a one-node cluster on localhost (installed
     /// with apt-get when missing; root), a 4-point sweep as an array of 2, merged, compared with
     /// a local run byte for byte; the daemons stopped.
@@ -196,6 +207,7 @@ fn main() -> Result<()> {
             Ok(())
         }
         Command::SlurmCheck { keep } => slurm::check(keep),
+        Command::Accuracy { out, points: n } => accuracy::run(&out, points(n)),
         Command::Mutants { file, shard, timeout, out } => {
             mutants::run(&file, shard.as_deref(), timeout, &out)
         }
@@ -236,7 +248,7 @@ fn figures(out: &std::path::Path) -> Result<()> {
         }
         let scene = scene.with_points(scene_points(&scene))?;
         let outcome = ehl_workbench::run_scene(&scene)?;
-        written.extend(outcome.figures(out, &format!("{}_", scene.name))?);
+        written.extend(outcome.figures(out, &format!("{}_", scene.name), "")?);
         // The numbers behind the figures, for the validation table.
         let f = out.join(format!("{}_summary.json", scene.name));
         let summary = ehl_workbench::output::summary(outcome.as_ref());

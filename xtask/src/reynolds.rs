@@ -113,7 +113,7 @@ fn map_sweep(
 /// cells at most `CELLS_PER_FILM · H_c^{2/3}` a, its domain kept unless its inlet is short):
 /// whether the failure was the grid's. `null` when the rule asks for no finer grid than the map's.
 fn on_the_rules_grid(scene: &ehl_scene::Scene) -> Value {
-    let (fine, what) = ehl_workbench::sweep::adapt::adapt(scene, true, f64::INFINITY);
+    let (fine, what) = ehl_workbench::accuracy::rule::adapt(scene, true, f64::INFINITY);
     let Some(what) = what else { return Value::Null };
     let t = std::time::Instant::now();
     let run = ehl_workbench::run_scene(&fine);

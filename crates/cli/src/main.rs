@@ -2,7 +2,7 @@
 
 use anyhow::{Result, bail};
 use clap::{Parser, Subcommand};
-use ehl_workbench::{compare, output, run_scene};
+use ehl_workbench::{Outcome, compare, output};
 use std::path::PathBuf;
 
 #[derive(Parser)]
@@ -26,6 +26,26 @@ struct RunArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// The accuracy asked of the answer (`2%` or `0.02`): the grid and domain then follow the
+    /// accuracy rule (never coarser than the scene's or `--grid`), and an answer whose
+    /// estimated error misses it is flagged with the grid that would meet it.
+    #[arg(long, value_parser = parse_accuracy)]
+    accuracy: Option<f64>,
+    /// Skip the error estimate (the answer on half and a quarter of the points per side):
+    /// faster, and the answer says it was not checked.
+    #[arg(long)]
+    no_estimate: bool,
+}
+
+/// `2%` or `0.02`: a relative accuracy.
+fn parse_accuracy(s: &str) -> Result<f64, String> {
+    let (text, scale) = match s.trim().strip_suffix('%') {
+        Some(t) => (t.trim(), 0.01),
+        None => (s.trim(), 1.0),
+    };
+    text.parse::<f64>().map(|v| v * scale).map_err(|_| {
+        format!("`{s}` is not an accuracy: give a percentage (`2%`) or a fraction (`0.02`)")
+    })
 }
 
 /// What `compare` takes: `run`'s arguments and the schedule.
@@ -143,8 +163,8 @@ fn real_main() -> Result<()> {
             let s = ehl_scene::load(&scene)?;
             println!("{}", s.to_json());
         }
-        Command::Run(RunArgs { scene, out, grid, threads }) => {
-            let s = prepare(ehl_scene::load(&scene)?, grid, threads)?;
+        Command::Run(RunArgs { scene, out, grid, threads, accuracy, no_estimate }) => {
+            let s = prepare(ehl_scene::load(&scene)?, grid, threads, accuracy)?;
             if s.is_comparison() {
                 bail!(
                     "scene `{}` is a comparison of several models ({}): run it with `ehl compare`",
@@ -154,14 +174,16 @@ fn real_main() -> Result<()> {
             }
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
             output::check_out_dir(&dir)?;
+            let (s, grown) = ehl_workbench::accuracy::resolved(&s);
             eprintln!(
-                "running `{}` ({}) on {}, into {}",
+                "running `{}` ({}) on {}{}, into {}",
                 s.name,
                 s.model_names(),
                 grid_words(&s),
+                grown.map_or(String::new(), |g| format!(" (the accuracy asked needs {g})")),
                 dir.display()
             );
-            let outcome = run_scene(&s).map_err(|e| match e {
+            let outcome = ehl_workbench::accuracy::run(&s, !no_estimate).map_err(|e| match e {
                 ehl_workbench::Error::Interrupted(m) => ehl_workbench::Error::Interrupted(format!(
                     "{m}; no output written, {} is as it was",
                     dir.display()
@@ -169,7 +191,7 @@ fn real_main() -> Result<()> {
                 e => e,
             })?;
             eprintln!("writing the results into {}", dir.display());
-            let files = output::write(outcome.as_ref(), &dir)?;
+            let files = output::write(&outcome, &dir)?;
             print!("{}", outcome.report());
             println!("wrote {} files to {}:", files.len(), dir.display());
             for f in files {
@@ -177,20 +199,26 @@ fn real_main() -> Result<()> {
             }
         }
         Command::Compare(CompareArgs {
-            run: RunArgs { scene, out, grid, threads },
+            run: RunArgs { scene, out, grid, threads, accuracy, no_estimate },
             one_at_a_time,
         }) => {
-            let s = prepare(comparison(&scene)?, grid, threads)?;
+            let s = prepare(comparison(&scene)?, grid, threads, accuracy)?;
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
             output::check_out_dir(&dir)?;
+            let (s, grown) = ehl_workbench::accuracy::resolved(&s);
             eprintln!(
-                "running `{}` ({}) on {}, into {}",
+                "running `{}` ({}) on {}{}, into {}",
                 s.name,
                 s.model_names(),
                 grid_words(&s),
+                grown.map_or(String::new(), |g| format!(" (the accuracy asked needs {g})")),
                 dir.display()
             );
-            let c = compare::run_with(&s, compare::Schedule::one_at_a_time(one_at_a_time));
+            let c = compare::run_checked(
+                &s,
+                compare::Schedule::one_at_a_time(one_at_a_time),
+                !no_estimate,
+            );
             eprintln!("writing the results into {}", dir.display());
             let files = c.write(&dir)?;
             print!("{}", c.table());
@@ -350,14 +378,18 @@ fn comparison(scene: &str) -> Result<ehl_scene::Scene> {
     })
 }
 
-/// A loaded scene with the command line's grid and thread count applied.
+/// A loaded scene with the command line's grid, accuracy and thread count applied.
 fn prepare(
     mut s: ehl_scene::Scene,
     grid: Option<usize>,
     threads: Option<usize>,
+    accuracy: Option<f64>,
 ) -> Result<ehl_scene::Scene> {
     if let Some(n) = grid {
         s = s.with_points(n)?;
+    }
+    if let Some(a) = accuracy {
+        s = s.with_accuracy(a)?;
     }
     if let Some(t) = threads {
         anyhow::ensure!(t >= 1, "--threads must be >= 1");

@@ -10,16 +10,32 @@ use serde::{Deserialize, Serialize};
 /// zero outside the contact: 1 % of `p_h` marks the loaded zone for all alike.
 pub const EXTENT_THRESHOLD: f64 = 0.01;
 
-/// A model's answer in SI. Films are the separation of the two solid surfaces (the layer model's
-/// layer plus any gap above it; the Reynolds film; the dry gap).
+/// The standard observables an error is estimated for, as tables name them, with their unit.
+pub const OBSERVED: [(&str, &str); 5] =
+    [("h_c", "m"), ("h_min", "m"), ("p_max", "Pa"), ("2a_x", "m"), ("2a_y", "m")];
+
+/// A model's answer in SI.
+///
+/// A film is the separation of the two solid surfaces (the layer model's layer plus any gap
+/// above it; the Reynolds film; the dry gap), so it is never below zero: where the solids
+/// touch it is zero, and the contact carries the load there. A model whose field goes below
+/// zero somewhere (a film too thin for its grid, a contact solved to its tolerance) reports
+/// the film there as zero and the depth it went below as [`Observables::film_overlap_m`]: the
+/// solids' overlap, a discretisation error of the answer, not a film.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Observables {
-    /// Film at the contact centre `(0, 0)` [m].
+    /// Film at the contact centre `(0, 0)` [m], at least 0.
     pub central_film_m: f64,
-    /// Smallest film over the domain [m] and where, `(x, y)` [m].
+    /// Smallest film over the domain [m], at least 0 (0: the solids touch somewhere).
     pub minimum_film_m: f64,
-    /// Where the minimum film is: `(x, y)` [m].
+    /// Where the minimum film is: `(x, y)` [m] (the deepest overlap's place when there is one).
     pub minimum_film_at_m: (f64, f64),
+    /// How far the model's film field went below zero [m] (the solids' overlap, at the place
+    /// of the minimum film): 0 for a film that exists everywhere. A discretisation error (a
+    /// grid too coarse for the thinnest film, or a contact's tolerance), reported with the
+    /// answer's error rather than as a negative film.
+    #[serde(default)]
+    pub film_overlap_m: f64,
     /// Largest pressure [Pa] and where, `(x, y)` [m].
     pub max_pressure_pa: f64,
     /// Where the maximum pressure is: `(x, y)` [m].
@@ -31,6 +47,41 @@ pub struct Observables {
     pub contact_extent_y_m: f64,
     /// `∬p / F − 1`.
     pub load_error: f64,
+}
+
+/// One observable's estimated error.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ErrorBar {
+    /// The estimated error relative to the observable's scale (its value; a film's over the
+    /// film's scale).
+    pub relative: f64,
+    /// The same in the observable's unit (m, Pa): the answer's `±`.
+    pub absolute: f64,
+    /// The order the three grids converge at, when they show one.
+    pub order: Option<f64>,
+}
+
+/// An answer's estimated discretisation errors, and how they were found.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Estimate {
+    /// Points per side of the answer's grid and of the coarser grids that answered.
+    pub grids: Vec<usize>,
+    /// Per observable of [`OBSERVED`] (`h_c`, `h_min`, `p_max`, `2a_x`, `2a_y`): its error bar, `None` where undefined (the dry
+    /// contact's films) or where no coarser grid answered.
+    pub errors: [Option<ErrorBar>; 5],
+    /// How the errors were estimated, in words (three grids; two with the order assumed; or
+    /// why none could be).
+    pub method: String,
+    /// The coarser runs' wall time [s].
+    pub wall_time_s: f64,
+}
+
+impl Estimate {
+    /// The largest relative error of the central film, minimum film and maximum pressure (the
+    /// observables an accuracy is asked of); `None` when none was estimated.
+    pub fn worst(&self) -> Option<f64> {
+        self.errors[..3].iter().flatten().map(|e| e.relative).reduce(f64::max)
+    }
 }
 
 /// Length of the zone where `v ≥ thr` along a line of samples at spacing `h` [same unit as h]:
@@ -73,9 +124,10 @@ impl Observables {
         let load = p.sum() * grid.cell_area() / scales.load_dimensionless();
         let at = |j: usize, i: usize| (scales.x_si(grid.x(i)), scales.x_si(grid.y(j)));
         Self {
-            central_film_m: scales.h_si(film[[jc, ic]]),
-            minimum_film_m: scales.h_si(hmin.0),
+            central_film_m: scales.h_si(film[[jc, ic]]).max(0.0),
+            minimum_film_m: scales.h_si(hmin.0).max(0.0),
             minimum_film_at_m: at(hmin.1, hmin.2),
+            film_overlap_m: scales.h_si(-hmin.0).max(0.0),
             max_pressure_pa: scales.p_si(pmax.0),
             max_pressure_at_m: at(pmax.1, pmax.2),
             contact_extent_x_m: scales.x_si(extent(&row, grid.dx(), EXTENT_THRESHOLD)),
@@ -88,6 +140,27 @@ impl Observables {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_film_below_zero_is_reported_as_zero_with_its_overlap() {
+        // A Hertz-like pressure and a film that dips to -0.02 a²/R off centre: the minimum film
+        // is 0 (the solids touch) and the overlap is the dip, in metres; the centre keeps its
+        // positive film.
+        let grid = Grid::new(33, 33, (-1.5, 1.5), (-1.5, 1.5));
+        let scales = HertzScales::new(&crate::SEED_CONTACT);
+        let p = grid.field(|x, y| (1.0 - x * x - y * y).max(0.0).sqrt());
+        let mut film = grid.field(|_, _| 0.1);
+        film[[16, 30]] = -0.02;
+        let o = Observables::from_fields(&grid, &scales, &p, &film);
+        assert_eq!(o.minimum_film_m, 0.0);
+        assert!((o.film_overlap_m - scales.h_si(0.02)).abs() < 1e-20, "{o:?}");
+        assert!((o.central_film_m - scales.h_si(0.1)).abs() < 1e-20);
+        assert!((o.minimum_film_at_m.0 - scales.x_si(grid.x(30))).abs() < 1e-15);
+        // A film that exists everywhere has no overlap.
+        let o = Observables::from_fields(&grid, &scales, &p, &grid.field(|_, _| 0.1));
+        assert_eq!(o.film_overlap_m, 0.0);
+        assert!(o.minimum_film_m > 0.0);
+    }
 
     #[test]
     fn extent_interpolates_the_crossings() {

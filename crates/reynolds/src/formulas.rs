@@ -66,7 +66,7 @@ pub const GRID_CHANGE_PER_CELL2: f64 = 4.3;
 /// half the points per side: with the change `K ρ²` ([`GRID_CHANGE_PER_CELL2`]),
 /// `ρ = √(change / K)`, the width [`cell_needed`] measures cells in; never coarser than
 /// [`cell_needed`]. (A sweep asks for the change whose estimated error is its flag limit:
-/// `ehl_workbench::sweep::convergence::change_allowed`, 4.8 % for 2 %, `ρ` = 0.106.)
+/// `ehl_workbench::accuracy::gci::change_allowed`, 4.8 % for 2 %, `ρ` = 0.106.)
 pub fn cell_for_change(h_hertz: f64, change: f64) -> f64 {
     let rho = (change.max(0.0) / GRID_CHANGE_PER_CELL2).sqrt();
     cell_needed(h_hertz) * (rho / CELLS_PER_FILM).min(1.0)

@@ -69,6 +69,13 @@ pub struct Scene {
     /// can march on a common grid; `ehl run` ignores it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub comparison: Option<String>,
+    /// The relative accuracy asked of the answer (`0.02`: 2 %) instead of a grid: the domain and
+    /// grid then follow the accuracy rule for it (the sweeps' rule, each model's own need, the
+    /// finest any listed model asks for; never coarser than `grid`), the answer's estimated
+    /// error is checked against it, and a miss is flagged with the grid that would meet it.
+    /// Absent: the scene's own grid, its answers flagged beyond 5 %.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accuracy: Option<f64>,
 }
 
 /// The model a scene runs.
@@ -912,7 +919,8 @@ pub fn builtin(name: &str) -> Result<Scene, SceneError> {
 pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
     let path = Path::new(name_or_path);
     let named = BUILTINS.iter().any(|(n, _)| *n == name_or_path);
-    match (named, path.exists()) {
+    // A folder named like a built-in (an output folder `seed`) is no scene file: no clash.
+    match (named, path.is_file()) {
         (true, false) => return builtin(name_or_path),
         (true, true) => {
             return Err(SceneError::Ambiguous { name: name_or_path.into(), kind: "scene" });
@@ -982,6 +990,14 @@ impl Scene {
             r.method = Some(r.method());
         }
         serde_json::to_string_pretty(&filled).unwrap_or_default()
+    }
+
+    /// The same scene asking for the relative `accuracy` (the `--accuracy` override), checked.
+    pub fn with_accuracy(&self, accuracy: f64) -> Result<Scene, SceneError> {
+        let mut s = self.clone();
+        s.accuracy = Some(accuracy);
+        s.validate(&format!("`{}` with the accuracy {accuracy}", self.name))?;
+        Ok(s)
     }
 
     /// The same scene with `n` points per side (the `--grid` override).
@@ -1062,6 +1078,18 @@ impl Scene {
         ck.plausible("conditions.load_n", c.load_n)?;
         ck.plausible("conditions.reduced_modulus_pa", c.reduced_modulus_pa)?;
         self.validate_contact_size(&ck, &self.conditions.contact(), "conditions.load_n")?;
+        if let Some(a) = self.accuracy {
+            ck.own(
+                "",
+                ehl_core::check::within(
+                    "accuracy",
+                    a,
+                    1e-3,
+                    0.5,
+                    "relative error of the answer, 0.02: 2 %",
+                ),
+            )?;
+        }
         self.validate_domain(&ck)?;
         ck.own("solver", self.solver.check())?;
         if let Some(u) = c.rolling_velocity_m_s {

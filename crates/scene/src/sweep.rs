@@ -24,7 +24,7 @@ pub struct Sweep {
     #[serde(default = "yes")]
     pub adapt: bool,
     /// With `adapt`, also refine each point's cells to what its thinnest film needs (the grid
-    /// rule, `ehl_workbench::sweep::adapt`): on by default; off keeps the scene's cells (a coarse
+    /// rule, `ehl_workbench::accuracy::rule`): on by default; off keeps the scene's cells (a coarse
     /// map on purpose).
     #[serde(default = "yes")]
     pub resolve: bool,
@@ -447,7 +447,7 @@ pub fn builtin_sweep_names() -> Vec<&'static str> {
 pub fn load_sweep(name_or_path: &str) -> Result<(Sweep, Option<std::path::PathBuf>), SceneError> {
     let path = Path::new(name_or_path);
     if let Some((n, text)) = SWEEPS.iter().find(|(n, _)| *n == name_or_path) {
-        if path.exists() {
+        if path.is_file() {
             return Err(SceneError::Ambiguous { name: name_or_path.into(), kind: "sweep" });
         }
         return Ok((Sweep::from_json(text, &format!("`{n}` (built-in sweep)"))?, None));

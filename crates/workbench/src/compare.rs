@@ -3,6 +3,7 @@
 //! terminal table), with overlaid centrelines and the film difference map. A model that fails is
 //! listed with its diagnosis; the others still write their results.
 
+use crate::accuracy;
 use crate::error::{Result, create_dir, output, write_file};
 use crate::model::Outcome;
 use crate::output::{self, q};
@@ -93,10 +94,33 @@ pub fn run(scene: &Scene) -> Comparison {
 /// Runs every model of `scene` (validated) on the given schedule, each on
 /// `scene.for_model(m)`: the same conditions, domain and grid.
 pub fn run_with(scene: &Scene, schedule: Schedule) -> Comparison {
+    run_models(scene, schedule, None)
+}
+
+/// Runs every model of `scene` (validated) on the grid its accuracy asks for
+/// ([`accuracy::resolved`]) on the given schedule, each answer checked: its error estimated
+/// unless `estimate` is false, and flagged beyond the scene's accuracy (or the default
+/// limit). What `ehl compare` and Python run.
+pub fn run_checked(scene: &Scene, schedule: Schedule, estimate: bool) -> Comparison {
+    let (scene, _) = accuracy::resolved(scene);
+    run_models(&scene, schedule, Some(accuracy::Checking::of(&scene, estimate)))
+}
+
+/// Runs every model of `scene` on `schedule`, each answer checked as `checking` asks (when
+/// given; the check's coarser runs belong to the model's wall time).
+fn run_models(
+    scene: &Scene,
+    schedule: Schedule,
+    checking: Option<accuracy::Checking>,
+) -> Comparison {
     let t0 = Instant::now();
     let one = |m: Model| {
         let t = Instant::now();
-        let outcome = crate::run::run_scene(&scene.for_model(m));
+        let own = scene.for_model(m);
+        let outcome = crate::run::run_scene(&own).map(|o| match checking {
+            Some(how) => Box::new(accuracy::Checked::new(&own, o, how)) as Box<dyn Outcome>,
+            None => o,
+        });
         Entry { model: m, outcome, wall_time_s: t.elapsed().as_secs_f64() }
     };
     let models = scene.models();
@@ -147,11 +171,13 @@ impl Comparison {
                         "model": e.name(), "converged": true,
                         "central_film_m": ob.central_film_m, "minimum_film_m": ob.minimum_film_m,
                         "minimum_film_at_m": [ob.minimum_film_at_m.0, ob.minimum_film_at_m.1],
+                        "film_overlap_m": ob.film_overlap_m,
                         "max_pressure_pa": ob.max_pressure_pa,
                         "max_pressure_at_m": [ob.max_pressure_at_m.0, ob.max_pressure_at_m.1],
                         "contact_extent_x_m": ob.contact_extent_x_m,
                         "contact_extent_y_m": ob.contact_extent_y_m,
                         "load_error": ob.load_error, "wall_time_s": e.wall_time_s,
+                        "errors": errors_json(Some(o.as_ref())),
                         "caveat": o.caveat(),
                     })
                 }
@@ -198,6 +224,8 @@ impl Comparison {
                     "contact_extent_x_m": ob.map(|o| o.contact_extent_x_m),
                     "contact_extent_y_m": ob.map(|o| o.contact_extent_y_m),
                     "load_error": ob.map(|o| o.load_error),
+                    "film_overlap_m": ob.map(|o| o.film_overlap_m),
+                    "error": errors_json(e.outcome.as_ref().ok().map(|o| o.as_ref())),
                     "wall_time_s": e.wall_time_s,
                     "diagnosis": e.outcome.as_ref().err().map(|d| d.to_string()),
                     "caveat": e.outcome.as_ref().ok().and_then(|o| o.caveat()),
@@ -207,7 +235,8 @@ impl Comparison {
         crate::output::csv(&rows)
     }
 
-    /// The side-by-side table for the terminal.
+    /// The side-by-side table for the terminal: each observable with its estimated error
+    /// (`11.790 ± 0.310`) where one was estimated, then each model's caveats and flags.
     pub fn table(&self) -> String {
         let s = self.scales();
         let g = self.scene.grid();
@@ -223,41 +252,86 @@ impl Comparison {
             s.a * 1e3,
             s.p_h * 1e-9
         );
-        t += &format!(
-            "  {:<16} {:>10} {:>10} {:>12} {:>11} {:>11} {:>10} {:>9}\n",
-            "model",
+        // Each cell: the value, with its error bar where there is one.
+        let cell = |o: &dyn Outcome, k: usize, v: f64| {
+            let bar = o.estimate().and_then(|(e, _)| e.errors[k]);
+            let (scale, digits) = match k {
+                0 | 1 => (1e9, 3),
+                2 => (1e-9, 4),
+                _ => (1e3, 4),
+            };
+            accuracy::with_bar(v, bar.as_ref(), scale, digits)
+        };
+        let rows: Vec<(String, Result<[String; 7], String>)> = self
+            .entries
+            .iter()
+            .map(|e| {
+                let row = match &e.outcome {
+                    Ok(o) => {
+                        let ob = o.observables();
+                        Ok([
+                            cell(o.as_ref(), 0, ob.central_film_m),
+                            cell(o.as_ref(), 1, ob.minimum_film_m),
+                            cell(o.as_ref(), 2, ob.max_pressure_pa),
+                            cell(o.as_ref(), 3, ob.contact_extent_x_m),
+                            cell(o.as_ref(), 4, ob.contact_extent_y_m),
+                            format!("{:.1e}", ob.load_error),
+                            format!("{:.2}", e.wall_time_s),
+                        ])
+                    }
+                    Err(d) => Err(format!("FAILED after {:.2} s: {d}", e.wall_time_s)),
+                };
+                (e.name(), row)
+            })
+            .collect();
+        let heads = [
             "h_c [nm]",
             "h_min [nm]",
             "p_max [GPa]",
             "2a_x [mm]",
             "2a_y [mm]",
             "load err",
-            "wall [s]"
-        );
-        for e in &self.entries {
-            match &e.outcome {
-                Ok(o) => {
-                    let ob = o.observables();
-                    t += &format!(
-                        "  {:<16} {:>10.3} {:>10.3} {:>12.4} {:>11.4} {:>11.4} {:>10.1e} {:>9.2}\n",
-                        e.name(),
-                        ob.central_film_m * 1e9,
-                        ob.minimum_film_m * 1e9,
-                        ob.max_pressure_pa * 1e-9,
-                        ob.contact_extent_x_m * 1e3,
-                        ob.contact_extent_y_m * 1e3,
-                        ob.load_error,
-                        e.wall_time_s
-                    )
+            "wall [s]",
+        ];
+        let widths: Vec<usize> = (0..7)
+            .map(|k| {
+                rows.iter()
+                    .filter_map(|r| r.1.as_ref().ok().map(|c| c[k].chars().count()))
+                    .chain([heads[k].chars().count()])
+                    .max()
+                    .unwrap_or(0)
+            })
+            .collect();
+        t += &format!("  {:<16}", "model");
+        for (h, w) in heads.iter().zip(&widths) {
+            t += &format!(" {h:>w$}");
+        }
+        t += "\n";
+        for (name, row) in &rows {
+            t += &format!("  {name:<16}");
+            match row {
+                Ok(cells) => {
+                    for (c, w) in cells.iter().zip(&widths) {
+                        t += &format!(" {c:>w$}");
+                    }
                 }
-                Err(d) => {
-                    t += &format!("  {:<16} FAILED after {:.2} s: {d}\n", e.name(), e.wall_time_s)
-                }
+                Err(m) => t += &format!(" {m}"),
             }
+            t += "\n";
         }
         for e in &self.entries {
-            if let Some(c) = e.outcome.as_ref().ok().and_then(|o| o.caveat()) {
-                t += &format!("  {}: caveat: {c}\n", e.name());
+            let Ok(o) = e.outcome.as_ref() else { continue };
+            if let Some((est, limit)) = o.estimate() {
+                let within = est.worst().is_some_and(|w| w <= limit);
+                t += &format!(
+                    "  {}: error {}{}\n",
+                    e.name(),
+                    est.method,
+                    if within { format!("; within {:.1} %", 100.0 * limit) } else { String::new() }
+                );
+            }
+            if let Some(c) = o.caveat() {
+                t += &format!("  {}: FLAGGED: {c}\n", e.name());
             }
         }
         t += &format!(
@@ -310,8 +384,9 @@ impl Comparison {
     /// The models' histories (runs in time) in one table, SI: every step's standard observables
     /// and the solids' approach (empty for a model that reports none).
     pub fn history_csv(&self) -> Option<String> {
-        let mut s =
-            String::from("model,t_s,central_film_m,minimum_film_m,max_pressure_pa,approach_m\n");
+        let mut s = String::from(
+            "model,t_s,central_film_m,minimum_film_m,film_overlap_m,max_pressure_pa,approach_m\n",
+        );
         let mut any = false;
         for e in &self.entries {
             let Ok(o) = e.outcome.as_ref() else { continue };
@@ -321,10 +396,11 @@ impl Comparison {
             for (k, (t, ob)) in h.iter().enumerate() {
                 let d = approach.as_ref().map_or(String::new(), |a| format!("{:e}", a[k]));
                 s += &format!(
-                    "{},{t:e},{:e},{:e},{:e},{d}\n",
+                    "{},{t:e},{:e},{:e},{:e},{:e},{d}\n",
                     e.name(),
                     ob.central_film_m,
                     ob.minimum_film_m,
+                    ob.film_overlap_m,
                     ob.max_pressure_pa
                 );
             }
@@ -534,14 +610,29 @@ impl Comparison {
                 Mark::Line,
             ));
         }
+        // Each model's central film with its estimated error, where there is one.
+        let bars: Vec<String> = ok
+            .iter()
+            .filter(|(_, o)| o.lubricated())
+            .filter_map(|(name, o)| {
+                let (e, _) = o.estimate()?;
+                let hc = o.observables().central_film_m;
+                Some(format!("{name} {}", accuracy::with_bar(hc, e.errors[0].as_ref(), 1e9, 3)))
+            })
+            .collect();
         let note = format!(
-            "{}: R = {} mm, F = {} N, u1 = {} m/s; {}x{}",
+            "{}: R = {} mm, F = {} N, u1 = {} m/s; {}x{}{}",
             self.scene.name,
             self.scene.conditions.ball_radius_m * 1e3,
             self.scene.conditions.load_n,
             self.scene.conditions.rolling_velocity_m_s.unwrap_or(0.0),
             g.nx,
-            g.ny
+            g.ny,
+            if bars.is_empty() {
+                String::new()
+            } else {
+                format!("; h_c [nm]: {}", bars.join(", "))
+            }
         );
         let centre = dir.join("comparison_centreline.png");
         plot::charts(
@@ -599,6 +690,29 @@ fn styled(mut series: Vec<Series>) -> Vec<Series> {
         s.dashed = true;
     }
     series
+}
+
+/// An answer's estimated errors for the comparison's JSON and CSV: per observable its error
+/// (absolute, SI) and relative error, and the grids; nulls where none was estimated (the same
+/// keys every row, so the CSV's columns line up).
+fn errors_json(o: Option<&dyn Outcome>) -> Value {
+    let est = o.and_then(|o| o.estimate());
+    let mut m = serde_json::Map::new();
+    for (k, (name, unit)) in ehl_core::observe::OBSERVED.iter().enumerate() {
+        let b = est.and_then(|(e, _)| e.errors[k]);
+        m.insert(
+            format!("{name}_{unit}"),
+            json!({"error": b.map(|b| b.absolute), "relative": b.map(|b| b.relative)}),
+        );
+    }
+    m.insert("limit".into(), json!(est.map(|e| e.1)));
+    m.insert(
+        "grids".into(),
+        json!(
+            est.map(|(e, _)| e.grids.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(" "))
+        ),
+    );
+    Value::Object(m)
 }
 
 /// A model's approach [m] on the times of its history, or `None` when it reports none or its

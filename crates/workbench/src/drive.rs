@@ -573,6 +573,7 @@ mod tests {
                 central_film_m: self.y,
                 minimum_film_m: self.y,
                 minimum_film_at_m: (0.0, 0.0),
+                film_overlap_m: 0.0,
                 max_pressure_pa: 0.0,
                 max_pressure_at_m: (0.0, 0.0),
                 contact_extent_x_m: 0.0,

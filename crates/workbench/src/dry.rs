@@ -85,8 +85,8 @@ impl Outcome for DryOutcome {
             ("deformation_m".into(), self.w.mapv(|v| s.h_si(v))),
         ]
     }
-    fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
-        dry_figures(self, dir, prefix)
+    fn figures(&self, dir: &Path, prefix: &str, footnote: &str) -> Result<Vec<PathBuf>> {
+        dry_figures(self, dir, prefix, footnote)
     }
     fn report(&self) -> String {
         dry_report(self)
@@ -204,7 +204,7 @@ pub fn conditions_note(o: &DryOutcome) -> String {
     )
 }
 
-fn dry_figures(o: &DryOutcome, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
+fn dry_figures(o: &DryOutcome, dir: &Path, prefix: &str, footnote: &str) -> Result<Vec<PathBuf>> {
     let line = dry_centreline(o);
     let x: Vec<f64> = line.columns[0].1.iter().map(|&v| v / o.scales.a).collect();
     let col = |k: usize, scale: f64| -> Vec<(f64, f64)> {
@@ -239,7 +239,7 @@ fn dry_figures(o: &DryOutcome, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>
             )
             .legend(plotters::prelude::SeriesLabelPosition::UpperMiddle),
         ],
-        &conditions_note(o),
+        &(conditions_note(o) + footnote),
     )?;
     let map = dir.join(format!("{prefix}pressure_map.png"));
     let g = &o.grid;
@@ -252,7 +252,7 @@ fn dry_figures(o: &DryOutcome, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>
             diverging: false,
         }],
         g,
-        &conditions_note(o),
+        &(conditions_note(o) + footnote),
     )?;
     Ok(vec![centre, map])
 }

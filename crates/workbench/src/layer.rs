@@ -195,8 +195,8 @@ impl Outcome for LayerOutcome {
         let Some(rec) = &self.record else { return vec![] };
         rec.snapshots.iter().map(|(t, sn)| (*t, &sn.p, sn.film.clone())).collect()
     }
-    fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
-        LayerOutcome::figures(self, dir, prefix)
+    fn figures(&self, dir: &Path, prefix: &str, footnote: &str) -> Result<Vec<PathBuf>> {
+        LayerOutcome::figures(self, dir, prefix, footnote)
     }
     fn report(&self) -> String {
         layer_report(self)
@@ -450,7 +450,14 @@ impl LayerOutcome {
 
     /// Pressure [p_h] and layer thickness [nm] maps side by side (pressure first, as every
     /// model's maps).
-    fn maps(&self, f: &Path, l: &Array2<f64>, p: &Array2<f64>, when: &str) -> Result<()> {
+    fn maps(
+        &self,
+        f: &Path,
+        l: &Array2<f64>,
+        p: &Array2<f64>,
+        when: &str,
+        note: &str,
+    ) -> Result<()> {
         let g = &self.grid;
         let lnm = l.mapv(|v| v * self.scales.delta * 1e9);
         plot::heat_maps(
@@ -470,12 +477,14 @@ impl LayerOutcome {
                 },
             ],
             g,
-            &self.note(),
+            note,
         )
     }
 
     /// The maps, the centrelines, the history and the snapshots as PNG.
-    pub fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
+    pub fn figures(&self, dir: &Path, prefix: &str, footnote: &str) -> Result<Vec<PathBuf>> {
+        let note = self.note() + footnote;
+        let note = note.as_str();
         let mut out = vec![];
         let (s, g) = (&self.scales, &self.grid);
         let l0_nm = self.supply_thickness_m() * 1e9;
@@ -506,11 +515,11 @@ impl LayerOutcome {
                     ],
                 ),
             ],
-            &self.note(),
+            note,
         )?;
         out.push(f);
         let f = dir.join(format!("{prefix}maps.png"));
-        self.maps(&f, &self.l, &self.final_state.p, &format!("(final, l0 = {l0_nm} nm)"))?;
+        self.maps(&f, &self.l, &self.final_state.p, &format!("(final, l0 = {l0_nm} nm)"), note)?;
         out.push(f);
         if let Some(rec) = &self.record {
             let ser = |k: fn(&LayerRow) -> f64, scale: f64| -> Vec<(f64, f64)> {
@@ -530,7 +539,7 @@ impl LayerOutcome {
                     ("maximum", ser(|r| r.observed.max_pressure_pa, 1.0 / s.p_h)),
                     ("central", ser(|r| r.layer.central_pressure, 1.0 / s.p_h)),
                 ],
-                &self.note(),
+                note,
             )?;
             out.push(f);
             if !rec.snapshots.is_empty() {
@@ -563,13 +572,13 @@ impl LayerOutcome {
                             series_of(|s| &s.p, 1.0),
                         ),
                     ],
-                    &self.note(),
+                    note,
                 )?;
                 out.push(f);
                 for (k, (t, sn)) in rec.snapshots.iter().enumerate() {
                     crate::error::interruption()?;
                     let f = dir.join(format!("{prefix}snapshot{k:02}_maps.png"));
-                    self.maps(&f, &sn.l, &sn.p, &format!("at t = {t:.4} s"))?;
+                    self.maps(&f, &sn.l, &sn.p, &format!("at t = {t:.4} s"), note)?;
                     out.push(f);
                 }
             }

@@ -4,6 +4,7 @@
 //! an outcome into `summary.json`, `centreline.csv`, `.npy` fields and PNG figures;
 //! [`compare`] puts several models' outcomes side by side.
 
+pub mod accuracy;
 pub mod compare;
 pub mod drive;
 pub mod dry;

@@ -30,6 +30,12 @@ pub trait ContactModel: Sync {
     fn cell_needed(&self, _scene: &Scene, _change: f64) -> f64 {
         f64::INFINITY
     }
+    /// The scene a coarser grid of an error estimate runs (the answer's scene on fewer points):
+    /// a model may bound its cost there, where an answer that is slow to come is no estimate
+    /// worth waiting for ([`crate::accuracy::estimate`]); by default the scene itself.
+    fn for_estimate(&self, coarse: Scene) -> Scene {
+        coarse
+    }
 }
 
 /// Any outcome as `Any`, so a caller that needs one model's own fields can downcast.
@@ -123,18 +129,32 @@ pub trait Outcome: AsAny + Send + 'static {
     fn snapshots(&self) -> Vec<(f64, &Array2<f64>, Array2<f64>)> {
         vec![]
     }
-    /// Its own figures, written into `dir` with `prefix`; the files written.
-    fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>>;
+    /// Its own figures, written into `dir` with `prefix`, `footnote` added to each figure's own
+    /// footnote (the answer's estimated errors); the files written.
+    fn figures(&self, dir: &Path, prefix: &str, footnote: &str) -> Result<Vec<PathBuf>>;
     /// The terminal report.
     fn report(&self) -> String;
+    /// The answer's estimated discretisation error and the limit it was judged against, when
+    /// one was estimated (the workbench's `accuracy` module).
+    fn estimate(&self) -> Option<(&ehl_core::observe::Estimate, f64)> {
+        None
+    }
+    /// The model's own outcome inside a wrapper that adds to it (an estimate of its error);
+    /// `None` for a model's own outcome.
+    fn inner(&self) -> Option<&dyn Outcome> {
+        None
+    }
 }
 
 impl dyn Outcome {
-    /// The model's own outcome type, for what only that model has.
+    /// The model's own outcome type, for what only that model has (through any wrapper).
     pub fn downcast_ref<T: Outcome>(&self) -> Option<&T> {
-        self.as_any().downcast_ref()
+        match self.inner() {
+            Some(inner) => inner.downcast_ref(),
+            None => self.as_any().downcast_ref(),
+        }
     }
-    /// The model's own outcome type, owned.
+    /// The model's own outcome type, owned (a wrapper's is not: use [`Self::downcast_ref`]).
     pub fn downcast<T: Outcome>(self: Box<Self>) -> Option<Box<T>> {
         self.into_any().downcast().ok()
     }

@@ -258,7 +258,7 @@ pub fn write_into(outcome: &dyn Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
         }
     }
     if outputs.figures {
-        files.extend(outcome.figures(dir, "")?);
+        files.extend(outcome.figures(dir, "", "")?);
     }
     Ok(files)
 }
@@ -324,7 +324,7 @@ pub const SUMMARY_SCHEMA: &str = "ehl-summary/1";
 
 /// The keys of `summary.json` every model writes, in the same shape: what a reader can take
 /// from any model's summary without knowing which model wrote it.
-pub const SHARED_KEYS: [&str; 12] = [
+pub const SHARED_KEYS: [&str; 13] = [
     "schema",
     "scene",
     "model",
@@ -333,11 +333,54 @@ pub const SHARED_KEYS: [&str; 12] = [
     "scales",
     "grid",
     "observables",
+    "accuracy",
     "indicators",
     "caveat",
     "timings",
     "details",
 ];
+
+/// `summary.json`'s `accuracy`: each standard observable with its value, unit, estimated error
+/// (absolute and relative) and the order the grids showed; how it was estimated, the limit and
+/// what is flagged. `null` fields where no error was estimated.
+fn accuracy(outcome: &dyn Outcome) -> Value {
+    let ob = outcome.observables();
+    let v = [
+        ob.central_film_m,
+        ob.minimum_film_m,
+        ob.max_pressure_pa,
+        ob.contact_extent_x_m,
+        ob.contact_extent_y_m,
+    ];
+    let Some((e, limit)) = outcome.estimate() else {
+        return serde_json::json!({ "estimated": false });
+    };
+    let observables: serde_json::Map<String, Value> = ehl_core::observe::OBSERVED
+        .iter()
+        .enumerate()
+        .map(|(k, (name, unit))| {
+            let b = e.errors[k];
+            (
+                name.to_string(),
+                serde_json::json!({
+                    "value": v[k], "unit": unit,
+                    "error": b.map(|b| b.absolute), "relative_error": b.map(|b| b.relative),
+                    "observed_order": b.and_then(|b| b.order),
+                }),
+            )
+        })
+        .collect();
+    serde_json::json!({
+        "estimated": true,
+        "observables": observables,
+        "film_overlap": q(ob.film_overlap_m, "m"),
+        "grids": e.grids,
+        "method": e.method,
+        "limit": limit,
+        "within_limit": e.worst().is_some_and(|w| w <= limit),
+        "wall_time": q(e.wall_time_s, "s"),
+    })
+}
 
 /// `summary.json`: the shared part (SI, units beside every number), then the model's own
 /// summary under `details`.
@@ -369,8 +412,9 @@ pub fn summary(outcome: &dyn Outcome) -> Value {
             "dx": q(g.dx() * a, "m"), "dy": q(g.dy() * a, "m"),
         },
         "observables": serde_json::to_value(outcome.observables()).unwrap_or(Value::Null),
+        "accuracy": accuracy(outcome),
         "indicators": indicators,
-        // Why the answer is returned though not converged (`null` when converged).
+        // Why the answer needs a caveat: not converged, or flagged by its accuracy (`null`: none).
         "caveat": outcome.caveat(),
         "timings": {
             "total_wall_time": q(outcome.wall_time_s(), "s"),

@@ -54,8 +54,10 @@ pub struct TransientRow {
     pub dent_x_m: f64,
     /// Central film [m].
     pub central_film_m: f64,
-    /// Minimum film [m].
+    /// Minimum film [m] (at least 0: a film is a separation).
     pub minimum_film_m: f64,
+    /// How far the film field went below zero [m] (the solids' overlap: a discretisation error).
+    pub film_overlap_m: f64,
     /// Maximum pressure [Pa].
     pub max_pressure_pa: f64,
     /// Central pressure [Pa].
@@ -131,6 +133,9 @@ impl ContactModel for ReynoldsFlooded {
     fn cell_needed(&self, scene: &Scene, change: f64) -> f64 {
         Reynolds.cell_needed(scene, change)
     }
+    fn for_estimate(&self, coarse: Scene) -> Scene {
+        Reynolds.for_estimate(coarse)
+    }
 }
 
 pub use ehl_reynolds::formulas::CELLS_PER_FILM;
@@ -155,7 +160,25 @@ impl ContactModel for Reynolds {
         nvm_film(scene)
             .map_or(f64::INFINITY, |h| ehl_reynolds::formulas::cell_for_change(h, change))
     }
+    /// The first attempt alone, and at most [`ESTIMATE_CYCLES`] cycles: a coarse grid near the
+    /// film's existence limit stalls and hands over to attempt after attempt (the seed flooded on
+    /// 129²: 144 cycles, 3.8 s, four times the 257² answer's own 15 cycles), and an answer that
+    /// takes that is no error estimate to wait for.
+    fn for_estimate(&self, mut coarse: Scene) -> Scene {
+        if let Some(r) = coarse.reynolds.as_mut() {
+            let s = &mut r.solver;
+            s.max_cycles = s.max_cycles.min(ESTIMATE_CYCLES);
+            s.fallback_lag = 0.0;
+            s.fallback_omega_gs = 0.0;
+            s.flooded_start_fallback = false;
+        }
+        coarse
+    }
 }
+
+/// The most cycles a coarser grid of an error estimate is given ([`ContactModel::for_estimate`]):
+/// above the flooded solve's 15–17 on any grid where it converges and the fed seed's 9–24.
+const ESTIMATE_CYCLES: usize = 25;
 
 /// The Nijenbanning–Venner–Moes central film of the scene's rolling contact in Hertz units
 /// [a²/R]; `None` without a lubricant or rolling.
@@ -196,7 +219,7 @@ impl Outcome for ReynoldsOutcome {
         let at_rest = rows.last().is_some_and(|r| r.speed_m_s == 0.0);
         let touched = rows.iter().any(|r| r.contact_area_m2 > 0.0);
         let allowed = if touched { 1e-2 * ob.central_film_m.abs() } else { 0.0 };
-        let negative = (ob.minimum_film_m < -allowed).then(|| {
+        let negative = (ob.film_overlap_m > allowed).then(|| {
             let why = if at_rest {
                 "the solids touch there at rest, and the steps had no contact between them (reynolds.solver.contact off): the film goes negative where they would".to_string()
             } else {
@@ -206,8 +229,8 @@ impl Outcome for ReynoldsOutcome {
                 )
             };
             format!(
-                "the minimum film is negative ({:.3e} m at x = {:.3e} m, y = {:.3e} m): {why}",
-                ob.minimum_film_m, ob.minimum_film_at_m.0, ob.minimum_film_at_m.1,
+                "the film went {:.3e} m below zero (reported as 0: the solids overlap) at x = {:.3e} m, y = {:.3e} m: {why}",
+                ob.film_overlap_m, ob.minimum_film_at_m.0, ob.minimum_film_at_m.1,
             )
         });
         match (settled, negative) {
@@ -311,8 +334,8 @@ impl Outcome for ReynoldsOutcome {
         let Some(t) = &self.transient else { return vec![] };
         t.snapshots.iter().map(|(ts, _, p, h)| (*ts, p, h.clone())).collect()
     }
-    fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
-        ReynoldsOutcome::figures(self, dir, prefix)
+    fn figures(&self, dir: &Path, prefix: &str, footnote: &str) -> Result<Vec<PathBuf>> {
+        ReynoldsOutcome::figures(self, dir, prefix, footnote)
     }
     fn report(&self) -> String {
         reynolds_report(self)
@@ -579,6 +602,7 @@ impl Transient for ReynoldsMarch<'_> {
             dent_x_m: self.x0 * self.solver.prm.scales.a + self.motion.travel(t_s),
             central_film_m: ob.central_film_m,
             minimum_film_m: ob.minimum_film_m,
+            film_overlap_m: ob.film_overlap_m,
             max_pressure_pa: ob.max_pressure_pa,
             central_pressure_pa: s.p_si(p[[jc, ic]]),
             contact_load_share: share,
@@ -863,7 +887,9 @@ impl ReynoldsOutcome {
     }
 
     /// The maps, the centreline and, for a march, the history and snapshots as PNG.
-    pub fn figures(&self, dir: &Path, prefix: &str) -> Result<Vec<PathBuf>> {
+    pub fn figures(&self, dir: &Path, prefix: &str, footnote: &str) -> Result<Vec<PathBuf>> {
+        let note = self.note() + footnote;
+        let note = note.as_str();
         let g = &self.grid;
         let nm = self.prm.scales.delta * 1e9;
         let mut out = vec![];
@@ -890,7 +916,7 @@ impl ReynoldsOutcome {
                 },
             ],
             g,
-            &self.note(),
+            note,
         )?;
         out.push(f);
         if let Some(xm) = self.meniscus_a() {
@@ -917,7 +943,7 @@ impl ReynoldsOutcome {
                     },
                 ],
                 g,
-                &self.note(),
+                note,
             )?;
             out.push(f);
         }
@@ -949,7 +975,7 @@ impl ReynoldsOutcome {
                     vec![Series::new("Reynolds", line(self.row(&self.film), nm), Mark::Line)],
                 ),
             ],
-            &self.note(),
+            note,
         )?;
         out.push(f);
         let f = dir.join(format!("{prefix}convergence.png"));
@@ -974,11 +1000,11 @@ impl ReynoldsOutcome {
                 ],
             )
             .log_log()],
-            &self.note(),
+            note,
         )?;
         out.push(f);
         if let Some(t) = &self.transient {
-            out.extend(self.transient_figures(t, dir, prefix)?);
+            out.extend(self.transient_figures(t, dir, prefix, note)?);
         } else {
             // The seed's Fig. 1: the flow in the film (steady solutions only).
             out.extend(self.flow_figures(dir, prefix)?);
@@ -991,6 +1017,7 @@ impl ReynoldsOutcome {
         t: &TransientRecord,
         dir: &Path,
         prefix: &str,
+        note: &str,
     ) -> Result<Vec<PathBuf>> {
         let s = &self.prm.scales;
         // Told by the first feature's position while features pass, else by time.
@@ -1018,7 +1045,7 @@ impl ReynoldsOutcome {
                 ("maximum", xs(|r| r.max_pressure_pa, 1.0 / s.p_h)),
                 ("central", xs(|r| r.central_pressure_pa, 1.0 / s.p_h)),
             ],
-            &self.note(),
+            note,
         )?;
         let label = |ts: f64, xd: f64| {
             if t.passing { format!("dent at {xd:.3} a") } else { format!("t = {ts:.4} s") }
@@ -1059,7 +1086,7 @@ impl ReynoldsOutcome {
                         .collect(),
                 ),
             ],
-            &self.note(),
+            note,
         )?;
         Ok(vec![f_hist, f_snap])
     }

@@ -13,13 +13,12 @@
 //!
 //! A model that fails at a point is recorded with its diagnosis; the sweep goes on.
 
-pub mod adapt;
-pub mod convergence;
 pub mod merge;
 
 /// The observables a check judges, in the order of every change and error triple.
 pub const OBSERVED: [&str; 3] = ["h_c", "h_min", "p_max"];
 
+use crate::accuracy::{self, gci as convergence, rule as adapt};
 use crate::error::{Error, Result, io, output};
 use crate::progress;
 use ehl_core::Observables;
@@ -385,60 +384,25 @@ fn run_model(scene: &Scene) -> (Result<Answer, Failed>, f64) {
     (out, t0.elapsed().as_secs_f64())
 }
 
-/// `a / b − 1`, `None` where that is not a number (a zero reference).
-fn rel(a: f64, b: f64) -> Option<f64> {
-    Some(a / b - 1.0).filter(|v| v.is_finite())
+/// The first three of the accuracy module's observables (`h_c`, `h_min`, `p_max`): what a
+/// sweep's records keep.
+fn three<T: Copy>(a: [T; 5]) -> [T; 3] {
+    [a[0], a[1], a[2]]
 }
 
-/// The least scale a film's change is judged on [m]: a nanometre, a few molecular diameters
-/// of a mineral oil. Below it neither model's continuum film has digits that mean anything,
-/// and a relative change there measures the solver's rounding. Measured at 2 mm/s, 40 N
-/// (`seed-speed-load`, 1793²): the layer is squeezed out, its central film 0.214 nm and its
-/// minimum −2.3, −0.46, −0.40 pm on the point's grid, the half and the quarter (zero: the
-/// solids touch, to the contact solve's tolerance). On the central film's scale that read
-/// "`h_min` ±2.6 % (order −4.85)", a flag for 1.8 pm. No film this floor touches is a
-/// Reynolds film (its central films are 3.3 nm and up on every sweep).
-const FILM_SCALE_FLOOR_M: f64 = 1e-9;
-
-/// The scale a point's film changes are judged on: its central film, at least
-/// [`FILM_SCALE_FLOOR_M`].
-fn film_scale(central_film_m: f64) -> f64 {
-    central_film_m.max(FILM_SCALE_FLOOR_M)
-}
-
-/// The relative changes from `b` to `a`, over `b`'s value; the films' over `b`'s film scale
-/// ([`film_scale`]: the minimum's too, as a minimum that is zero, the solids touching, has no
-/// relative change, and 0.1 nm in a 0.5 nm minimum of a 4 nm film is 2.5 % of the film, not
-/// 20 %); films only where there is a film (not the dry contact's zero gap).
-fn changes(a: &Observables, b: &Observables, lubricated: bool) -> [Option<f64>; 3] {
-    let film =
-        |v: f64| Some(v / film_scale(b.central_film_m)).filter(|v| lubricated && v.is_finite());
-    [
-        film(a.central_film_m - b.central_film_m),
-        film(a.minimum_film_m - b.minimum_film_m),
-        rel(a.max_pressure_pa, b.max_pressure_pa),
-    ]
-}
-
-/// The estimated grid errors of `h_c`, `h_min` (on the film's scale, as [`changes`]),
-/// `p_max` from the point's answer, the half grid's and the quarter's (when it answered);
-/// films only for lubricated models.
+/// The estimated grid errors of `h_c`, `h_min`, `p_max` ([`accuracy::grid_errors`]).
 fn grid_errors(
     point: &Observables,
     half: &Observables,
     quarter: Option<&Observables>,
     lubricated: bool,
 ) -> [Option<convergence::GridError>; 3] {
-    let values = |o: &Observables| [o.central_film_m, o.minimum_film_m, o.max_pressure_pa];
-    let (f1, f2) = (values(point), values(half));
-    let f3 = quarter.map(values);
-    let film = film_scale(point.central_film_m);
-    let scales = [film, film, point.max_pressure_pa];
-    std::array::from_fn(|k| {
-        (lubricated || k == 2)
-            .then(|| convergence::grid_error(f1[k], f2[k], f3.map(|f| f[k]), scales[k]))
-            .flatten()
-    })
+    three(accuracy::grid_errors(point, half, quarter, lubricated))
+}
+
+/// The relative changes of `h_c`, `h_min`, `p_max` ([`accuracy::changes`]).
+fn changes(a: &Observables, b: &Observables, lubricated: bool) -> [Option<f64>; 3] {
+    three(accuracy::changes(a, b, lubricated))
 }
 
 fn check_record(scene: &Scene, run: &Result<Answer, Failed>) -> CheckRecord {
@@ -750,6 +714,6 @@ mod tests {
         assert!(f.contains("grid error h_c ±20.0 %"), "{f}");
         // A film above the floor keeps its own scale.
         let four = obs(4.1554e-9, 1.0027e-9, 5.2668e8);
-        assert_eq!(film_scale(four.central_film_m), four.central_film_m);
+        assert_eq!(accuracy::film_scale(four.central_film_m), four.central_film_m);
     }
 }

@@ -27,13 +27,13 @@
 //! The Reynolds solver's is `ρ H_c^{2/3}` `a` (`H_c` the NVM central film in Hertz units: the
 //! width of the side lobes' and inlet's constrictions), `ρ = √(change / K)` from the measured
 //! grid change `K ρ²` of the central film, the change the one whose estimated error is the limit
-//! ([`super::convergence::change_allowed`]; 0.106 at 2 %), never above 0.25, where the film's
+//! ([`super::gci::change_allowed`]; 0.106 at 2 %), never above 0.25, where the film's
 //! existence ends (`ehl_reynolds::formulas::cell_for_change` says how both were measured).
 //! The layer and the dry contact need none.
 //!
 //! **The checks.** The rule is a measured estimate, not a proof, so each point is run three times
 //! more for each model: at half and at a quarter of the points per side on the same domain (the
-//! grid's share: the order the answer converges at and its estimated error, [`super::convergence`]),
+//! grid's share: the order the answer converges at and its estimated error, [`super::gci`]),
 //! and at the half's cells on a domain whose inlet distance is 1.5 times the point's, `y` grown
 //! by as much in total, half on each side (against the half-points run: the domain's share). The
 //! estimated errors and the domain's relative changes of `h_c`, `h_min`, `p_max` are reported,
@@ -81,10 +81,10 @@ pub fn multigrid_count(n: usize) -> usize {
 
 /// The largest cell [a] the models of `scene` need for answers whose estimated grid error is
 /// within `error` (relative): each model's cell for the half-grid change that estimate allows
-/// ([`super::convergence::change_allowed`], [`crate::model::ContactModel::cell_needed`]), the
+/// ([`super::gci::change_allowed`], [`crate::model::ContactModel::cell_needed`]), the
 /// smallest any of them asks for; infinite when none does.
 pub fn cell_needed(scene: &Scene, error: f64) -> f64 {
-    let change = super::convergence::change_allowed(error);
+    let change = super::gci::change_allowed(error);
     models(scene).map(|m| m.cell_needed(scene, change)).fold(f64::INFINITY, f64::min)
 }
 

@@ -1,0 +1,483 @@
+//! How good an answer is, and the grid an answer needs.
+//!
+//! - [`gci`]: an observable's discretisation error from three grids (the observed order,
+//!   Roache's grid convergence index), with the fallbacks where the grids show no order.
+//! - [`rule`]: the domain and grid a scene needs for answers within an accuracy (each model's
+//!   own rule), and the check runs that measure how much an answer still depends on them.
+//! - [`estimate`]: every standard observable of an answer with its estimated error, from the
+//!   answer's own grid and the same model on half and a quarter of the points per side; the
+//!   flags an answer carries (an error beyond the limit, with the grid that would meet it; a
+//!   film that went below zero; an error that could not be estimated).
+
+pub mod gci;
+pub mod rule;
+
+use crate::model::Outcome;
+use ehl_core::Observables;
+use ehl_core::observe::{ErrorBar, Estimate};
+use ehl_scene::Scene;
+
+pub use ehl_core::observe::OBSERVED;
+
+/// The estimated error beyond which an answer is flagged when no accuracy was asked for.
+pub const DEFAULT_LIMIT: f64 = 0.05;
+
+/// The least scale a film's change is judged on [m]: a nanometre, a few molecular diameters
+/// of a mineral oil. Below it neither model's continuum film has digits that mean anything,
+/// and a relative change there measures the solver's rounding. Measured at 2 mm/s, 40 N
+/// (`seed-speed-load`, 1793²): the layer is squeezed out, its central film 0.214 nm and its
+/// minimum −2.3, −0.46, −0.40 pm on the point's grid, the half and the quarter (zero: the
+/// solids touch, to the contact solve's tolerance). On the central film's scale that read
+/// "`h_min` ±2.6 %", a flag for 1.8 pm. No Reynolds film is that thin.
+pub const FILM_SCALE_FLOOR_M: f64 = 1e-9;
+
+/// The scale an answer's film changes are judged on: its central film, at least
+/// [`FILM_SCALE_FLOOR_M`].
+pub fn film_scale(central_film_m: f64) -> f64 {
+    central_film_m.max(FILM_SCALE_FLOOR_M)
+}
+
+/// The observables of [`OBSERVED`] of an answer, in their order.
+fn values(o: &Observables) -> [f64; 5] {
+    [
+        o.central_film_m,
+        o.minimum_film_m,
+        o.max_pressure_pa,
+        o.contact_extent_x_m,
+        o.contact_extent_y_m,
+    ]
+}
+
+/// The scales the observables' errors are relative to: the films' the film scale
+/// ([`film_scale`]: a minimum film near zero, the solids touching, has no relative change of
+/// its own), the others their own value.
+fn scales(o: &Observables) -> [f64; 5] {
+    let film = film_scale(o.central_film_m);
+    [film, film, o.max_pressure_pa, o.contact_extent_x_m, o.contact_extent_y_m]
+}
+
+/// The relative changes from `b` to `a` of [`OBSERVED`], over `b`'s scales ([`scales`]); films
+/// only where there is a film (`lubricated`: not the dry contact's zero gap).
+pub fn changes(a: &Observables, b: &Observables, lubricated: bool) -> [Option<f64>; 5] {
+    let (va, vb, sb) = (values(a), values(b), scales(b));
+    std::array::from_fn(|k| {
+        Some((va[k] - vb[k]) / sb[k]).filter(|v| v.is_finite() && (lubricated || k >= 2))
+    })
+}
+
+/// The estimated grid errors of [`OBSERVED`] of the answer `point` from the half grid's answer
+/// and the quarter's (when it answered), each relative to the answer's scale ([`scales`]);
+/// films only for lubricated models.
+pub fn grid_errors(
+    point: &Observables,
+    half: &Observables,
+    quarter: Option<&Observables>,
+    lubricated: bool,
+) -> [Option<gci::GridError>; 5] {
+    let (f1, f2, f3, sc) = (values(point), values(half), quarter.map(values), scales(point));
+    std::array::from_fn(|k| {
+        (lubricated || k >= 2)
+            .then(|| gci::grid_error(f1[k], f2[k], f3.map(|f| f[k]), sc[k]))
+            .flatten()
+    })
+}
+
+/// The half grid of `n` points per side: the multigrid's next coarser (`(n − 1)/2 + 1`).
+fn half(n: usize) -> usize {
+    (n - 1).div_ceil(2) + 1
+}
+
+/// The coarsest grid an estimate runs on: below it no model's answer means anything.
+const LEAST_POINTS: usize = 5;
+
+/// Estimates the error of `answer` (the outcome of the one-model `scene`) by running the same
+/// model on half and a quarter of the points per side over the same domain ([`gci`]): three
+/// grids give the order and the grid convergence index; a quarter grid without an answer (a
+/// film that does not exist on it) leaves the half's change itself as the estimate, order 2
+/// assumed; a half grid without one leaves no estimate, and says why. A film that went below
+/// zero ([`Observables::film_overlap_m`]) counts as an error of the minimum film at least
+/// that large.
+pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
+    let t0 = std::time::Instant::now();
+    let point = answer.observables();
+    let lubricated = answer.lubricated();
+    let (n, m) = (scene.grid.nx, scene.grid.ny);
+    let model = scene.model().and_then(|k| crate::run::model(k).ok());
+    let coarser = |k: usize| -> Option<Scene> {
+        let (mut a, mut b) = (n, m);
+        for _ in 0..k {
+            (a, b) = (half(a), half(b));
+        }
+        (a.min(b) >= LEAST_POINTS && (a, b) != (n, m)).then(|| {
+            let mut s = scene.clone();
+            s.grid = ehl_scene::GridSpec { nx: a, ny: b };
+            s.outputs = ehl_scene::Outputs { centreline: false, fields: false, figures: false };
+            match model {
+                Some(m) => m.for_estimate(s),
+                None => s,
+            }
+        })
+    };
+    // A coarser grid whose cells are wider than the model's answer can exist on is not run: it
+    // would only fail, slowly (a Reynolds film that closes runs its whole cascade of attempts).
+    // The models' rule asks for half the cell where existence ends (measured: the seed's film
+    // answers on twice its rule's cell and closes on four times it), so twice the rule's cell.
+    let exists_on = model.map_or(f64::INFINITY, |m| 2.0 * m.cell_needed(scene, f64::INFINITY));
+    let cell = |s: &Scene| {
+        let d = &s.domain;
+        ((d.x_a[1] - d.x_a[0]) / (s.grid.nx - 1) as f64)
+            .max((d.y_a[1] - d.y_a[0]) / (s.grid.ny - 1) as f64)
+    };
+    let run = |s: &Option<Scene>| -> Option<Result<Observables, String>> {
+        let s = s.as_ref()?;
+        if cell(s) > exists_on * (1.0 + 1e-9) {
+            return Some(Err(format!(
+                "cells of {:.4} a, wider than the {:.4} a its answer can exist on",
+                cell(s),
+                exists_on
+            )));
+        }
+        Some(crate::run::run_scene(s).map(|o| o.observables()).map_err(|e| e.class().to_string()))
+    };
+    let (s1, s2) = (coarser(1), coarser(2));
+    // The two coarser runs at once: neither keeps both cores busy.
+    let (r1, r2) = rayon::join(|| run(&s1), || run(&s2));
+    let mut grids = vec![n];
+    let (h, q) = match (r1, &s1) {
+        (None, _) | (_, None) => {
+            (Err("the grid has no coarser one to compare with".to_string()), None)
+        }
+        (Some(Err(e)), Some(s1)) => {
+            (Err(format!("the half grid ({}²) has no answer: {e}", s1.grid.nx)), None)
+        }
+        (Some(Ok(h)), Some(s1)) => {
+            grids.push(s1.grid.nx);
+            let q = match (r2, &s2) {
+                (Some(Ok(q)), Some(s2)) => {
+                    grids.push(s2.grid.nx);
+                    Some(q)
+                }
+                _ => None,
+            };
+            (Ok(h), q)
+        }
+    };
+    let (mut errors, method) = match &h {
+        Err(why) => ([None; 5], format!("not estimated: {why}")),
+        Ok(h) => {
+            let es = grid_errors(&point, h, q.as_ref(), lubricated);
+            let method = match q {
+                Some(_) => format!(
+                    "three grids ({}), the observed order and Roache's grid convergence index",
+                    side_list(&grids)
+                ),
+                None => format!(
+                    "two grids ({}; the quarter grid has no answer): the change itself, order 2 assumed",
+                    side_list(&grids)
+                ),
+            };
+            let sc = scales(&point);
+            (
+                std::array::from_fn(|k| {
+                    es[k].map(|e| ErrorBar {
+                        relative: e.error,
+                        absolute: e.error * sc[k],
+                        order: e.order,
+                    })
+                }),
+                method,
+            )
+        }
+    };
+    // A film below zero is at least that wrong.
+    if lubricated && point.film_overlap_m > 0.0 {
+        let scale = film_scale(point.central_film_m);
+        let least = point.film_overlap_m / scale;
+        let bar = errors[1].get_or_insert(ErrorBar { relative: 0.0, absolute: 0.0, order: None });
+        if bar.relative < least {
+            *bar = ErrorBar { relative: least, absolute: point.film_overlap_m, order: bar.order };
+        }
+    }
+    Estimate { grids, errors, method, wall_time_s: t0.elapsed().as_secs_f64() }
+}
+
+/// How an answer is checked: whether its error is estimated, and the limit it is judged
+/// against (the accuracy asked, or [`DEFAULT_LIMIT`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Checking {
+    /// Estimate the error (on by default: off saves the coarser runs, and says so).
+    pub estimate: bool,
+    /// The relative error beyond which an answer is flagged.
+    pub limit: f64,
+}
+
+impl Checking {
+    /// The checks a scene asks for: its `accuracy` as the limit (else [`DEFAULT_LIMIT`]), the
+    /// error estimated unless `estimate` is false.
+    pub fn of(scene: &Scene, estimate: bool) -> Self {
+        Self { estimate, limit: scene.accuracy.unwrap_or(DEFAULT_LIMIT) }
+    }
+}
+
+/// The scene an answer within its asked accuracy runs on: with `accuracy` set, the domain and
+/// grid the accuracy rule gives for it ([`rule::adapt`], the finest any listed model needs,
+/// never coarser than the scene's own); else the scene itself. `Some(what changed)` when the
+/// grid or domain grew.
+pub fn resolved(scene: &Scene) -> (Scene, Option<String>) {
+    match scene.accuracy {
+        Some(a) => rule::adapt(scene, true, a),
+        None => (scene.clone(), None),
+    }
+}
+
+/// An answer with what is known of its accuracy: the model's outcome, its estimated error,
+/// the limit it was judged against and the flags it carries. Itself an [`Outcome`] (every
+/// method the model's own), so the writer, a comparison and Python take it as any answer:
+/// its caveat adds the flags, its summary's shared part the errors, its figures' footnotes the
+/// error bars.
+pub struct Checked {
+    /// The model's own outcome.
+    pub outcome: Box<dyn Outcome>,
+    /// Its estimated error (`None` when not estimated: asked not to).
+    pub estimate: Option<Estimate>,
+    /// The limit it was judged against.
+    pub limit: f64,
+    /// What it is flagged for (empty: within the limit).
+    pub flags: Vec<String>,
+}
+
+impl Checked {
+    /// `outcome` (of the one-model `scene`) checked as `how` asks.
+    pub fn new(scene: &Scene, outcome: Box<dyn Outcome>, how: Checking) -> Self {
+        let estimate = how.estimate.then(|| estimate(scene, outcome.as_ref()));
+        let ob = outcome.observables();
+        let flags = match &estimate {
+            Some(e) => flags(scene, &ob, e, how.limit),
+            None => vec!["error not estimated (asked not to)".into()],
+        };
+        Self { outcome, estimate, limit: how.limit, flags }
+    }
+
+    /// The error bars in a line, for a figure's footnote: `; grid error: h_c ±0.31 nm
+    /// (2.6 %), …`; empty without an estimate.
+    pub fn footnote(&self) -> String {
+        let Some(e) = &self.estimate else { return String::new() };
+        let ob = self.outcome.observables();
+        let v = [ob.central_film_m, ob.minimum_film_m, ob.max_pressure_pa];
+        let parts: Vec<String> = (0..3)
+            .filter_map(|k| {
+                let b = e.errors[k]?;
+                let (scale, unit) = if k == 2 { (1e-9, "GPa") } else { (1e9, "nm") };
+                Some(format!(
+                    "{} {} {unit}",
+                    OBSERVED[k].0,
+                    with_bar(v[k], Some(&b), scale, if k == 2 { 4 } else { 3 })
+                ))
+            })
+            .collect();
+        if parts.is_empty() {
+            return format!("; error {}", e.method);
+        }
+        format!("; grid error ({}): {}", side_list(&e.grids), parts.join(", "))
+    }
+}
+
+/// Runs the one-model `scene` on the grid its accuracy asks for ([`resolved`]) and checks its
+/// answer as `how` asks: what `ehl run` and Python give.
+pub fn run(scene: &Scene, estimate_error: bool) -> crate::error::Result<Checked> {
+    let (scene, _) = resolved(scene);
+    let outcome = crate::run::run_scene(&scene)?;
+    Ok(Checked::new(&scene, outcome, Checking::of(&scene, estimate_error)))
+}
+
+impl Outcome for Checked {
+    fn scene(&self) -> &Scene {
+        self.outcome.scene()
+    }
+    fn scales(&self) -> ehl_core::HertzScales {
+        self.outcome.scales()
+    }
+    fn grid(&self) -> &ehl_core::Grid {
+        self.outcome.grid()
+    }
+    fn pressure(&self) -> &ndarray::Array2<f64> {
+        self.outcome.pressure()
+    }
+    fn film(&self) -> ndarray::Array2<f64> {
+        self.outcome.film()
+    }
+    fn lubricated(&self) -> bool {
+        self.outcome.lubricated()
+    }
+    fn observables(&self) -> Observables {
+        self.outcome.observables()
+    }
+    fn indicators(&self) -> Vec<(String, crate::model::Indicator)> {
+        self.outcome.indicators()
+    }
+    fn caveat(&self) -> Option<String> {
+        let own = self.outcome.caveat();
+        let flags = (!self.flags.is_empty()).then(|| self.flags.join("; "));
+        match (own, flags) {
+            (Some(a), Some(b)) => Some(format!("{a}; {b}")),
+            (a, b) => a.or(b),
+        }
+    }
+    fn conditions_used(&self) -> (ehl_core::Contact, f64) {
+        self.outcome.conditions_used()
+    }
+    fn wall_time_s(&self) -> f64 {
+        self.outcome.wall_time_s()
+    }
+    fn summary(&self) -> serde_json::Value {
+        self.outcome.summary()
+    }
+    fn centreline(&self) -> crate::model::Centreline {
+        self.outcome.centreline()
+    }
+    fn fields(&self) -> Vec<(String, ndarray::Array2<f64>)> {
+        self.outcome.fields()
+    }
+    fn time_series(&self) -> crate::error::Result<Option<Vec<serde_json::Value>>> {
+        self.outcome.time_series()
+    }
+    fn history(&self) -> Option<&[(f64, Observables)]> {
+        self.outcome.history()
+    }
+    fn approach_history(&self) -> Option<Vec<(f64, f64)>> {
+        self.outcome.approach_history()
+    }
+    fn snapshots(&self) -> Vec<(f64, &ndarray::Array2<f64>, ndarray::Array2<f64>)> {
+        self.outcome.snapshots()
+    }
+    fn figures(
+        &self,
+        dir: &std::path::Path,
+        prefix: &str,
+        footnote: &str,
+    ) -> crate::error::Result<Vec<std::path::PathBuf>> {
+        self.outcome.figures(dir, prefix, &(self.footnote() + footnote))
+    }
+    fn report(&self) -> String {
+        let mut r = self.outcome.report();
+        if let Some(e) = &self.estimate {
+            r += &format!("  estimated error: {}\n", e.method);
+            let ob = self.outcome.observables();
+            let v = [
+                ob.central_film_m,
+                ob.minimum_film_m,
+                ob.max_pressure_pa,
+                ob.contact_extent_x_m,
+                ob.contact_extent_y_m,
+            ];
+            for (k, bar) in e.errors.iter().enumerate() {
+                let Some(b) = bar else { continue };
+                let (scale, unit) = if k == 2 {
+                    (1e-9, "GPa")
+                } else if k < 2 {
+                    (1e9, "nm")
+                } else {
+                    (1e3, "mm")
+                };
+                r += &format!(
+                    "    {:<6} {} {unit} ({:.2} %{})\n",
+                    OBSERVED[k].0,
+                    with_bar(v[k], Some(b), scale, 4),
+                    100.0 * b.relative,
+                    b.order.map_or(String::new(), |p| format!(", order {p:.2}"))
+                );
+            }
+        }
+        for f in &self.flags {
+            r += &format!("  FLAG: {f}\n");
+        }
+        r
+    }
+    fn estimate(&self) -> Option<(&Estimate, f64)> {
+        self.estimate.as_ref().map(|e| (e, self.limit))
+    }
+    fn inner(&self) -> Option<&dyn Outcome> {
+        Some(self.outcome.as_ref())
+    }
+}
+
+/// `257², 129², 65²`.
+fn side_list(grids: &[usize]) -> String {
+    grids.iter().map(|n| format!("{n}²")).collect::<Vec<_>>().join(", ")
+}
+
+/// The flags an answer carries: each error of the central and minimum film and the maximum
+/// pressure beyond `limit` (relative), with the grid that would meet it at the order observed
+/// (2 where none was); an error that could not be estimated; a film that went below zero.
+/// Empty when the answer is within `limit`.
+pub fn flags(scene: &Scene, answer: &Observables, e: &Estimate, limit: f64) -> Vec<String> {
+    let mut out = vec![];
+    if e.errors.iter().all(Option::is_none) {
+        out.push(format!("error {}", e.method));
+    }
+    let n = scene.grid.nx.max(scene.grid.ny);
+    for (k, bar) in e.errors.iter().enumerate().take(3) {
+        let Some(b) = bar else { continue };
+        if b.relative > limit {
+            let p = b.order.unwrap_or(2.0).clamp(1.0, 2.0);
+            let needed = ((n - 1) as f64 * (b.relative / limit).powf(1.0 / p)).ceil() as usize + 1;
+            out.push(format!(
+                "{} ±{:.1} % (over the {:.1} % asked): about {}² would meet it",
+                OBSERVED[k].0,
+                100.0 * b.relative,
+                100.0 * limit,
+                rule::multigrid_count(needed)
+            ));
+        }
+    }
+    if answer.film_overlap_m > 0.0 && e.errors[1].is_some_and(|b| b.relative > limit) {
+        out.push(format!(
+            "the film went {:.3} nm below zero (reported as 0: the solids overlap there, a discretisation error)",
+            answer.film_overlap_m * 1e9
+        ));
+    }
+    out
+}
+
+/// A value with its error bar in a table's unit: `11.79 ± 0.31` (`scale` turns SI into the
+/// table's unit); the value alone when there is no bar.
+pub fn with_bar(value: f64, bar: Option<&ErrorBar>, scale: f64, digits: usize) -> String {
+    match bar {
+        Some(b) => format!("{:.*} ± {:.*}", digits, value * scale, digits, b.absolute * scale),
+        None => format!("{:.*}", digits, value * scale),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_grid_that_would_meet_an_accuracy_follows_the_observed_order() {
+        // h_c ±8 % at order 2 on 257²: 2 % needs (8/2)^(1/2) = 2 times the cells per side,
+        // 513 points.
+        let scene = ehl_scene::builtin("seed").unwrap().for_model(ehl_scene::Model::Reynolds);
+        let bar = |r: f64, order: Option<f64>| Some(ErrorBar { relative: r, absolute: 0.0, order });
+        let e = Estimate {
+            grids: vec![257, 129, 65],
+            errors: [bar(0.08, Some(2.0)), bar(0.01, Some(2.0)), bar(0.001, None), None, None],
+            method: String::new(),
+            wall_time_s: 0.0,
+        };
+        let ob = Observables::default();
+        let f = flags(&scene, &ob, &e, 0.02);
+        assert_eq!(f.len(), 1, "{f:?}");
+        assert!(f[0].starts_with("h_c ±8.0 % (over the 2.0 % asked): about 513²"), "{f:?}");
+        // At order 1 the same error needs four times the cells.
+        let e1 = Estimate { errors: [bar(0.08, Some(1.0)), None, None, None, None], ..e.clone() };
+        assert!(flags(&scene, &ob, &e1, 0.02)[0].contains("about 1025²"));
+        assert!(flags(&scene, &ob, &e, 0.1).is_empty());
+    }
+
+    #[test]
+    fn a_value_reads_with_its_bar_in_the_table_s_unit() {
+        let b = ErrorBar { relative: 0.026, absolute: 0.31e-9, order: Some(2.0) };
+        assert_eq!(with_bar(11.79e-9, Some(&b), 1e9, 2), "11.79 ± 0.31");
+        assert_eq!(with_bar(11.79e-9, None, 1e9, 2), "11.79");
+    }
+}
