@@ -36,6 +36,12 @@ pub trait ContactModel: Sync {
     fn for_estimate(&self, coarse: Scene) -> Scene {
         coarse
     }
+    /// The films' relative error this model's answer is expected to have on the scene's grid,
+    /// from the model's measured grid-error law, with the law in words: the estimate's fallback
+    /// when no coarser grid can answer ([`crate::accuracy::estimate`]). `None`: no law known.
+    fn film_error_law(&self, _scene: &Scene) -> Option<(f64, String)> {
+        None
+    }
 }
 
 /// Any outcome as `Any`, so a caller that needs one model's own fields can downcast.

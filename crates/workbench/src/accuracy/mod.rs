@@ -162,9 +162,19 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
             (Ok(h), q)
         }
     };
-    let (mut errors, method) = match &h {
-        Err(why) => ([None; 5], format!("not estimated: {why}")),
-        Ok(h) => {
+    let law = model.and_then(|m| m.film_error_law(scene)).filter(|_| lubricated);
+    let (mut errors, method) = match (&h, law) {
+        (Err(why), Some((err, law))) => {
+            // No coarser grid answers: the films' error from the model's measured law.
+            let scale = film_scale(point.central_film_m);
+            let bar = Some(ErrorBar { relative: err, absolute: err * scale, order: None });
+            let mut es = [None; 5];
+            es[0] = bar;
+            es[1] = bar;
+            (es, format!("of the films from {law}: no coarser grid answers ({why})"))
+        }
+        (Err(why), None) => ([None; 5], format!("not estimated: {why}")),
+        (Ok(h), _) => {
             let es = grid_errors(&point, h, q.as_ref(), lubricated);
             let method = match q {
                 Some(_) => format!(
@@ -189,6 +199,21 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
             )
         }
     };
+    // An extent ends where the pressure crosses its threshold, somewhere inside a cell at each
+    // end: at least a cell's width wrong, whatever the grids say (they can agree by chance:
+    // the dry contact's 2a is 1.34, 1.37, 1.29 % long on 33², 65², 129², then 0.46 % on 257²).
+    let g = scene.grid();
+    for (k, cell) in [(3, g.dx()), (4, g.dy())] {
+        let (extent, width) = (values(&point)[k], answer.scales().x_si(cell));
+        if extent > 0.0 {
+            let least = width / extent;
+            let bar =
+                errors[k].get_or_insert(ErrorBar { relative: 0.0, absolute: 0.0, order: None });
+            if bar.relative < least {
+                *bar = ErrorBar { relative: least, absolute: width, order: bar.order };
+            }
+        }
+    }
     // A film below zero is at least that wrong.
     if lubricated && point.film_overlap_m > 0.0 {
         let scale = film_scale(point.central_film_m);
