@@ -128,6 +128,40 @@ def test_an_answer_returned_unconverged_says_why():
     assert ehl.run("hertz", grid=33).caveat is None
 
 
+def test_an_answer_carries_its_estimated_error_and_a_flagged_one_warns():
+    # The seed's Reynolds case on 129², where its film barely exists: the films' error from the
+    # solver's grid law, beyond 5 %: flagged, with a warning, the flags and the errors as
+    # attributes; the dry contact on 33² within 5 %: no warning, no flag.
+    with pytest.warns(ehl.AccuracyWarning, match="h_c"):
+        r = ehl.run("reynolds-seed", grid=129)
+    assert r.flagged and any(f.startswith("h_c ±") for f in r.flags), r.flags
+    value, error, unit = r.errors["h_c"]
+    assert unit == "m" and error > 0.05 * value, r.errors
+    import warnings as w
+
+    with w.catch_warnings():
+        w.simplefilter("error", ehl.AccuracyWarning)
+        d = ehl.run("hertz", grid=33, accuracy=0.2)
+    assert not d.flagged and d.summary["accuracy"]["limit"] == 0.2
+    assert d.errors["p_max"][1] > 0.0 and d.errors["h_c"][1] is None
+    # Asked not to estimate: said, and flagged as such.
+    with pytest.warns(ehl.AccuracyWarning, match="not estimated"):
+        ehl.run("hertz", grid=33, estimate=False)
+
+
+def test_the_readme_one_liner_prints_a_table_with_error_bars_and_no_flag():
+    # The README's `ehl.compare('seed', accuracy=0.05).table()`: every answer within 5 % on the
+    # grid the accuracy needs, the table printing as the command line's, rows for pandas.
+    import warnings as w
+
+    with w.catch_warnings():
+        w.simplefilter("error", ehl.AccuracyWarning)
+        c = ehl.compare("seed", accuracy=0.05)
+    t = c.table()
+    assert not c.flagged and "±" in str(t) and "FLAGGED" not in str(t)
+    assert [r["model"] for r in t] == ["layer", "reynolds", "reynolds-flooded", "dry"]
+
+
 def test_a_marching_run_gives_its_history_as_arrays():
     r = ehl.run("rolling-from-uniform", grid=33)
     h = r.history

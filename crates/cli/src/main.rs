@@ -180,7 +180,7 @@ fn real_main() -> Result<()> {
                 s.name,
                 s.model_names(),
                 grid_words(&s),
-                grown.map_or(String::new(), |g| format!(" (the accuracy asked needs {g})")),
+                grown.map_or(String::new(), |_| " (the grid the accuracy asked needs)".into()),
                 dir.display()
             );
             let outcome = ehl_workbench::accuracy::run(&s, !no_estimate).map_err(|e| match e {
@@ -211,7 +211,7 @@ fn real_main() -> Result<()> {
                 s.name,
                 s.model_names(),
                 grid_words(&s),
-                grown.map_or(String::new(), |g| format!(" (the accuracy asked needs {g})")),
+                grown.map_or(String::new(), |_| " (the grid the accuracy asked needs)".into()),
                 dir.display()
             );
             let c = compare::run_checked(
@@ -334,7 +334,17 @@ fn scenes() -> Result<()> {
 fn grid_words(s: &ehl_scene::Scene) -> String {
     let (g, d) = (&s.grid, &s.domain);
     let side = if g.nx == g.ny { format!("{}²", g.nx) } else { format!("{}x{}", g.nx, g.ny) };
-    format!("{side} over x [{}, {}] a, y [{}, {}] a", d.x_a[0], d.x_a[1], d.y_a[0], d.y_a[1])
+    let b = |v: f64| {
+        let t = format!("{v:.4}");
+        t.trim_end_matches('0').trim_end_matches('.').to_string()
+    };
+    format!(
+        "{side} over x [{}, {}] a, y [{}, {}] a",
+        b(d.x_a[0]),
+        b(d.x_a[1]),
+        b(d.y_a[0]),
+        b(d.y_a[1])
+    )
 }
 
 /// The merged sweep's terminal table.

@@ -240,15 +240,20 @@ impl Comparison {
     pub fn table(&self) -> String {
         let s = self.scales();
         let g = self.scene.grid();
+        // Bounds as a reader reads them: at most four decimals (a grown inlet is -1.3670236… a).
+        let b = |v: f64| {
+            let t = format!("{v:.4}");
+            t.trim_end_matches('0').trim_end_matches('.').to_string()
+        };
         let mut t = format!(
             "scene {} ({}x{} over [{}, {}] x [{}, {}] a; a = {:.4} mm, p_h = {:.4} GPa)\n",
             self.scene.name,
             g.nx,
             g.ny,
-            g.x_min,
-            g.x_max,
-            g.y_min,
-            g.y_max,
+            b(g.x_min),
+            b(g.x_max),
+            b(g.y_min),
+            b(g.y_max),
             s.a * 1e3,
             s.p_h * 1e-9
         );
