@@ -42,6 +42,12 @@ pub trait ContactModel: Sync {
     fn film_error_law(&self, _scene: &Scene) -> Option<(f64, String)> {
         None
     }
+    /// The order this model's films converge at, measured over many answers, with where it
+    /// was measured: with it, an estimate from two grids credits that order (Roache's safety
+    /// factor 1.25) rather than taking the change itself. `None`: not measured.
+    fn verified_order(&self) -> Option<(f64, &'static str)> {
+        None
+    }
 }
 
 /// Any outcome as `Any`, so a caller that needs one model's own fields can downcast.

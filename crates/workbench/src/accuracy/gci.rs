@@ -20,7 +20,7 @@
 use serde::{Deserialize, Serialize};
 
 /// Roache's safety factor with three grids and an observed order.
-const SAFETY_THREE_GRIDS: f64 = 1.25;
+pub const SAFETY_THREE_GRIDS: f64 = 1.25;
 /// The schemes' formal order: the most an observed order is credited with.
 const FORMAL_ORDER: f64 = 2.0;
 /// The least observed order credited (below it the estimate grows as if at this order).

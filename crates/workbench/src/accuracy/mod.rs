@@ -175,13 +175,24 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
         }
         (Err(why), None) => ([None; 5], format!("not estimated: {why}")),
         (Ok(h), _) => {
-            let es = grid_errors(&point, h, q.as_ref(), lubricated);
-            let method = match q {
-                Some(_) => format!(
+            let mut es = grid_errors(&point, h, q.as_ref(), lubricated);
+            let verified = model.and_then(|m| m.verified_order());
+            let method = match (&q, verified) {
+                (Some(_), _) => format!(
                     "three grids ({}), the observed order and Roache's grid convergence index",
                     side_list(&grids)
                 ),
-                None => format!(
+                (None, Some((p, where_))) => {
+                    // The change at the model's measured order, Roache's factor 1.25.
+                    for e in es.iter_mut().flatten() {
+                        e.error *= gci::SAFETY_THREE_GRIDS / (p.exp2() - 1.0);
+                    }
+                    format!(
+                        "two grids ({}; the quarter grid has no answer) at the solver's order {p} ({where_}), Roache's factor 1.25",
+                        side_list(&grids)
+                    )
+                }
+                (None, None) => format!(
                     "two grids ({}; the quarter grid has no answer): the change itself, order 2 assumed",
                     side_list(&grids)
                 ),
