@@ -427,7 +427,7 @@ fn steps(max: usize) -> Result<std::path::PathBuf> {
         "The seed's contact (Table 1, u1 = 0.01 m/s) on its own domain [-1.25, 1.25]² a, from \
          the steady solve: 20 steps rolling at one step a cell, then 20 at rest after a sudden \
          stop (steps of one cell's transit at the rolling speed, 0.26 ms on 129², as error \
-         control starts them); mean wall time and cycles a step. Issue 25's target: a step on \
+         control starts them); mean wall time and cycles a step. The target: a step on \
          257² in the seed's regime at 0.04 s. Second table: the seed's shallow dent (31 nm, \
          W = 0.1 a) passing the contact fed 25 nm, at one step a cell from x = −1.25 a to 1.25 a, \
          with each variant's largest deviation from the same march converged tightly (film \
@@ -443,7 +443,7 @@ fn steps(max: usize) -> Result<std::path::PathBuf> {
 /// under the load until the scene's steady rule or 5 s), the Reynolds side alone on `n`²,
 /// with the relaxation's threshold at rest as it was (1) and as the scene sets it: wall time
 /// of the whole run (steady solve and march), steps, rejected steps, and where the squeeze
-/// ends. Issue 25's target: the full squeeze on 257² in 2 min.
+/// ends. The target: the full squeeze on 257² in 2 min.
 fn squeeze(n: usize) -> Result<std::path::PathBuf> {
     use ehl_workbench::reynolds::run_reynolds;
     let mut t = crate::measured::Table::new(&[
@@ -507,7 +507,7 @@ fn squeeze(n: usize) -> Result<std::path::PathBuf> {
          (tolerance 1e-3) at rest until the scene's steady rule (1e-3 over 0.5 s) or 5 s. The \
          relaxation's threshold for the time term at rest \
          (`reynolds.solver.relax.transient_threshold_at_rest`) as it was (1) and as the scene \
-         sets it. Issue 25's target: the full squeeze on 257² within 2 min.",
+         sets it. The target: the full squeeze on 257² within 2 min.",
         &[("The full squeeze", &t)],
     )
 }
@@ -516,7 +516,7 @@ fn squeeze(n: usize) -> Result<std::path::PathBuf> {
 /// that a change in the cores' load falls on both: the wall of the whole comparison with the
 /// models at once (the default) and one at a time, with each model's own wall one at a time
 /// (from the last run).
-/// Issue 25's target: `dent-shallow-compare` within 15 s on 2 cores.
+/// The target: `dent-shallow-compare` within 15 s on 2 cores.
 fn compare(runs: usize) -> Result<std::path::PathBuf> {
     use ehl_workbench::compare::{self, Schedule};
     let mut t = crate::measured::Table::new(&[
@@ -584,7 +584,7 @@ fn compare(runs: usize) -> Result<std::path::PathBuf> {
              on the one rayon pool) and {runs} times one after the other, alternating. Each \
              model alone keeps fewer than the two cores busy (serial line relaxation and march \
              bookkeeping), so at once the comparison takes about its slowest model's time. \
-             Issue 25's target: dent-shallow-compare within 15 s on 2 cores."
+             The target: dent-shallow-compare within 15 s on 2 cores."
         ),
         &[("Whole comparisons", &t)],
     )

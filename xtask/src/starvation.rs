@@ -303,7 +303,7 @@ pub fn bench(n: usize, reps: usize) -> Result<PathBuf> {
         &format!("cargo xtask bench --only starved --max-points {n}"),
         &format!(
             "The seed's contact (Table 1, u1 = 0.01 m/s) on {n}² over [-1.25, 1.25]² a, steady, \
-             the median of {reps} solves; the issue's target is 1.5× the flooded solve. \
+             the median of {reps} solves; the target is 1.5× the flooded solve. \
              Slow-mode jumps: the mass-conserving solve's extrapolations along its slow mode \
              (`mode_extrapolation`, `crates/reynolds/src/extrapolate.rs`)."
         ),

@@ -43,10 +43,10 @@ fn the_coarse_speed_load_map_keeps_every_model_answering_where_it_answered() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("out/results.json")).unwrap())
             .unwrap();
     assert!(dir.join("out/sweep_robustness.png").is_file());
-    // Measured (2026-11-25): layer 35 of 35 (32 converged, 3 flagged: at 2–5 mm/s under 40–80 N
+    // Measured: layer 35 of 35 (32 converged, 3 flagged: at 2–5 mm/s under 40–80 N
     // the steady equations cycle at a few points and the solve returns its cycle-bounded
-    // answer, issue 26; they failed as stalled before); Reynolds fed 25 nm 23 (12 film closed: films thinner than 65² resolves
-    // at low speed and high load; measured again 2026-11-26 with the third attempt, whose
+    // answer; they failed as stalled before); Reynolds fed 25 nm 23 (12 film closed: films thinner than 65² resolves
+    // at low speed and high load; measured again with the third attempt, whose
     // smaller changes turned the one divergence into a closed film); flooded 20 (1 of them flagged: a stalled solve whose
     // answer settled, returned; 14 film closed, 1 stalled); dry 35.
     let record = [("layer", 35), ("reynolds", 23), ("reynolds-flooded", 20), ("dry", 35)];

@@ -65,7 +65,7 @@ fn killed_and_sharded_sweeps_give_the_uninterrupted_results_byte_for_byte() {
     }
 
     // Every point has a row per model; a model that failed has its diagnosis and no numbers,
-    // and did not stop the sweep. (On 65² the Reynolds film closes at 2 mm/s: issue 10.)
+    // and did not stop the sweep. (On 65² the Reynolds film closes at 2 mm/s.)
     let rows: Vec<&str> = csv.lines().skip(1).collect();
     assert_eq!(rows.len(), 8 * 4, "layer, reynolds (fed the supply), reynolds-flooded, dry");
     let failed: Vec<&&str> = rows.iter().filter(|r| r.contains(",false,")).collect();

@@ -12,7 +12,7 @@
 //! (V(3,1): 51) change that rate; letting every coarse grid (down to 17²) solve for the film
 //! content too made the solve diverge (the film closed).
 //!
-//! Since 2026-11-26 a steady solve's first attempt lets the coarse grids that hold the film
+//! A steady solve's first attempt lets the coarse grids that hold the film
 //! solve for the film content ([`crate::ReynoldsSettings::coarse_film_content`]), and they
 //! move the ring: the seed's contact with 25 nm on 257² converges in 20 cycles without a jump.
 //! The jumps remain for the attempts after a failed first one, for the start from the flooded
@@ -32,12 +32,8 @@
 //! cycles before it fell, for no real gain (32 cycles against 33), hence the cap of 10. A jump
 //! after which the residual grows tenfold is undone, and the solve goes on without jumps.
 //!
-//! Anderson acceleration of the same cycles (Walker & Ni's form, the whole state `(P, θ, H00)`,
-//! its least-change combination of the last `m + 1` outputs, projected) was tried in the jumps'
-//! place and not kept (2026-11-26, the seed's contact with 25 nm, 257², one thread): depth 1,
-//! 41 finest-grid cycles; depth 3, 62; depth 8, stalled in every attempt; 21 with the jumps. The
-//! cycles' changes are dominated by the relaxation's rough part at the cavitation boundary,
-//! which the least-change combination cancels instead of stepping along the slow ring.
+//! Anderson acceleration in the jumps' place was measured and set aside: `docs/decisions.md`,
+//! "Anderson acceleration of the fed cycles".
 
 use crate::level::Level;
 use ndarray::{Array2, Zip};

@@ -56,7 +56,7 @@ pub fn cell_needed(h_hertz: f64) -> f64 {
 /// The grid error's constant: the flooded central film's change from half the points per side,
 /// `|h_c,2h / h_c − 1|`, is at most this times `ρ²`, `ρ` the cell over `H_c^{2/3}` (`H_c` the
 /// NVM central film in Hertz units, the grid rule's width). Measured on `seed-speed-load` (35
-/// points, 2 mm/s … 1 m/s, 5 … 80 N, `ρ` = 0.016 … 0.25, 2026-11-26): the ratio is 2.5–4.3
+/// points, 2 mm/s … 1 m/s, 5 … 80 N, `ρ` = 0.016 … 0.25): the ratio is 2.5–4.3
 /// over three decades of speed, growing mildly with the load (2.5–2.8 at 5 N, 3.1–4.3 at 80 N).
 /// The fed films change less (starved ones by 0.06–1.8 ρ²): the flooded constant covers both.
 pub const GRID_CHANGE_PER_CELL2: f64 = 4.3;

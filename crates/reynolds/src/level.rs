@@ -580,20 +580,8 @@ impl Level {
     /// go first order only where both points are partly filled, or only where the upwind point
     /// is, stalled or closed the film with every supply of the seed's contact tried (5–100 nm).
     ///
-    /// Tried and not kept: a limited flux on every grid, the finest included, where a face
-    /// reads a partly filled point, `F(k+½) = q_k + φ (q_k − q_(k−1))/2` with
-    /// `φ = max(0, min(1, 2r))` of the slopes' ratio `r` (the second-order flux wherever
-    /// `r ≥ ½`, never more than the two cells it joins: the second-order flux over the inlet
-    /// meniscus carries half the jump more). It conserved the oil and dried the same span of
-    /// `hole-starved-compare` (the contact's share 5.2 % against 5.5 %), but it is first order
-    /// at the menisci: with 10 nm on 129², 257², 513², 1025², 8.239, 8.422, 8.445, 8.458 nm
-    /// against these faces' 8.382, 8.454, 8.457, 8.457. With the full-multigrid start's tight
-    /// settle it converged on fine grids where these faces stalled (5 mm/s, 40 N fed on 1281²:
-    /// 394 s against 1177 s; on 641² 35 cycles against 52), but it took 148 cycles against 41
-    /// with 15 nm on 513²; with the loose settle (the solver's `STARVED_FMG_SETTLE`) it gained
-    /// nothing (641²: 17 cycles either way; 1281²: 179 cycles, 393 s, against 145, 289 s). Limited
-    /// only where the upwind point is partly filled (the seed's 10 nm on 257²: 416 cycles), or
-    /// in the line solve's Jacobian alone with these equations (stalled), it was worse.
+    /// A limited flux on every grid was measured against these faces and set aside (first order
+    /// at the menisci): `docs/decisions.md`, "Limited Couette faces".
     #[inline]
     fn upwind(&self, theta: &[f64], i: usize) -> [f64; 3] {
         if i < 2 {

@@ -100,7 +100,7 @@ pub struct ReynoldsSettings {
     pub fallback_lag: f64,
     /// Smaller Gauss–Seidel changes for a third attempt (`relax.omega_gs` set to this, the
     /// laws still lagged), when the lagged attempt also diverges, stalls or cycles; 0, or not
-    /// below `relax.omega_gs`: no third attempt. Measured (issue 26's `seed-speed-load`, fed
+    /// below `relax.omega_gs`: no third attempt. Measured (`seed-speed-load`, fed
     /// 25 nm): at 0.3 m/s and 20 N on 385², and at 1 m/s under 5 and 10 N on 641² and 577², the
     /// heavily starved contacts (films of 21–22 nm, `h_oil/ρ̄`) ended both attempts in a limit
     /// cycle of the force balance or a stall at × 0.4, and converge at × 0.25; a smaller `H00`

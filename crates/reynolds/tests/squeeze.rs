@@ -102,7 +102,7 @@ fn a_rigid_sphere_squeezes_an_isoviscous_film_as_the_analytic_answer_says() {
     println!("grid-converged (Richardson): worst error {worst:.2e}");
     for (m, (c, f)) in coarse.iter().zip(&fine).enumerate() {
         let extrapolated = extrapolate(*c, *f);
-        // 1 %, the bound: a rate off by a constant factor (a missing 6π, λ̄ taken with
+        // 1 %, the bound asked of it: a rate off by a constant factor (a missing 6π, λ̄ taken with
         // the sum velocity) is off by tens of percent over the decade, a solver that lost the
         // squeeze term entirely does not move at all.
         assert!(

@@ -71,7 +71,7 @@ fn the_oil_leaving_the_domain_is_the_oil_supplied() {
 #[test]
 fn a_stalled_solve_whose_answer_settled_returns_it_and_says_so() {
     // The flooded seed on 129² stalls: the force balance settles at 1.1e-6 against its 1e-6,
-    // with laws lagged or not (issue 26). Its answer has settled (central film within 5e-4 over
+    // with laws lagged or not. Its answer has settled (central film within 5e-4 over
     // the stall window): returned, not converged, with the spreads.
     let prm = common::seed();
     let grid = Grid::new(129, 129, (-1.25, 1.25), (-1.25, 1.25));

@@ -1745,7 +1745,7 @@ mod tests {
 
     #[test]
     fn the_seed_s_layer_scenes_name_their_case_through_both_models() {
-        // `ehl compare squeeze-after-stop` runs the stop through both models (issue 25), on the
+        // `ehl compare squeeze-after-stop` runs the stop through both models, on the
         // comparison's own plan: the same contact, both models, the same start.
         for (one, both) in [
             ("squeeze-after-stop", "stop-compare"),

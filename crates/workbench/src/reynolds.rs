@@ -559,7 +559,7 @@ impl ReynoldsMarch<'_> {
     /// 0 counts, as the closing it is), not the contact edge's hundredths of a nanometre from
     /// step to step, which are no error of the time step. On `stop-compare` (129², lobes closed
     /// from 10 ms after the stop): 240 steps and 13 s (measured), against 543 steps and 35 s
-    /// watching the edge (as the session that found it measured). (At one step a cell the
+    /// watching the edge (as measured when it was found). (At one step a cell the
     /// restart after a stop moved with this watch's variants, `stop-start-compare`'s dip at
     /// 0.62–0.98 transits: the rolling steps' own error at Courant 1; at two steps a cell and
     /// finer it is 0.96–0.97 whatever the steps at rest, docs/reynolds.md, "Steps at rest".)
