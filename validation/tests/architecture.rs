@@ -1,7 +1,9 @@
 //! The rules of `ARCHITECTURE.md`, checked: the crate graph, each crate's module imports against
-//! the allow-list written there, no circle between a crate's modules, and no panic on a library
-//! path. The rules are read from the document's `rules` block, so the document and the check
-//! cannot drift apart.
+//! the allow-list written there, no circle between a crate's modules, no panic and no unchecked
+//! `unwrap` on a library path (beyond a short list, each with its reason), files and functions
+//! of one job (a length cap, beyond a list that may only shrink), and a repository that speaks
+//! of the product, not of how it was made. The rules are read from the document's `rules`
+//! block, so the document and the check cannot drift apart.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -62,12 +64,62 @@ fn sources(dir: &Path) -> Vec<PathBuf> {
     out
 }
 
-/// A file's code outside its tests (the test module sits at the end of each file) and with
-/// comment lines dropped.
+/// A file's code outside its tests and with comment lines dropped: the whole file, each item
+/// under `#[cfg(test)]` (a test module, wherever it sits) cut out to its closing brace.
 fn library_code(p: &Path) -> String {
     let s = std::fs::read_to_string(p).unwrap();
-    let s = s.split("#[cfg(test)]").next().unwrap_or("");
-    s.lines().filter(|l| !l.trim_start().starts_with("//")).collect::<Vec<_>>().join("\n")
+    without_tests(&s)
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// `code` with every `#[cfg(test)]` item removed: from the attribute to the end of the item it
+/// marks (its braces matched; a `;` item ends at the `;`).
+fn without_tests(code: &str) -> String {
+    let mut out = String::new();
+    let mut rest = code;
+    while let Some(k) = rest.find("#[cfg(test)]") {
+        out.push_str(&rest[..k]);
+        let after = &rest[k..];
+        let (mut depth, mut end) = (0usize, after.len());
+        for (i, c) in after.char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' => {
+                    depth = depth.saturating_sub(1);
+                    if depth == 0 {
+                        end = i + 1;
+                        break;
+                    }
+                }
+                ';' if depth == 0 => {
+                    end = i + 1;
+                    break;
+                }
+                _ => {}
+            }
+        }
+        rest = &after[end..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The library sources: every crate's `src` and the Python package's.
+fn library_sources() -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = crate_dirs()
+        .iter()
+        .flat_map(|d| sources(&root().join("crates").join(d).join("src")))
+        .collect();
+    v.extend(sources(&root().join("python/src")));
+    v
+}
+
+/// A path as the lists here name it, from the workspace's root (`crates/core/src/dry.rs`).
+fn rel(p: &Path) -> String {
+    p.strip_prefix(root()).unwrap_or(p).display().to_string()
 }
 
 /// The names right after each `crate::` (both `crate::a::…` and `crate::{a, b::…}`).
@@ -223,15 +275,307 @@ fn no_library_path_panics() {
         "unimplemented!(",
     ];
     let mut found = vec![];
+    for p in library_sources() {
+        let code = library_code(&p);
+        for b in banned {
+            if code.contains(b) {
+                found.push(format!("{}: {b}", rel(&p)));
+            }
+        }
+    }
+    assert!(found.is_empty(), "{found:#?}");
+}
+
+/// The library files allowed an `unwrap()` or `expect(…)`, how many, and why each cannot fail.
+/// The list may only shrink: a count above it fails, and so does one below it (lower it).
+const UNWRAP_ALLOWED: &[(&str, usize, &str)] = &[
+    (
+        "crates/core/src/dry.rs",
+        15,
+        "slices of arrays the solver allocated itself (standard layout), the last of a non-empty level list",
+    ),
+    (
+        "crates/reynolds/src/level.rs",
+        10,
+        "slices of the level's own arrays (standard layout); the ghost row checked present just before",
+    ),
+    (
+        "crates/core/src/deformation.rs",
+        6,
+        "FFTs on buffers the plan sized (rustfft fails only on a length mismatch); a buffer pool's lock, poisoned only after a panic",
+    ),
+    (
+        "crates/workbench/src/sweep/mod.rs",
+        4,
+        "the points' error slot's lock (poisoned only after a panic); a one-thread pool's build",
+    ),
+    (
+        "crates/scene/src/sweep.rs",
+        4,
+        "serialising a unit enum and a plan to JSON text; a lubricant checked present before",
+    ),
+    (
+        "crates/workbench/src/reynolds.rs",
+        3,
+        "a march's history has its start row; the motion built with the run; a report has its cycles",
+    ),
+    (
+        "crates/reynolds/src/solver.rs",
+        2,
+        "the last of a non-empty grid list; a solve has at least one cycle",
+    ),
+    (
+        "crates/layer/src/laws.rs",
+        2,
+        "the seed fit compiled in (reference/seed-fit.json), read by a test",
+    ),
+    ("crates/workbench/src/progress.rs", 1, "a fixed progress template"),
+    ("crates/workbench/src/plot.rs", 1, "the bundled font"),
+    ("crates/workbench/src/drive.rs", 1, "the history has its start row"),
+    ("crates/scene/src/lib.rs", 1, "the built-in scenes, each parsed by a test"),
+];
+
+#[test]
+fn no_library_path_unwraps_beyond_the_short_list_with_its_reasons() {
+    let mut found = vec![];
+    for p in library_sources() {
+        let code = library_code(&p);
+        let n = code.matches(".unwrap()").count() + code.matches(".expect(").count();
+        let name = rel(&p);
+        let allowed = UNWRAP_ALLOWED.iter().find(|a| a.0 == name).map_or(0, |a| a.1);
+        if n != allowed {
+            found.push(format!(
+                "{name}: {n} unwrap/expect, {allowed} allowed (an error path, or lower the list)"
+            ));
+        }
+    }
+    assert!(found.is_empty(), "{found:#?}");
+}
+
+/// The longest a source file in `crates/` may be, in lines, and the files allowed more (the
+/// list may only shrink: a file over its number fails).
+const FILE_LINES: usize = 900;
+const LONG_FILES: &[(&str, usize)] = &[
+    ("crates/scene/src/lib.rs", 2050),
+    ("crates/reynolds/src/level.rs", 1980),
+    ("crates/reynolds/src/solver.rs", 1800),
+    ("crates/workbench/src/reynolds.rs", 1200),
+    ("crates/workbench/src/drive.rs", 920),
+];
+
+/// The longest a function may be, in lines, and the functions allowed more, with why.
+const FN_LINES: usize = 120;
+const LONG_FNS: &[(&str, &str, usize, &str)] = &[
+    (
+        "crates/reynolds/src/level.rs",
+        "relax_line",
+        255,
+        "the line relaxation: one pass over a line's equations, its cavitation and contact sets",
+    ),
+    (
+        "crates/workbench/src/drive.rs",
+        "drive",
+        215,
+        "the one march loop: steps, error control, snapshots, stop rules",
+    ),
+    (
+        "crates/layer/src/steady.rs",
+        "solve",
+        200,
+        "the direct steady solve's iteration with its stall watch",
+    ),
+    (
+        "crates/core/src/dry.rs",
+        "pcg",
+        200,
+        "the preconditioned conjugate-gradient loop with its active set",
+    ),
+    (
+        "crates/workbench/src/sweep/merge.rs",
+        "one_parameter",
+        180,
+        "a one-parameter sweep's charts, panel by panel",
+    ),
+    (
+        "crates/workbench/src/plot.rs",
+        "draw_panel",
+        170,
+        "one body for the four log and linear coordinate systems (a macro)",
+    ),
+    (
+        "crates/reynolds/src/solver.rs",
+        "cycles",
+        135,
+        "the cycle loop with the full-multigrid start and the stop rules",
+    ),
+    ("crates/scene/src/sweep.rs", "validate", 135, "a sweep's checks, field by field"),
+    (
+        "crates/reynolds/src/level.rs",
+        "relax_columns",
+        135,
+        "the column pass of the mass-conserving relaxation",
+    ),
+    (
+        "crates/workbench/src/drive.rs",
+        "from_run",
+        130,
+        "the march's plan from the run block, phase by phase",
+    ),
+    (
+        "crates/workbench/src/reynolds.rs",
+        "figures",
+        125,
+        "the Reynolds answer's figures, one after the other",
+    ),
+    (
+        "crates/reynolds/src/solver.rs",
+        "cycle",
+        125,
+        "one FAS cycle: smoothing, restriction, the force balance, prolongation",
+    ),
+];
+
+/// Every function of `code` (`fn name` at the start of a line, to the closing brace at its
+/// indentation) with its length in lines.
+fn functions(code: &str) -> Vec<(String, usize)> {
+    let lines: Vec<&str> = code.lines().collect();
+    let mut out = vec![];
+    for (i, l) in lines.iter().enumerate() {
+        let t = l.trim_start();
+        let indent = &l[..l.len() - t.len()];
+        let t = t
+            .trim_start_matches("pub(crate) ")
+            .trim_start_matches("pub ")
+            .trim_start_matches("const ");
+        let Some(rest) = t.strip_prefix("fn ") else { continue };
+        let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+        let close = format!("{indent}}}");
+        if let Some(j) = lines[i + 1..].iter().position(|m| *m == close) {
+            out.push((name, j + 2));
+        }
+    }
+    out
+}
+
+#[test]
+fn files_and_functions_keep_to_one_job_beyond_the_short_list() {
+    let mut found = vec![];
     for dir in crate_dirs() {
         for p in sources(&root().join("crates").join(&dir).join("src")) {
-            let code = library_code(&p);
-            for b in banned {
-                if code.contains(b) {
-                    found.push(format!("{}: {b}", p.strip_prefix(root()).unwrap().display()));
+            let name = rel(&p);
+            let text = std::fs::read_to_string(&p).unwrap();
+            let n = text.lines().count();
+            let most = LONG_FILES.iter().find(|f| f.0 == name).map_or(FILE_LINES, |f| f.1);
+            if n > most {
+                found.push(format!("{name}: {n} lines, at most {most}"));
+            }
+            for (f, len) in functions(&without_tests(&text)) {
+                let most =
+                    LONG_FNS.iter().find(|x| x.0 == name && x.1 == f).map_or(FN_LINES, |x| x.2);
+                if len > most {
+                    found.push(format!("{name}: fn {f} {len} lines, at most {most}"));
                 }
             }
         }
     }
     assert!(found.is_empty(), "{found:#?}");
+}
+
+/// Words about how the project was made, not about the product: issue numbers, sessions,
+/// rounds, "tried and not kept" notes (they belong on the design-decisions page), dates.
+fn process_words(text: &str) -> Vec<String> {
+    let lower = text.to_lowercase();
+    let mut out = vec![];
+    for (k, _) in lower.match_indices("issue ") {
+        let digits: String = lower[k + 6..].chars().take_while(char::is_ascii_digit).collect();
+        if !digits.is_empty() {
+            out.push(format!("issue {digits}"));
+        }
+    }
+    for w in ["issue's", "this round", "tried and not kept", " session", "session "] {
+        if lower.contains(w) {
+            out.push(w.trim().to_string());
+        }
+    }
+    // A date: 20dd-dd-dd.
+    let b = lower.as_bytes();
+    for k in 0..(b.len() + 1).saturating_sub(10) {
+        let d = |i: usize| b[k + i].is_ascii_digit();
+        if b[k] == b'2'
+            && b[k + 1] == b'0'
+            && d(2)
+            && d(3)
+            && b[k + 4] == b'-'
+            && d(5)
+            && d(6)
+            && b[k + 7] == b'-'
+            && d(8)
+            && d(9)
+        {
+            out.push(lower[k..k + 10].to_string());
+        }
+    }
+    out
+}
+
+#[test]
+fn the_repository_speaks_of_the_product_not_of_how_it_was_made() {
+    let mut files: Vec<PathBuf> = library_sources();
+    for d in ["xtask/src", "validation/tests", "validation/src"] {
+        files.extend(sources(&root().join(d)));
+    }
+    for d in crate_dirs() {
+        let t = root().join("crates").join(d).join("tests");
+        if t.is_dir() {
+            files.extend(sources(&t));
+        }
+    }
+    for f in ["README.md", "ARCHITECTURE.md", "python/ehl/__init__.py", "python/examples/seed.py"] {
+        files.push(root().join(f));
+    }
+    files.extend(
+        std::fs::read_dir(root().join("docs"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "md")),
+    );
+    let mut found = vec![];
+    for p in files {
+        let name = rel(&p);
+        // The measured pages carry the date they were measured on (their header says so); the
+        // code that writes that header reads the date, and this check spells the patterns.
+        let skip_dates =
+            name.ends_with("xtask/src/measured.rs") || name.ends_with("architecture.rs");
+        let words: Vec<String> = process_words(&std::fs::read_to_string(&p).unwrap())
+            .into_iter()
+            .filter(|w| !(skip_dates && w.starts_with("20")))
+            .filter(|_| !name.ends_with("architecture.rs"))
+            .collect();
+        if !words.is_empty() {
+            found.push(format!("{name}: {words:?}"));
+        }
+    }
+    for p in std::fs::read_dir(root().join("docs/measured")).unwrap().map(|e| e.unwrap().path()) {
+        let words: Vec<String> = process_words(&std::fs::read_to_string(&p).unwrap())
+            .into_iter()
+            .filter(|w| !w.starts_with("20"))
+            .collect();
+        if !words.is_empty() {
+            found.push(format!("{}: {words:?}", rel(&p)));
+        }
+    }
+    assert!(found.is_empty(), "{found:#?}");
+}
+
+#[test]
+fn the_checks_cut_test_items_and_see_process_words() {
+    let code = "fn a() {}\n#[cfg(test)]\nmod tests {\n fn b() { panic!(\"x\") }\n}\nfn c() {}\n#[cfg(test)]\nuse x::y;\nfn d() {}";
+    let kept = without_tests(code);
+    assert!(kept.contains("fn a") && kept.contains("fn c") && kept.contains("fn d"));
+    assert!(!kept.contains("panic!") && !kept.contains("use x::y"));
+    assert_eq!(process_words("as issue 25 says, on 2026-11-26"), ["issue 25", "2026-11-26"]);
+    assert!(process_words("the solver's issue with films").is_empty());
+    let f =
+        functions("fn one() {\n    x\n}\n    pub fn two(a: u8) {\n        y\n        z\n    }\n");
+    assert_eq!(f, [("one".to_string(), 3), ("two".to_string(), 4)]);
 }

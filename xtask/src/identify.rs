@@ -368,7 +368,8 @@ fn lateral(th: &Theta, n: usize) -> Result<Value> {
                         .unwrap(),
                     s.grid(),
                     s.solver,
-                );
+                )
+                .unwrap();
                 let (p, eps) = (&o.final_state.p, &o.final_state.eps);
                 let pc = m.coefficient_pressure(p);
                 let (mut worst, mut growing, mut loaded) = (f64::NEG_INFINITY, 0usize, 0usize);

@@ -370,7 +370,8 @@ fn model_of(scene: &Scene) -> Result<(LayerModel, f64)> {
         ehl_core::Kinematics::constant(scene.conditions.rolling_velocity_m_s.unwrap()).unwrap(),
         scene.grid(),
         scene.solver,
-    );
+    )
+    .unwrap();
     let e = ehl_layer::stability_estimate(&m);
     Ok((m, e))
 }

@@ -20,7 +20,8 @@ fn main() {
         ehl_core::Kinematics::constant(0.01).unwrap(),
         Grid::square(n, 1.25),
         settings,
-    );
+    )
+    .unwrap();
     let tol: f64 = std::env::var("TOL").map(|v| v.parse().unwrap()).unwrap_or(1e-6);
     let st =
         SteadySettings { nested, substeps, strain_tolerance: tol, ..SteadySettings::default() };

@@ -189,7 +189,9 @@ pub struct LayerModel {
 
 impl LayerModel {
     /// The model of a layer `spec` supplied `supply_thickness_m` [m] thick, moving by `motion`,
-    /// on `grid`, with nothing passing (see [`LayerModel::set_passing`]).
+    /// on `grid`, with nothing passing (see [`LayerModel::set_passing`]); refused, naming the
+    /// field, when `spec` is out of its ranges ([`LayerSpec::check`]) or the supply is not a
+    /// positive thickness.
     pub fn new(
         contact: &Contact,
         lub: &Lubricant,
@@ -198,11 +200,18 @@ impl LayerModel {
         motion: Kinematics,
         grid: Grid,
         settings: DrySettings,
-    ) -> Self {
+    ) -> Result<Self, crate::LayerError> {
+        let refuse = |what: String| crate::LayerError::Setup(what);
+        spec.check().map_err(|e| refuse(format!("layer.{e}")))?;
+        if !(supply_thickness_m.is_finite() && supply_thickness_m > 0.0) {
+            return Err(refuse(format!(
+                "the supply's thickness {supply_thickness_m} m: must be finite and > 0"
+            )));
+        }
         let scales = HertzScales::new(contact);
-        let laws = spec
-            .law_parameters(scales.p_h)
-            .expect("layer.damper_constant is required with the reconstruction laws");
+        let laws = spec.law_parameters(scales.p_h).ok_or_else(|| {
+            refuse("layer.damper_constant: required with the reconstruction laws".into())
+        })?;
         let eta_zero_pa_s = match spec.damper_reading {
             DamperReading::Factor => laws.damper_constant * lub.eta0,
             DamperReading::Literal => laws.damper_constant,
@@ -214,7 +223,7 @@ impl LayerModel {
             other => other,
         };
         let damper = Damper { eta_zero: eta_zero_pa_s / scales.p_h, shape };
-        Self {
+        Ok(Self {
             l0: supply_thickness_m / scales.delta,
             supply: Supply::uniform(supply_thickness_m),
             eo: oedometric_modulus(spec.modulus_pa, spec.poisson_ratio) / scales.p_h,
@@ -229,7 +238,7 @@ impl LayerModel {
             load: scales.load_dimensionless(),
             scales,
             grid,
-        }
+        })
     }
 
     /// What passes from now on: dents in the ball and holes in the supply.

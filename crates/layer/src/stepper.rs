@@ -405,7 +405,8 @@ mod tests {
             ehl_core::Kinematics::constant(0.01).unwrap(),
             grid,
             ehl_core::DrySettings::default(),
-        );
+        )
+        .unwrap();
         let mut st = Stepper::new(Scheme::Explicit, 0);
         let mut s = LayerState {
             t: 0.0,

@@ -24,6 +24,7 @@ fn model(n: usize, u1: f64) -> LayerModel {
         Grid::square(n, 1.25),
         settings,
     )
+    .unwrap()
 }
 
 /// Squeeze from a uniform layer for `t_end` with `k` equal steps; returns the strain field.
@@ -166,6 +167,7 @@ fn literal_damper_reading_is_the_factor_reading_times_eta0() {
             Grid::square(17, 1.25),
             DrySettings::default(),
         )
+        .unwrap()
     };
     let factor = make(LayerSpec { damper_reading: DamperReading::Factor, ..SEED_LAYER });
     let literal = make(LayerSpec {
@@ -224,6 +226,7 @@ fn law_parameters_reach_the_laws() {
             Grid::square(9, 1.25),
             DrySettings::default(),
         )
+        .unwrap()
     };
     let base = make(SEED_LAYER);
     let half = make(LayerSpec {
@@ -405,7 +408,8 @@ fn carried_bump_error(motion: ehl_core::Kinematics, k: usize, t_end: f64) -> f64
         motion.clone(),
         Grid::square(65, 1.25),
         DrySettings::default(),
-    );
+    )
+    .unwrap();
     let bump = |x: f64| 0.3 * (-((x + 0.6) / 0.25).powi(2)).exp();
     let mut s = uniform_state(&m).unwrap();
     s.eps = m.grid.field(|x, _| bump(x));

@@ -23,6 +23,7 @@ fn model(n: usize, smoothing: f64) -> LayerModel {
         Grid::square(n, 1.25),
         settings,
     )
+    .unwrap()
 }
 
 /// Table 1 as published (no smoothing), the contact at its default tolerance, rolling at `u1` [m/s].
@@ -37,6 +38,7 @@ fn table1(n: usize, u1: f64) -> LayerModel {
         Grid::square(n, 1.25),
         DrySettings::default(),
     )
+    .unwrap()
 }
 
 /// The implicit march at one step per cell (whole-cell shifts, BDF2), past two flushes of the
@@ -213,6 +215,7 @@ fn slow(n: usize, u1: f64, w: f64) -> LayerModel {
         Grid::square(n, 1.25),
         DrySettings::default(),
     )
+    .unwrap()
 }
 
 #[test]

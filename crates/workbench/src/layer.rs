@@ -220,7 +220,8 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
         motion,
         grid,
         scene.solver,
-    );
+    )
+    .within(|| format!("scene `{}`", scene.name))?;
     let setup_time_s = t0.elapsed().as_secs_f64();
     let fail = |what: &str| format!("scene `{}`: {what}", scene.name);
 

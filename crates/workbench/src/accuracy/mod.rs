@@ -101,69 +101,10 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
     let t0 = std::time::Instant::now();
     let point = answer.observables();
     let lubricated = answer.lubricated();
-    let (n, m) = (scene.grid.nx, scene.grid.ny);
     let model = scene.model().and_then(|k| crate::run::model(k).ok());
-    let coarser = |k: usize| -> Option<Scene> {
-        let (mut a, mut b) = (n, m);
-        for _ in 0..k {
-            (a, b) = (half(a), half(b));
-        }
-        (a.min(b) >= LEAST_POINTS && (a, b) != (n, m)).then(|| {
-            let mut s = scene.clone();
-            s.grid = ehl_scene::GridSpec { nx: a, ny: b };
-            s.outputs = ehl_scene::Outputs { centreline: false, fields: false, figures: false };
-            match model {
-                Some(m) => m.for_estimate(s),
-                None => s,
-            }
-        })
-    };
-    // A coarser grid whose cells are wider than the model's answer can exist on is not run: it
-    // would only fail, slowly (a Reynolds film that closes runs its whole cascade of attempts).
-    // The models' rule asks for half the cell where existence ends (measured: the seed's film
-    // answers on twice its rule's cell and closes on four times it), so twice the rule's cell.
-    let exists_on = model.map_or(f64::INFINITY, |m| 2.0 * m.cell_needed(scene, f64::INFINITY));
-    let cell = |s: &Scene| {
-        let d = &s.domain;
-        ((d.x_a[1] - d.x_a[0]) / (s.grid.nx - 1) as f64)
-            .max((d.y_a[1] - d.y_a[0]) / (s.grid.ny - 1) as f64)
-    };
-    let run = |s: &Option<Scene>| -> Option<Result<Observables, String>> {
-        let s = s.as_ref()?;
-        if cell(s) > exists_on * (1.0 + 1e-9) {
-            return Some(Err(format!(
-                "cells of {:.4} a, wider than the {:.4} a its answer can exist on",
-                cell(s),
-                exists_on
-            )));
-        }
-        Some(crate::run::run_scene(s).map(|o| o.observables()).map_err(|e| e.class().to_string()))
-    };
-    let (s1, s2) = (coarser(1), coarser(2));
-    // The two coarser runs at once: neither keeps both cores busy.
-    let (r1, r2) = rayon::join(|| run(&s1), || run(&s2));
-    let mut grids = vec![n];
-    let (h, q) = match (r1, &s1) {
-        (None, _) | (_, None) => {
-            (Err("the grid has no coarser one to compare with".to_string()), None)
-        }
-        (Some(Err(e)), Some(s1)) => {
-            (Err(format!("the half grid ({}²) has no answer: {e}", s1.grid.nx)), None)
-        }
-        (Some(Ok(h)), Some(s1)) => {
-            grids.push(s1.grid.nx);
-            let q = match (r2, &s2) {
-                (Some(Ok(q)), Some(s2)) => {
-                    grids.push(s2.grid.nx);
-                    Some(q)
-                }
-                _ => None,
-            };
-            (Ok(h), q)
-        }
-    };
+    let (grids, half, quarter) = coarser_answers(scene, model);
     let law = model.and_then(|m| m.film_error_law(scene)).filter(|_| lubricated);
-    let (mut errors, method) = match (&h, law) {
+    let (mut errors, method) = match (&half, law) {
         (Err(why), Some((err, law))) => {
             // No coarser grid answers: the films' error from the model's measured law.
             let scale = film_scale(point.central_film_m);
@@ -175,9 +116,9 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
         }
         (Err(why), None) => ([None; 5], format!("not estimated: {why}")),
         (Ok(h), _) => {
-            let mut es = grid_errors(&point, h, q.as_ref(), lubricated);
+            let mut es = grid_errors(&point, h, quarter.as_ref(), lubricated);
             let verified = model.and_then(|m| m.verified_order());
-            let method = match (&q, verified) {
+            let method = match (&quarter, verified) {
                 (Some(_), _) => format!(
                     "three grids ({}), the observed order and Roache's grid convergence index",
                     side_list(&grids)
@@ -198,43 +139,109 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
                 ),
             };
             let sc = scales(&point);
-            (
-                std::array::from_fn(|k| {
-                    es[k].map(|e| ErrorBar {
-                        relative: e.error,
-                        absolute: e.error * sc[k],
-                        order: e.order,
-                    })
-                }),
-                method,
-            )
+            let bar = |k: usize| {
+                es[k].map(|e| ErrorBar {
+                    relative: e.error,
+                    absolute: e.error * sc[k],
+                    order: e.order,
+                })
+            };
+            (std::array::from_fn(bar), method)
         }
     };
-    // An extent ends where the pressure crosses its threshold, somewhere inside a cell at each
-    // end: at least a cell's width wrong, whatever the grids say (they can agree by chance:
-    // the dry contact's 2a is 1.34, 1.37, 1.29 % long on 33², 65², 129², then 0.46 % on 257²).
+    floors(scene, answer, &mut errors);
+    Estimate { grids, errors, method, wall_time_s: t0.elapsed().as_secs_f64() }
+}
+
+/// The answers of the same model on half and a quarter of the points per side (at once: neither
+/// keeps both cores busy), with the grids that answered (the answer's own first): the half's
+/// answer or why there is none, the quarter's when it answered. A coarser grid whose cells are
+/// wider than the model's answer can exist on is not run: it would only fail, slowly (a Reynolds
+/// film that closes runs its whole cascade of attempts). The models' rule asks for half the cell
+/// where existence ends (measured: the seed's film answers on twice its rule's cell and closes on
+/// four times it), so twice the rule's cell.
+fn coarser_answers(
+    scene: &Scene,
+    model: Option<&'static dyn crate::model::ContactModel>,
+) -> (Vec<usize>, Result<Observables, String>, Option<Observables>) {
+    let (n, m) = (scene.grid.nx, scene.grid.ny);
+    let coarser = |k: usize| -> Option<Scene> {
+        let (mut a, mut b) = (n, m);
+        for _ in 0..k {
+            (a, b) = (half(a), half(b));
+        }
+        (a.min(b) >= LEAST_POINTS && (a, b) != (n, m)).then(|| {
+            let mut s = scene.clone();
+            s.grid = ehl_scene::GridSpec { nx: a, ny: b };
+            s.outputs = ehl_scene::Outputs { centreline: false, fields: false, figures: false };
+            match model {
+                Some(m) => m.for_estimate(s),
+                None => s,
+            }
+        })
+    };
+    let exists_on = model.map_or(f64::INFINITY, |m| 2.0 * m.cell_needed(scene, f64::INFINITY));
+    let cell = |s: &Scene| {
+        let d = &s.domain;
+        ((d.x_a[1] - d.x_a[0]) / (s.grid.nx - 1) as f64)
+            .max((d.y_a[1] - d.y_a[0]) / (s.grid.ny - 1) as f64)
+    };
+    let run = |s: &Option<Scene>| -> Option<Result<Observables, String>> {
+        let s = s.as_ref()?;
+        if cell(s) > exists_on * (1.0 + 1e-9) {
+            return Some(Err(format!(
+                "cells of {:.4} a, wider than the {:.4} a its answer can exist on",
+                cell(s),
+                exists_on
+            )));
+        }
+        Some(crate::run::run_scene(s).map(|o| o.observables()).map_err(|e| e.class().to_string()))
+    };
+    let (s1, s2) = (coarser(1), coarser(2));
+    let (r1, r2) = rayon::join(|| run(&s1), || run(&s2));
+    let mut grids = vec![n];
+    match (r1, &s1) {
+        (Some(Ok(h)), Some(s1)) => {
+            grids.push(s1.grid.nx);
+            let q = match (r2, &s2) {
+                (Some(Ok(q)), Some(s2)) => {
+                    grids.push(s2.grid.nx);
+                    Some(q)
+                }
+                _ => None,
+            };
+            (grids, Ok(h), q)
+        }
+        (Some(Err(e)), Some(s1)) => {
+            (grids, Err(format!("the half grid ({}²) has no answer: {e}", s1.grid.nx)), None)
+        }
+        _ => (grids, Err("the grid has no coarser one to compare with".to_string()), None),
+    }
+}
+
+/// The least each error can be, whatever the grids say. An extent ends where the pressure
+/// crosses its threshold, somewhere inside a cell at each end: at least a cell's width wrong
+/// (the grids can agree by chance: the dry contact's 2a is 1.34, 1.37, 1.29 % long on 33²,
+/// 65², 129², then 0.46 % on 257²). A film that went below zero is at least that wrong.
+fn floors(scene: &Scene, answer: &dyn Outcome, errors: &mut [Option<ErrorBar>; 5]) {
+    let point = answer.observables();
+    let mut at_least = |k: usize, absolute: f64, scale: f64| {
+        let least = absolute / scale;
+        let bar = errors[k].get_or_insert(ErrorBar { relative: 0.0, absolute: 0.0, order: None });
+        if bar.relative < least {
+            *bar = ErrorBar { relative: least, absolute, order: bar.order };
+        }
+    };
     let g = scene.grid();
     for (k, cell) in [(3, g.dx()), (4, g.dy())] {
-        let (extent, width) = (values(&point)[k], answer.scales().x_si(cell));
+        let extent = values(&point)[k];
         if extent > 0.0 {
-            let least = width / extent;
-            let bar =
-                errors[k].get_or_insert(ErrorBar { relative: 0.0, absolute: 0.0, order: None });
-            if bar.relative < least {
-                *bar = ErrorBar { relative: least, absolute: width, order: bar.order };
-            }
+            at_least(k, answer.scales().x_si(cell), extent);
         }
     }
-    // A film below zero is at least that wrong.
-    if lubricated && point.film_overlap_m > 0.0 {
-        let scale = film_scale(point.central_film_m);
-        let least = point.film_overlap_m / scale;
-        let bar = errors[1].get_or_insert(ErrorBar { relative: 0.0, absolute: 0.0, order: None });
-        if bar.relative < least {
-            *bar = ErrorBar { relative: least, absolute: point.film_overlap_m, order: bar.order };
-        }
+    if answer.lubricated() && point.film_overlap_m > 0.0 {
+        at_least(1, point.film_overlap_m, film_scale(point.central_film_m));
     }
-    Estimate { grids, errors, method, wall_time_s: t0.elapsed().as_secs_f64() }
 }
 
 /// How an answer is checked: whether its error is estimated, and the limit it is judged
