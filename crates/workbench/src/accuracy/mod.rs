@@ -233,6 +233,7 @@ pub const FILM_FLOOR: f64 = 3e-3;
 /// below zero at least that much.
 fn floors(scene: &Scene, answer: &dyn Outcome, errors: &mut [Option<ErrorBar>; 5]) {
     let point = answer.observables();
+    let has_bar = [errors[0].is_some(), errors[1].is_some()];
     let mut at_least = |k: usize, absolute: f64, scale: f64| {
         let least = absolute / scale;
         let bar = errors[k].get_or_insert(ErrorBar { relative: 0.0, absolute: 0.0, order: None });
@@ -248,8 +249,9 @@ fn floors(scene: &Scene, answer: &dyn Outcome, errors: &mut [Option<ErrorBar>; 5
         }
     }
     let film = film_scale(point.central_film_m);
-    if answer.lubricated() {
-        for k in [0, 1] {
+    // Only films with an estimate: a film not estimated stays so, and says so.
+    for (k, has) in [(0, has_bar[0]), (1, has_bar[1])] {
+        if has {
             at_least(k, FILM_FLOOR * film, film);
         }
     }
