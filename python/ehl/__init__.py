@@ -31,7 +31,7 @@ import csv
 import json
 import os
 import warnings
-from typing import Any, Dict, List, Optional, Union
+from typing import Any
 
 import numpy as np
 
@@ -63,7 +63,12 @@ class AccuracyWarning(UserWarning):
 class Scene:
     """A checked scene: a built-in name, a JSON file's path, or a dict, with every default filled."""
 
-    def __init__(self, spec: Union[str, os.PathLike, Dict[str, Any], "Scene"], grid: Optional[int] = None, for_compare: bool = False):
+    def __init__(
+        self,
+        spec: str | os.PathLike | dict[str, Any] | Scene,
+        grid: int | None = None,
+        for_compare: bool = False,
+    ):
         """``for_compare``: a one-model scene that names its comparison (``comparison``) is that
         comparison, as ``ehl compare NAME`` runs it (``grid`` applies to the comparison)."""
         if isinstance(spec, Scene):
@@ -73,30 +78,30 @@ class Scene:
         else:
             text, is_json = os.fspath(spec), False
         self.json: str = _ehl.load_scene(text, is_json, grid, bool(for_compare))
-        self.data: Dict[str, Any] = json.loads(self.json)
+        self.data: dict[str, Any] = json.loads(self.json)
 
     @property
     def name(self) -> str:
         return self.data["name"]
 
     @property
-    def models(self) -> List[str]:
+    def models(self) -> list[str]:
         """The models it runs: one, or a comparison's list."""
         return [self.data["model"]] if self.data.get("model") else list(self.data.get("models", []))
 
-    def to_dict(self) -> Dict[str, Any]:
+    def to_dict(self) -> dict[str, Any]:
         return json.loads(self.json)
 
     def __repr__(self) -> str:
         return f"Scene({self.name!r}, models={self.models})"
 
 
-def scene(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int] = None) -> Scene:
+def scene(spec: str | os.PathLike | dict[str, Any] | Scene, grid: int | None = None) -> Scene:
     """A checked scene from a built-in name, a path or a dict; ``grid`` sets the points per side."""
     return Scene(spec, grid)
 
 
-def _with_accuracy(s: Scene, accuracy: Optional[float]) -> Scene:
+def _with_accuracy(s: Scene, accuracy: float | None) -> Scene:
     """``s`` asking for the relative ``accuracy`` (checked), or ``s`` itself."""
     if accuracy is None:
         return s
@@ -111,8 +116,9 @@ class Result:
     ``observables``: the standard observables, ``{name: (value, unit)}`` (central and minimum film,
     maximum pressure, contact extents, load error, SI). ``pressure`` [Pa] and ``film`` [m]: the
     two fields every model defines, arrays ``(ny, nx)`` on ``x``, ``y`` [m]; ``fields``: every
-    field the model writes, ``{name: array (ny, nx)}``, SI (units in the names). ``history``: for a marching run, ``{column: array}`` (times and the
-    model's quantities, SI, units in the names), else ``None``. ``summary``: the ``summary.json``
+    field the model writes, ``{name: array (ny, nx)}``, SI (units in the names). ``history``: for
+    a marching run, ``{column: array}`` (times and the model's quantities, SI, units in the
+    names), else ``None``. ``summary``: the ``summary.json``
     the command line writes. ``report``: the text it prints. ``errors``: each standard
     observable's estimated discretisation error, ``{name: (value, error, unit)}`` (``error``
     ``None`` where none was estimated). ``flags``: why the answer is flagged (an error beyond
@@ -121,27 +127,27 @@ class Result:
     caveat in one line (a steady solve that settled on a cycle), else ``None``.
     """
 
-    def __init__(self, raw: Dict[str, Any]):
-        self.summary: Dict[str, Any] = json.loads(raw["summary"])
+    def __init__(self, raw: dict[str, Any]):
+        self.summary: dict[str, Any] = json.loads(raw["summary"])
         self.report: str = raw["report"]
-        self.fields: Dict[str, np.ndarray] = dict(raw["fields"])
+        self.fields: dict[str, np.ndarray] = dict(raw["fields"])
         self.film: np.ndarray = raw["film"]
         self.pressure: np.ndarray = raw["pressure"]
         self.x: np.ndarray = raw["x"]
         self.y: np.ndarray = raw["y"]
         rows = json.loads(raw["time_series"]) if raw["time_series"] is not None else None
-        self.history: Optional[Dict[str, np.ndarray]] = _columns(rows) if rows else None
+        self.history: dict[str, np.ndarray] | None = _columns(rows) if rows else None
         self.model: str = self.summary.get("model", "")
-        self.caveat: Optional[str] = self.summary.get("caveat")
+        self.caveat: str | None = self.summary.get("caveat")
         acc = self.summary.get("accuracy", {})
-        self.errors: Dict[str, tuple] = {
+        self.errors: dict[str, tuple] = {
             k: (v["value"], v["error"], v["unit"]) for k, v in acc.get("observables", {}).items()
         }
-        self.flags: List[str] = list(raw.get("flags", []))
+        self.flags: list[str] = list(raw.get("flags", []))
         self.flagged: bool = bool(self.flags)
 
     @property
-    def observables(self) -> Dict[str, tuple]:
+    def observables(self) -> dict[str, tuple]:
         """``{name: (value, unit)}``, SI; the unit is the name's suffix (``central_film_m``)."""
         return {k: (v, _unit(k)) for k, v in self.summary["observables"].items()}
 
@@ -164,17 +170,17 @@ class Comparison:
     ``total_wall_time_s``).
     """
 
-    def __init__(self, raw: Dict[str, Any]):
-        self.comparison: Dict[str, Any] = json.loads(raw["table"])
+    def __init__(self, raw: dict[str, Any]):
+        self.comparison: dict[str, Any] = json.loads(raw["table"])
         self.text: str = raw["text"]
-        self.results: Dict[str, Result] = {k: Result(v) for k, v in raw["results"].items()}
-        self.errors: Dict[str, str] = dict(raw["errors"])
+        self.results: dict[str, Result] = {k: Result(v) for k, v in raw["results"].items()}
+        self.errors: dict[str, str] = dict(raw["errors"])
 
-    def table(self) -> "Table":
+    def table(self) -> Table:
         return Table([dict(r) for r in self.comparison["models"]], self.text)
 
     @property
-    def flagged(self) -> Dict[str, List[str]]:
+    def flagged(self) -> dict[str, list[str]]:
         """``{model: flags}`` of the answers that are flagged."""
         return {k: r.flags for k, r in self.results.items() if r.flags}
 
@@ -191,7 +197,7 @@ class Table(list):
     """Rows (one dict per model) that print as the command line's table: a list, so
     ``pandas.DataFrame(table)`` takes it as it is."""
 
-    def __init__(self, rows: List[Dict[str, Any]], text: str):
+    def __init__(self, rows: list[dict[str, Any]], text: str):
         super().__init__(rows)
         self.text = text
 
@@ -212,32 +218,47 @@ class SweepResult:
         self.csv = csv_text
         self._rows = [{k: _cell(v) for k, v in row.items()} for row in csv.DictReader(csv_text.splitlines())]
 
-    def table(self) -> List[Dict[str, Any]]:
+    def table(self) -> list[dict[str, Any]]:
         return [dict(r) for r in self._rows]
 
     def __repr__(self) -> str:
         return f"SweepResult({len(self._rows)} rows in {self.folder})"
 
 
-def _warn(results: Dict[str, Result]) -> None:
+def _warn(results: dict[str, Result]) -> None:
     for name, r in results.items():
         if r.flags:
             warnings.warn(f"{name}: " + "; ".join(r.flags), AccuracyWarning, stacklevel=3)
 
 
-def run(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int] = None, out: Optional[Union[str, os.PathLike]] = None, accuracy: Optional[float] = None, estimate: bool = True) -> Result:
+def run(
+    spec: str | os.PathLike | dict[str, Any] | Scene,
+    grid: int | None = None,
+    out: str | os.PathLike | None = None,
+    accuracy: float | None = None,
+    estimate: bool = True,
+) -> Result:
     """Runs a one-model scene; writes the command line's files to ``out`` when given. With
     ``accuracy`` (``0.02``: 2 %) the grid follows the accuracy rule; ``estimate=False`` skips
     the error estimate (the answer then says it was not checked)."""
     s = _with_accuracy(Scene(spec, grid), accuracy)
     if len(s.models) != 1 or not s.data.get("model"):
-        raise SceneError(f"scene `{s.name}` is a comparison of several models ({', '.join(s.models)}): use ehl.compare")
+        raise SceneError(
+            f"scene `{s.name}` is a comparison of several models ({', '.join(s.models)}): use ehl.compare"
+        )
     r = Result(_ehl.run(s.json, None if out is None else os.fspath(out), bool(estimate)))
     _warn({r.model: r})
     return r
 
 
-def compare(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional[int] = None, out: Optional[Union[str, os.PathLike]] = None, one_at_a_time: bool = False, accuracy: Optional[float] = None, estimate: bool = True) -> Comparison:
+def compare(
+    spec: str | os.PathLike | dict[str, Any] | Scene,
+    grid: int | None = None,
+    out: str | os.PathLike | None = None,
+    one_at_a_time: bool = False,
+    accuracy: float | None = None,
+    estimate: bool = True,
+) -> Comparison:
     """Runs every model of a comparison scene on one grid, all at once sharing the cores (or one
     after the other with ``one_at_a_time=True``, so that each wall time is that model's own
     cost); writes the command line's files (``comparison.json``, ``.csv``, each model's folder)
@@ -246,12 +267,18 @@ def compare(spec: Union[str, os.PathLike, Dict[str, Any], Scene], grid: Optional
     ``accuracy`` and ``estimate`` as for :func:`run`; a flagged answer warns
     (:class:`AccuracyWarning`)."""
     s = _with_accuracy(Scene(spec, grid, for_compare=True), accuracy)
-    c = Comparison(_ehl.compare_scene(s.json, None if out is None else os.fspath(out), bool(one_at_a_time), bool(estimate)))
+    c = Comparison(
+        _ehl.compare_scene(
+            s.json, None if out is None else os.fspath(out), bool(one_at_a_time), bool(estimate)
+        )
+    )
     _warn(c.results)
     return c
 
 
-def sweep(spec: Union[str, os.PathLike, Dict[str, Any]], out: Optional[Union[str, os.PathLike]] = None, jobs: Optional[int] = None) -> SweepResult:
+def sweep(
+    spec: str | os.PathLike | dict[str, Any], out: str | os.PathLike | None = None, jobs: int | None = None
+) -> SweepResult:
     """Runs a sweep (a built-in name, a path, or a dict) locally, resumable like the command
     line's, into ``out`` (a new scratch folder when not given)."""
     if isinstance(spec, dict):
@@ -263,7 +290,7 @@ def sweep(spec: Union[str, os.PathLike, Dict[str, Any]], out: Optional[Union[str
     return SweepResult(path, csv_text)
 
 
-def builtins() -> Dict[str, List[str]]:
+def builtins() -> dict[str, list[str]]:
     """The built-in scenes and sweeps by name."""
     scenes, sweeps = _ehl.builtins()
     return {"scenes": list(scenes), "sweeps": list(sweeps)}
@@ -276,19 +303,19 @@ def _unit(name: str) -> str:
     return "1"
 
 
-def _columns(rows: List[Dict[str, Any]]) -> Dict[str, np.ndarray]:
+def _columns(rows: list[dict[str, Any]]) -> dict[str, np.ndarray]:
     """Rows of nested objects as flat columns (``a.b`` names), each an array."""
 
-    def flat(prefix: str, v: Any, out: Dict[str, Any]) -> None:
+    def flat(prefix: str, v: Any, out: dict[str, Any]) -> None:
         if isinstance(v, dict):
             for k, w in v.items():
                 flat(f"{prefix}.{k}" if prefix else k, w, out)
         else:
             out[prefix] = v
 
-    cols: Dict[str, List[Any]] = {}
+    cols: dict[str, list[Any]] = {}
     for r in rows:
-        f: Dict[str, Any] = {}
+        f: dict[str, Any] = {}
         flat("", r, f)
         for k, v in f.items():
             cols.setdefault(k, []).append(v)

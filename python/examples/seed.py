@@ -36,15 +36,19 @@ fig.savefig("seed_centrelines.png", dpi=120)
 
 # The central film over speed: a sweep (every point checked against a finer grid), as rows.
 speeds = [0.005, 0.01, 0.02, 0.05]
-s = ehl.sweep({
-    "name": "speed",
-    "scene": "seed",
-    "parameters": [{"parameter": "conditions.rolling_velocity_m_s", "values": speeds}],
-})
+s = ehl.sweep(
+    {
+        "name": "speed",
+        "scene": "seed",
+        "parameters": [{"parameter": "conditions.rolling_velocity_m_s", "values": speeds}],
+    }
+)
 rows = [r for r in s.table() if r["converged"]]
 fig, ax = plt.subplots(figsize=(6, 4))
 for model in ("layer", "reynolds", "reynolds-flooded"):
-    pts = [(r["conditions.rolling_velocity_m_s"], r["central_film_m"] * 1e9) for r in rows if r["model"] == model]
+    pts = [
+        (r["conditions.rolling_velocity_m_s"], r["central_film_m"] * 1e9) for r in rows if r["model"] == model
+    ]
     if pts:
         ax.loglog(*zip(*pts), "o-", label=model)
 ax.set(xlabel="u1 [m/s]", ylabel="h_c [nm]", title="Central film over speed (seed, 25 nm supplied)")

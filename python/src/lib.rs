@@ -17,8 +17,18 @@ use std::path::PathBuf;
 use std::sync::mpsc;
 use std::time::Duration;
 
-pyo3::create_exception!(_ehl, SceneError, pyo3::exceptions::PyValueError, "A scene or sweep refused: `field` names the field (its path), `allowed` what it may hold.");
-pyo3::create_exception!(_ehl, ModelError, pyo3::exceptions::PyRuntimeError, "A model that did not converge or could not run: the message is its diagnosis.");
+pyo3::create_exception!(
+    _ehl,
+    SceneError,
+    pyo3::exceptions::PyValueError,
+    "A scene or sweep refused: `field` names the field (its path), `allowed` what it may hold."
+);
+pyo3::create_exception!(
+    _ehl,
+    ModelError,
+    pyo3::exceptions::PyRuntimeError,
+    "A model that did not converge or could not run: the message is its diagnosis."
+);
 
 /// A refused scene as `SceneError(message)` with `.field` (the field's path, bare:
 /// `conditions.load_n`), `.value` and `.allowed` set when the scene names them. A parse error's
@@ -26,7 +36,9 @@ pyo3::create_exception!(_ehl, ModelError, pyo3::exceptions::PyRuntimeError, "A m
 /// package made from a dict or a loaded scene, never the user's.
 fn scene_error(py: Python<'_>, e: &RustSceneError) -> PyErr {
     let unplaced = |m: &str| match m.rfind(" at line ") {
-        Some(k) if m[k + 9..].split(" column ").all(|n| n.parse::<u64>().is_ok()) => m[..k].to_string(),
+        Some(k) if m[k + 9..].split(" column ").all(|n| n.parse::<u64>().is_ok()) => {
+            m[..k].to_string()
+        }
         _ => m.to_string(),
     };
     let (text, field, value, allowed) = match e {
@@ -102,10 +114,8 @@ fn load_scene(
 ) -> PyResult<String> {
     let scene = if is_json { Scene::from_json(spec, "(dict)") } else { ehl_scene::load(spec) };
     let mut scene = scene.map_err(|e| scene_error(py, &e))?;
-    if for_compare {
-        if let Some(c) = scene.as_comparison().map_err(|e| scene_error(py, &e))? {
-            scene = c;
-        }
+    if for_compare && let Some(c) = scene.as_comparison().map_err(|e| scene_error(py, &e))? {
+        scene = c;
     }
     if let Some(n) = grid {
         scene = scene.with_points(n).map_err(|e| scene_error(py, &e))?;
@@ -190,6 +200,10 @@ fn run<'py>(
     to_py(py, got.map_err(ModelError::new_err)?)
 }
 
+/// A comparison as Python receives it: `comparison.json`'s text, the printed table, and each
+/// model's answer or diagnosis by name.
+type Compared = (String, String, Vec<(String, Result<Answer, String>)>);
+
 /// Runs every model of a comparison scene (JSON text): `{"table": comparison.json's text,
 /// "text": the printed table, "results": {model: answer}, "errors": {model: diagnosis}}`; writes
 /// the command line's files to `out` when given. The models run at once unless `one_at_a_time`.
@@ -203,16 +217,12 @@ fn compare_scene<'py>(
     estimate: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = Scene::from_json(scene_json, "(scene)").map_err(|e| scene_error(py, &e))?;
-    #[allow(clippy::type_complexity)]
     if let Some(dir) = &out {
         output::check_out_dir(dir).map_err(|e| ModelError::new_err(e.to_string()))?;
     }
-    let got = off_thread(py, move || -> Result<(String, String, Vec<(String, Result<Answer, String>)>), String> {
-        let c = compare::run_checked(
-            &scene,
-            compare::Schedule::one_at_a_time(one_at_a_time),
-            estimate,
-        );
+    let got = off_thread(py, move || -> Result<Compared, String> {
+        let c =
+            compare::run_checked(&scene, compare::Schedule::one_at_a_time(one_at_a_time), estimate);
         if let Some(dir) = out {
             c.write(&dir).map_err(|e| e.to_string())?;
         }
