@@ -500,6 +500,22 @@ impl ReynoldsError {
 }
 
 /// The Reynolds EHL solver: FAS multigrid over a hierarchy of levels, steady solves and time steps.
+///
+/// ```
+/// use ehl_reynolds::{DensityLaw, ReynoldsParams, ReynoldsSettings, ReynoldsSolver, ViscosityLaw};
+/// let prm = ReynoldsParams::from_si(
+///     &ehl_core::SEED_CONTACT,
+///     &ehl_core::SEED_LUBRICANT,
+///     0.2, // sum velocity [m/s]
+///     ViscosityLaw::Roelands,
+///     DensityLaw::DowsonHigginson,
+/// );
+/// let grid = ehl_core::Grid::new(65, 65, (-2.5, 1.5), (-2.0, 2.0));
+/// let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
+/// let report = s.solve(&mut |_| {}).unwrap();
+/// let (hc, hmin) = s.films(); // central and minimum film [a²/R]
+/// assert!(report.converged && hc > hmin && hmin > 0.0);
+/// ```
 pub struct ReynoldsSolver {
     /// Finest first. Callers read the answer through [`ReynoldsSolver::pressure`],
     /// [`ReynoldsSolver::film`] and [`ReynoldsSolver::grid`].

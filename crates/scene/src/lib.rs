@@ -916,6 +916,14 @@ pub fn builtin(name: &str) -> Result<Scene, SceneError> {
 /// A built-in name, or else a path to a JSON file. A name that is both (a file `hertz` in the
 /// working folder) is refused as ambiguous rather than guessed. A file's relative
 /// `comparison` path is read from the file's own folder.
+///
+/// ```
+/// let s = ehl_scene::load("hertz").unwrap();
+/// assert_eq!(s.grid.nx, 129);
+/// // A field out of its range is refused, naming it and what it allows.
+/// let e = s.with_points(3).unwrap_err().to_string();
+/// assert!(e.contains("grid.nx") && e.contains("5 ..= 4097"));
+/// ```
 pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
     let path = Path::new(name_or_path);
     let named = BUILTINS.iter().any(|(n, _)| *n == name_or_path);

@@ -22,7 +22,17 @@ pub fn model(kind: ehl_scene::Model) -> Result<&'static dyn ContactModel> {
 }
 
 /// Runs a one-model `scene` (already validated) and returns its outcome; fails with a diagnosis
-/// if the solver diverges or does not converge.
+/// if the solver diverges or does not converge. [`crate::accuracy::run`] adds the answer's
+/// estimated error.
+///
+/// ```
+/// use ehl_workbench::Outcome;
+/// let scene = ehl_scene::load("hertz").unwrap().with_points(33).unwrap();
+/// let answer = ehl_workbench::run_scene(&scene).unwrap();
+/// // The dry contact's peak pressure is Hertz's p_h (33² resolves it to 1e-3).
+/// let p_max = answer.observables().max_pressure_pa;
+/// assert!((p_max / answer.scales().p_h - 1.0).abs() < 1e-3);
+/// ```
 pub fn run_scene(scene: &Scene) -> Result<Box<dyn Outcome>> {
     let Some(kind) = scene.model() else {
         return Err(Error::Refused(format!(
