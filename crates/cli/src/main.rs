@@ -174,15 +174,7 @@ fn real_main() -> Result<()> {
             }
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
             output::check_out_dir(&dir)?;
-            let (s, grown) = ehl_workbench::accuracy::resolved(&s);
-            eprintln!(
-                "running `{}` ({}) on {}{}, into {}",
-                s.name,
-                s.model_names(),
-                grid_words(&s),
-                grown.map_or(String::new(), |_| " (the grid the accuracy asked needs)".into()),
-                dir.display()
-            );
+            let s = announce(&s, &dir);
             let outcome = ehl_workbench::accuracy::run(&s, !no_estimate).map_err(|e| match e {
                 ehl_workbench::Error::Interrupted(m) => ehl_workbench::Error::Interrupted(format!(
                     "{m}; no output written, {} is as it was",
@@ -205,15 +197,7 @@ fn real_main() -> Result<()> {
             let s = prepare(comparison(&scene)?, grid, threads, accuracy)?;
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
             output::check_out_dir(&dir)?;
-            let (s, grown) = ehl_workbench::accuracy::resolved(&s);
-            eprintln!(
-                "running `{}` ({}) on {}{}, into {}",
-                s.name,
-                s.model_names(),
-                grid_words(&s),
-                grown.map_or(String::new(), |_| " (the grid the accuracy asked needs)".into()),
-                dir.display()
-            );
+            let s = announce(&s, &dir);
             let c = compare::run_checked(
                 &s,
                 compare::Schedule::one_at_a_time(one_at_a_time),
@@ -328,6 +312,21 @@ fn scenes() -> Result<()> {
         println!("{:<w0$}  {}", s.name, s.description);
     }
     Ok(())
+}
+
+/// The scene on the grid its accuracy asks for, said on the terminal before it runs (the tests
+/// wait for this line: the run has started).
+fn announce(s: &ehl_scene::Scene, dir: &std::path::Path) -> ehl_scene::Scene {
+    let (s, grown) = ehl_workbench::accuracy::resolved(s);
+    eprintln!(
+        "running `{}` ({}) on {}{}, into {}",
+        s.name,
+        s.model_names(),
+        grid_words(&s),
+        grown.map_or(String::new(), |_| " (the grid the accuracy asked needs)".into()),
+        dir.display()
+    );
+    s
 }
 
 /// The grid in words: `129² over x [-1.5, 1.5] a, y [-1.5, 1.5] a`.

@@ -99,6 +99,17 @@ pub fn extent(v: &[f64], h: f64, thr: f64) -> f64 {
 }
 
 impl Observables {
+    /// The observables of [`OBSERVED`], in its order (SI).
+    pub fn standard(&self) -> [f64; 5] {
+        [
+            self.central_film_m,
+            self.minimum_film_m,
+            self.max_pressure_pa,
+            self.contact_extent_x_m,
+            self.contact_extent_y_m,
+        ]
+    }
+
     /// From the pressure `P` [p_h] and film `H` [a²/R] on `grid` (units of `a`).
     pub fn from_fields(
         grid: &Grid,

@@ -350,16 +350,7 @@ impl DentSpec {
 /// table knot at 4097 m/s in `stop-start-compare`, 0.01 m/s reference, ran for 365 s on 17²).
 pub const MAX_SPEED_M_S: f64 = 100.0;
 
-/// A number as a message shows it: plain where that is short, else in `e` notation (1e308 as
-/// `1e308`, not 309 digits).
-pub fn num(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 || (1e-4..1e6).contains(&a) || !a.is_finite() {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
-}
+pub use ehl_core::check::num;
 
 /// The plausible range of each physical input, SI: `(field, least, most, unit, why)`. Beyond
 /// them no ball-on-disc contact the models describe exists (a ball of a kilometre, a modulus of

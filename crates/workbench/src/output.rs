@@ -345,13 +345,7 @@ pub const SHARED_KEYS: [&str; 13] = [
 /// what is flagged. `null` fields where no error was estimated.
 fn accuracy(outcome: &dyn Outcome) -> Value {
     let ob = outcome.observables();
-    let v = [
-        ob.central_film_m,
-        ob.minimum_film_m,
-        ob.max_pressure_pa,
-        ob.contact_extent_x_m,
-        ob.contact_extent_y_m,
-    ];
+    let v = ob.standard();
     let Some((e, limit)) = outcome.estimate() else {
         return serde_json::json!({ "estimated": false });
     };

@@ -497,31 +497,34 @@ fn title_size(title: &str, width: u32) -> u32 {
 
 /// Colour for `t ∈ [0, 1]`: a perceptually ordered blue–green–yellow ramp (viridis-like).
 fn ramp(t: f64) -> RGBColor {
-    const STOPS: [(f64, f64, f64); 5] =
-        [(68., 1., 84.), (59., 82., 139.), (33., 145., 140.), (94., 201., 98.), (253., 231., 37.)];
+    blend(
+        &[(68., 1., 84.), (59., 82., 139.), (33., 145., 140.), (94., 201., 98.), (253., 231., 37.)],
+        t,
+    )
+}
+
+/// The colour at `t ∈ [0, 1]` along five evenly spaced `stops`, linear between them.
+fn blend(stops: &[(f64, f64, f64); 5], t: f64) -> RGBColor {
     let t = t.clamp(0.0, 1.0) * 4.0;
     let k = (t.floor() as usize).min(3);
     let f = t - k as f64;
-    let (a, b) = (STOPS[k], STOPS[k + 1]);
+    let (a, b) = (stops[k], stops[k + 1]);
     let mix = |x: f64, y: f64| (x + (y - x) * f).round() as u8;
     RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
 /// Colour for `t ∈ [0, 1]` of a signed quantity: blue below the middle, white at it, red above.
 fn diverging(t: f64) -> RGBColor {
-    const STOPS: [(f64, f64, f64); 5] = [
-        (33., 102., 172.),
-        (146., 197., 222.),
-        (247., 247., 247.),
-        (244., 165., 130.),
-        (178., 24., 43.),
-    ];
-    let t = t.clamp(0.0, 1.0) * 4.0;
-    let k = (t.floor() as usize).min(3);
-    let f = t - k as f64;
-    let (a, b) = (STOPS[k], STOPS[k + 1]);
-    let mix = |x: f64, y: f64| (x + (y - x) * f).round() as u8;
-    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+    blend(
+        &[
+            (33., 102., 172.),
+            (146., 197., 222.),
+            (247., 247., 247.),
+            (244., 165., 130.),
+            (178., 24., 43.),
+        ],
+        t,
+    )
 }
 
 /// One heat-map panel.

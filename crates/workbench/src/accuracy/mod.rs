@@ -39,13 +39,7 @@ pub fn film_scale(central_film_m: f64) -> f64 {
 
 /// The observables of [`OBSERVED`] of an answer, in their order.
 fn values(o: &Observables) -> [f64; 5] {
-    [
-        o.central_film_m,
-        o.minimum_film_m,
-        o.max_pressure_pa,
-        o.contact_extent_x_m,
-        o.contact_extent_y_m,
-    ]
+    o.standard()
 }
 
 /// The scales the observables' errors are relative to: the films' the film scale
@@ -421,14 +415,7 @@ impl Outcome for Checked {
         let mut r = self.outcome.report();
         if let Some(e) = &self.estimate {
             r += &format!("  estimated error: {}\n", e.method);
-            let ob = self.outcome.observables();
-            let v = [
-                ob.central_film_m,
-                ob.minimum_film_m,
-                ob.max_pressure_pa,
-                ob.contact_extent_x_m,
-                ob.contact_extent_y_m,
-            ];
+            let v = self.outcome.observables().standard();
             for (k, bar) in e.errors.iter().enumerate() {
                 let Some(b) = bar else { continue };
                 let (scale, unit) = if k == 2 {
