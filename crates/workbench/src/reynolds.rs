@@ -166,7 +166,7 @@ impl ContactModel for Reynolds {
         nvm_film(scene)
             .map_or(f64::INFINITY, |h| ehl_reynolds::formulas::cell_for_change(h, change))
     }
-    /// The first attempt alone, and at most [`ESTIMATE_CYCLES`] cycles: a coarse grid near the
+    /// The first attempt alone, and at most `ESTIMATE_CYCLES` cycles: a coarse grid near the
     /// film's existence limit stalls and hands over to attempt after attempt (the seed flooded on
     /// 129²: 144 cycles, 3.8 s, four times the 257² answer's own 15 cycles), and an answer that
     /// takes that is no error estimate to wait for.

@@ -50,7 +50,7 @@ fn scales(o: &Observables) -> [f64; 5] {
     [film, film, o.max_pressure_pa, o.contact_extent_x_m, o.contact_extent_y_m]
 }
 
-/// The relative changes from `b` to `a` of [`OBSERVED`], over `b`'s scales ([`scales`]); films
+/// The relative changes from `b` to `a` of [`OBSERVED`], over `b`'s scales; films
 /// only where there is a film (`lubricated`: not the dry contact's zero gap).
 pub fn changes(a: &Observables, b: &Observables, lubricated: bool) -> [Option<f64>; 5] {
     let (va, vb, sb) = (values(a), values(b), scales(b));
@@ -60,7 +60,7 @@ pub fn changes(a: &Observables, b: &Observables, lubricated: bool) -> [Option<f6
 }
 
 /// The estimated grid errors of [`OBSERVED`] of the answer `point` from the half grid's answer
-/// and the quarter's (when it answered), each relative to the answer's scale ([`scales`]);
+/// and the quarter's (when it answered), each relative to the answer's scale;
 /// films only for lubricated models.
 pub fn grid_errors(
     point: &Observables,
