@@ -230,8 +230,10 @@ fn estimate(n: usize, runs: usize) -> Result<std::path::PathBuf> {
         &format!("cargo xtask bench --only estimate --max-points {n}"),
         "Each model's answer on the scene's grid, then its error estimate: the same model on half \
          and a quarter of the points per side over the same domain, the two at once, a coarser \
-         grid wider than the model's answer can exist on not run, a Reynolds coarse grid given \
-         its first attempt and 25 cycles at most. Wall times on 2 cores, the median of the runs; \
+         grid wider than the model's answer can exist on not run; a Reynolds coarse grid of a \
+         steady answer starts from that answer (its points a subset of the finer grid's), held \
+         to a film settled within 5e-4 a cycle and a load within 1e-5, its first attempt and 25 \
+         cycles at most. Wall times on 2 cores, the median of the runs; \
          the grids that answered and the central film's estimated error (relative).",
         &[("Solve and estimate", &t)],
     )

@@ -775,6 +775,24 @@ impl ReynoldsSolver {
         self.before = None;
     }
 
+    /// A start from an answer known at this grid's points (another grid's answer carried over:
+    /// an error estimate's coarser grids start from the finer answer, which differs from their
+    /// own by the discretisation error only): `P` [p_h] and `θ` at each point `(j, i)` of the
+    /// finest grid, `H00` [a²/R]. Solve with `fmg_cycles` 0: a full-multigrid start would begin
+    /// again from Hertz.
+    pub fn start_from_answer(
+        &mut self,
+        p: &dyn Fn(usize, usize) -> f64,
+        theta: &dyn Fn(usize, usize) -> f64,
+        h00: f64,
+    ) {
+        let f = &mut self.levels[0];
+        f.p = Array2::from_shape_fn(f.p.dim(), |(j, i)| p(j, i));
+        f.theta = Array2::from_shape_fn(f.theta.dim(), |(j, i)| theta(j, i));
+        self.h00 = h00;
+        f.update_film(h00);
+    }
+
     /// The state a time step changes (finest grid, `H00`, the time history).
     pub fn save(&self) -> SolverState {
         let f = &self.levels[0];

@@ -36,6 +36,13 @@ pub trait ContactModel: Sync {
     fn for_estimate(&self, coarse: Scene) -> Scene {
         coarse
     }
+    /// Runs `coarse`, the scene of this model's answer `finer` on fewer points, for an error
+    /// estimate ([`crate::accuracy::estimate`]): a model may start it from the finer answer,
+    /// which differs from the coarse grid's own by the discretisation error only; by default
+    /// it runs from its usual start.
+    fn run_coarser(&self, coarse: &Scene, _finer: &dyn Outcome) -> Result<Box<dyn Outcome>> {
+        self.run(coarse)
+    }
     /// The films' relative error this model's answer is expected to have on the scene's grid,
     /// from the model's measured grid-error law, with the law in words: the estimate's fallback
     /// when no coarser grid can answer ([`crate::accuracy::estimate`]). `None`: no law known.
@@ -69,7 +76,7 @@ impl<T: Any> AsAny for T {
 
 /// What a run produced. Hertz units inside (`P` in `p_h`, films in `a²/R`, lengths in `a`); the
 /// writers turn them into SI.
-pub trait Outcome: AsAny + Send + 'static {
+pub trait Outcome: AsAny + Send + Sync + 'static {
     /// The scene it ran.
     fn scene(&self) -> &Scene;
     /// Hertz scales of its contact.

@@ -127,6 +127,11 @@ impl ContactModel for ReynoldsFlooded {
     fn run(&self, scene: &Scene) -> Result<Box<dyn Outcome>> {
         Ok(Box::new(run_reynolds(scene)?))
     }
+    /// A steady answer's coarser grids start from it ([`ReynoldsSolver::start_from_answer`]):
+    /// the cycles a full-multigrid start spends finding the contact are not spent again.
+    fn run_coarser(&self, coarse: &Scene, finer: &dyn Outcome) -> Result<Box<dyn Outcome>> {
+        Ok(Box::new(run_reynolds_from(coarse, FinerStart::new(coarse, finer).as_ref())?))
+    }
     fn inlet_distance(&self, scene: &Scene) -> f64 {
         Reynolds.inlet_distance(scene)
     }
@@ -152,6 +157,11 @@ impl ContactModel for Reynolds {
     }
     fn run(&self, scene: &Scene) -> Result<Box<dyn Outcome>> {
         Ok(Box::new(run_reynolds(scene)?))
+    }
+    /// A steady answer's coarser grids start from it ([`ReynoldsSolver::start_from_answer`]):
+    /// the cycles a full-multigrid start spends finding the contact are not spent again.
+    fn run_coarser(&self, coarse: &Scene, finer: &dyn Outcome) -> Result<Box<dyn Outcome>> {
+        Ok(Box::new(run_reynolds_from(coarse, FinerStart::new(coarse, finer).as_ref())?))
     }
     /// Beyond Hamrock–Dowson's starvation boundary `m*` for the NVM central film: at `m*` itself
     /// the film is still ~3 % short (measured: the sweep's domain check moved `h_c` by +3.0 % at
@@ -197,6 +207,8 @@ impl ContactModel for Reynolds {
         if let Some(r) = coarse.reynolds.as_mut() {
             let s = &mut r.solver;
             s.max_cycles = s.max_cycles.min(ESTIMATE_CYCLES);
+            s.load_tolerance = s.load_tolerance.max(ESTIMATE_LOAD_TOLERANCE);
+            s.film_tolerance = s.film_tolerance.max(ESTIMATE_FILM_TOLERANCE);
             s.fallback_lag = 0.0;
             s.fallback_omega_gs = 0.0;
             s.flooded_start_fallback = false;
@@ -208,6 +220,18 @@ impl ContactModel for Reynolds {
 /// The most cycles a coarser grid of an error estimate is given ([`ContactModel::for_estimate`]):
 /// above the flooded solve's 15–17 on any grid where it converges and the fed seed's 9–24.
 const ESTIMATE_CYCLES: usize = 25;
+
+/// The central film's change a cycle at which a coarser grid of an error estimate stops: a
+/// sixth of the least error an estimate gives a film ([`crate::accuracy::FILM_FLOOR`]). The
+/// seed's flooded 129², started from its finer answer, settles within 1e-4 by its sixth cycle
+/// and then alternates by 3e-4 a cycle, which the solve's own 1e-4 never accepts.
+const ESTIMATE_FILM_TOLERANCE: f64 = 5e-4;
+
+/// The force balance a coarser grid of an error estimate is held to: a load off by 1e-5 moves
+/// the film by about 1e-6 (`h ∝ W^-0.07`), far below the least error an estimate gives a film
+/// ([`crate::accuracy::FILM_FLOOR`]), where the solve's own 1e-6 took the seed's flooded 129²
+/// from its finer answer 25 cycles and more.
+const ESTIMATE_LOAD_TOLERANCE: f64 = 1e-5;
 
 /// The Nijenbanning–Venner–Moes central film of the scene's rolling contact in Hertz units
 /// [a²/R]; `None` without a lubricant or rolling.
@@ -383,6 +407,37 @@ pub fn build_solver(scene: &Scene) -> Result<(ReynoldsParams, ReynoldsSolver)> {
 
 /// Solves a Reynolds scene: steady, then the march it asks for.
 pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
+    run_reynolds_from(scene, None)
+}
+
+/// A finer answer over the same domain that a coarser grid's steady solve starts from (an
+/// error estimate's coarser grids): its fields taken at every `stride`-th point.
+struct FinerStart<'a> {
+    answer: &'a ReynoldsOutcome,
+    stride: usize,
+}
+
+impl<'a> FinerStart<'a> {
+    /// The start for `coarse` (the finer answer's scene on fewer points) from `finer`'s answer:
+    /// only a steady answer on a grid whose points include the coarse grid's (the same domain,
+    /// `n - 1` a multiple).
+    fn new(coarse: &Scene, finer: &'a dyn Outcome) -> Option<Self> {
+        let answer = finer.inner().unwrap_or(finer).as_any().downcast_ref::<ReynoldsOutcome>()?;
+        let (f, c) = (&answer.grid, coarse.grid());
+        let stride = (f.nx - 1) / (c.nx - 1).max(1);
+        let nested = stride >= 2
+            && (c.nx - 1) * stride == f.nx - 1
+            && (c.ny - 1) * stride == f.ny - 1
+            && (f.x(0) - c.x(0)).abs() < 1e-9
+            && (f.y(0) - c.y(0)).abs() < 1e-9;
+        let steady = answer.transient.is_none() && coarse.reynolds_view().ok()?.march.is_none();
+        (nested && steady).then_some(Self { answer, stride })
+    }
+}
+
+/// Solves a Reynolds scene, its steady solve started from a finer answer when one is given
+/// (else from Hertz, full multigrid).
+fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<ReynoldsOutcome> {
     let view = scene.reynolds_view()?;
     let (contact, u_sum, lub) = (view.contact, view.sum_velocity_m_s, view.lubricant);
     let grid = scene.grid();
@@ -427,6 +482,16 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
         }
         None => None,
     };
+    if let Some(f) = finer.filter(|_| run.is_none()) {
+        // Near its own answer already: cycles from there, no full-multigrid start.
+        solver.settings.fmg_cycles = 0;
+        let (a, k) = (f.answer, f.stride);
+        solver.start_from_answer(
+            &|j, i| a.p[[k * j, k * i]],
+            &|j, i| a.theta[[k * j, k * i]],
+            a.h00,
+        );
+    }
     let setup_time_s = t0.elapsed().as_secs_f64();
     let spin = crate::progress::spinner("reynolds");
     // Nothing is written for a solve that did not converge: its error says what happened.

@@ -41,7 +41,20 @@ pub fn run_scene(scene: &Scene) -> Result<Box<dyn Outcome>> {
             scene.models()
         )));
     };
-    let outcome = model(kind)?.run(scene);
+    stopped(scene, model(kind)?.run(scene))
+}
+
+/// Runs `coarse`, the scene of `finer` on fewer points, with the model of `finer`'s scene, for
+/// an error estimate ([`ContactModel::run_coarser`]).
+pub fn run_coarser(coarse: &Scene, finer: &dyn Outcome) -> Result<Box<dyn Outcome>> {
+    let Some(kind) = coarse.model() else {
+        return Err(Error::Refused(format!("scene `{}` is a comparison", coarse.name)));
+    };
+    stopped(coarse, model(kind)?.run_coarser(coarse, finer))
+}
+
+/// A model's outcome, or the stop that ended it.
+fn stopped(scene: &Scene, outcome: Result<Box<dyn Outcome>>) -> Result<Box<dyn Outcome>> {
     if ehl_core::cancel::requested() {
         // Whatever the model ended with, it ended because a stop was asked for.
         return Err(Error::Interrupted(format!(

@@ -96,7 +96,7 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
     let point = answer.observables();
     let lubricated = answer.lubricated();
     let model = scene.model().and_then(|k| crate::run::model(k).ok());
-    let (grids, half, quarter) = coarser_answers(scene, model);
+    let (grids, half, quarter) = coarser_answers(scene, model, answer);
     let law = model.and_then(|m| m.film_error_law(scene)).filter(|_| lubricated);
     let (mut errors, method) = match (&half, law) {
         (Err(why), Some((err, law))) => {
@@ -157,6 +157,7 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
 fn coarser_answers(
     scene: &Scene,
     model: Option<&'static dyn crate::model::ContactModel>,
+    answer: &dyn Outcome,
 ) -> (Vec<usize>, Result<Observables, String>, Option<Observables>) {
     let (n, m) = (scene.grid.nx, scene.grid.ny);
     let coarser = |k: usize| -> Option<Scene> {
@@ -189,7 +190,11 @@ fn coarser_answers(
                 exists_on
             )));
         }
-        Some(crate::run::run_scene(s).map(|o| o.observables()).map_err(|e| e.class().to_string()))
+        let o = match model {
+            Some(_) => crate::run::run_coarser(s, answer),
+            None => crate::run::run_scene(s),
+        };
+        Some(o.map(|o| o.observables()).map_err(|e| e.class().to_string()))
     };
     let (s1, s2) = (coarser(1), coarser(2));
     let (r1, r2) = rayon::join(|| run(&s1), || run(&s2));
