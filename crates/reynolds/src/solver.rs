@@ -574,28 +574,9 @@ const STARVED_FMG_MAX_CYCLES: usize = 40;
 /// How far each grid of a mass-conserving full-multigrid start settles before the next finer
 /// grid takes over: the central film's change a cycle (relative) and the oil the equations
 /// leave unaccounted for, in units of [`ReynoldsSettings::mass_tolerance`] (the load to 1e-4
-/// either way).
-///
-/// Loosely: the finer grid's cycles move the menisci as well as the coarser grid's do (in the
-/// first attempt its coarser grids solve for the film content,
-/// [`ReynoldsSettings::coarse_film_content`]), and settling the coarser grid tightly (it was
-/// 1e-3 and 3×) spent its cycles on a meniscus the finer grid then moved anyway. Measured (2
-/// cores, fed 25 nm unless said; 1e-3 and 3× against these): the seed's contact on 257², 20 → 9
-/// cycles (1.32 → 0.55 s; central film 11.6379 → 11.6304 nm, either side of the film converged
-/// 100× tighter in oil, 11.634), 15 nm 24 → 16 (1.51 → 1.17 s), 10 nm 14 → 11, 5 nm 13 → 12,
-/// 50 nm 18 → 18, 100 nm 13 → 12; 5 mm/s, 40 N on 641², 52 → 17 cycles (19.8 → 5.9 s); 2 mm/s,
-/// 20 N (257²) 73 → 29 (5.7 → 2.6 s); 20 mm/s, 40 N (385²) 26 → 11 (4.0 → 1.7 s); 10 mm/s,
-/// 80 N 26 → 18; 1 m/s, 80 N 19 → 20; 1 m/s, 5 N (its third attempt) 297 → 294; the films
-/// within 4e-4 of each other (the stop rule's tolerance). On 1281² (5 mm/s, 40 N) the first
-/// attempt still stalls (91 cycles), and the second, the coarser grids holding the film
-/// content, converges at cycle 145 (289 s, 7.111 nm), where with the tight settle every
-/// attempt stalled until the start from the flooded answer converged at cycle 796 (1177 s,
-/// 7.110 nm). The attempts holding the film content settle loosely too for that: the seed's
-/// supplies on 257² solved that way alone took 0.6–2.0 s against 0.6–2.3 s (50 and 100 nm
-/// slower, 15 and 25 nm faster), but they run only after a failed first attempt and as the
-/// marches' steady starts. Looser (the film to 3e-2 a cycle, the oil unwatched) took the
-/// seed's 25 nm back to 1.0 s; the film to 1e-2 with the oil to 100× gave the same films and
-/// times within the cores' noise.
+/// either way). Loosely: the finer grid's cycles move the menisci as well as the coarser grid's
+/// do, and a tight settle spent its cycles on a meniscus the finer grid then moved anyway (the
+/// measurements: `docs/decisions.md`, "A tight settle of the fed full-multigrid start").
 const STARVED_FMG_SETTLE: (f64, f64) = (1e-2, 30.0);
 
 fn restrict_full_weighting(r: &Array2<f64>) -> Array2<f64> {
