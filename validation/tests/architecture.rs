@@ -480,8 +480,8 @@ fn files_and_functions_keep_to_one_job_beyond_the_short_list() {
     assert!(found.is_empty(), "{found:#?}");
 }
 
-/// Words about how the project was made, not about the product: issue numbers, sessions,
-/// rounds, "tried and not kept" notes (they belong on the design-decisions page), dates.
+/// Words about how the project was made, not about the product: tracker numbers, work-log
+/// words, notes of what was set aside (they belong on the design-decisions page), dates.
 fn process_words(text: &str) -> Vec<String> {
     let lower = text.to_lowercase();
     let mut out = vec![];
