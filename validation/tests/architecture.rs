@@ -319,11 +319,8 @@ const UNWRAP_ALLOWED: &[(&str, usize, &str)] = &[
         2,
         "the motion built with the run; a report has its cycles",
     ),
-    (
-        "crates/reynolds/src/solver.rs",
-        2,
-        "the last of a non-empty grid list; a solve has at least one cycle",
-    ),
+    ("crates/reynolds/src/solver.rs", 1, "the last of a non-empty grid list"),
+    ("crates/reynolds/src/solver/fas.rs", 1, "a solve's diagnosis has at least one cycle"),
     (
         "crates/layer/src/laws.rs",
         2,
@@ -355,11 +352,8 @@ fn no_library_path_unwraps_beyond_the_short_list_with_its_reasons() {
 /// The longest a source file in `crates/` may be, in lines, and the files allowed more (the
 /// list may only shrink: a file over its number fails).
 const FILE_LINES: usize = 900;
-const LONG_FILES: &[(&str, usize)] = &[
-    ("crates/reynolds/src/level.rs", 1980),
-    ("crates/reynolds/src/solver.rs", 1800),
-    ("crates/workbench/src/drive.rs", 920),
-];
+const LONG_FILES: &[(&str, usize)] =
+    &[("crates/reynolds/src/level.rs", 1980), ("crates/workbench/src/drive.rs", 920)];
 
 /// The longest a function may be, in lines, and the functions allowed more, with why.
 const FN_LINES: usize = 120;
@@ -401,7 +395,7 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "one body for the four log and linear coordinate systems (a macro)",
     ),
     (
-        "crates/reynolds/src/solver.rs",
+        "crates/reynolds/src/solver/steady.rs",
         "cycles",
         135,
         "the cycle loop with the full-multigrid start and the stop rules",
@@ -426,7 +420,7 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "the Reynolds answer's figures, one after the other",
     ),
     (
-        "crates/reynolds/src/solver.rs",
+        "crates/reynolds/src/solver/fas.rs",
         "cycle",
         125,
         "one FAS cycle: smoothing, restriction, the force balance, prolongation",

@@ -1,0 +1,461 @@
+//! The steady solve: its cycles and the cascade of attempts after a failure.
+
+use super::*;
+
+impl ReynoldsSolver {
+    /// Steady solve: full-multigrid start (when set), then cycles on the finest grid until the
+    /// central film and the load settle; `log` sees every cycle. The result is time `T = 0` of
+    /// any transient run that follows. `Ok` only when converged: a divergence, and a solve that
+    /// ran to its end without converging ([`ReynoldsError::NotConverged`], with its report and
+    /// diagnosis), are errors.
+    ///
+    /// Mass conserving, the first attempt's coarser grids solve for the film content
+    /// ([`ReynoldsSettings::coarse_film_content`]): the ring of full film round the contact,
+    /// which the finest grid's relaxation moved a little each cycle, moves with the coarse-grid
+    /// correction. Measured (2 cores, the same tolerances, against the coarser grids holding
+    /// `θ` with the jumps along the slow mode): the seed's contact fed 25 nm on 257², 33 → 20
+    /// cycles (2.3 → 1.2 s); 15 nm 31 → 24, 100 nm 21 → 13, 5 nm 13 → 13, 10 nm 10 → 14,
+    /// 50 nm 16 → 18; 5 mm/s, 40 N on 641², 104 → 52 cycles (35 → 19 s); 10 mm/s, 80 N (257²)
+    /// 71 → 26; 1 m/s, 80 N 24 → 19; 20 mm/s, 40 N (385²) 40 → 26 cycles, and the film it
+    /// stops at 2e-5 from the one converged 10× tighter, against 1.8e-3. Slower: 2 mm/s, 20 N
+    /// (257²), 53 → 73 cycles; 1 m/s, 5 N, 213 → 260. The depth ([`COARSE_FILM_CELLS`]):
+    /// down to cells of 8× the grid rule's, the seed's 5–100 nm take 10–23 cycles; to 4×,
+    /// 11–20, but 10 mm/s, 80 N 65 cycles against 25 and 5 mm/s, 40 N on 641² 76 against 30;
+    /// to 16×, 14–23; to 2×, 24–54; every grid down to 17² closed the film. It needs the
+    /// coarser grids' Couette faces first order where the gap is partly filled
+    /// ([`Level::first_order_partial`]; the depths above were measured with them on every grid).
+    /// Since then every attempt's full-multigrid start hands over from its coarser grid loosely
+    /// (`STARVED_FMG_SETTLE` in `solver.rs`: the seed's 25 nm 20 → 9 cycles, 5 mm/s, 40 N on
+    /// 641² 52 → 17, on 1281² 796 → 145).
+    pub fn solve(
+        &mut self,
+        log: &mut dyn FnMut(&CycleLog),
+    ) -> Result<ReynoldsReport, ReynoldsError> {
+        let t0 = Instant::now();
+        self.steady_setup();
+        let coarse_theta = self.active.coarse_film_content && self.levels[0].mass_conserving();
+        if coarse_theta {
+            // Never finer than the grid the full-multigrid start begins on (its cycles descend
+            // at least that far).
+            self.coarsest = self.film_holding_depth(COARSE_FILM_CELLS).max(self.fmg_top());
+            self.set_coarse_theta(true);
+        }
+        let mut rep = self.cycles(log, 0, 0.0, f64::NAN);
+        if coarse_theta {
+            self.coarsest = usize::MAX;
+            self.set_coarse_theta(false);
+            // Failed: once more with the coarser grids holding the film content, every grid
+            // down to the coarsest.
+            if let Some(failed) = given_up(&rep).or_else(|| film_closed(&rep)) {
+                let said =
+                    format!("first attempt, the coarser grids moving the menisci: {}", failed.0);
+                rep = self.attempt(
+                    log,
+                    "with the coarser grids holding the film content",
+                    failed,
+                    said,
+                    t0,
+                );
+            }
+        }
+        let theta = self.active.fallback_lag;
+        if theta > 0.0 && self.active.relax.coefficient_lag == 0.0 {
+            // The relaxation failed with the laws following at once: start again with them
+            // lagged (they stay lagged for any time steps that follow).
+            if let Some(failed) = given_up(&rep) {
+                self.active.relax.coefficient_lag = theta;
+                let said = format!("first attempt, laws following at once: {}", failed.0);
+                rep =
+                    self.attempt(log, &format!("with lagged laws (θ = {theta})"), failed, said, t0);
+            }
+        }
+        let omega = self.active.fallback_omega_gs;
+        if self.active.relax.coefficient_lag > 0.0
+            && omega > 0.0
+            && omega < self.active.relax.omega_gs
+        {
+            // Lagged laws failed too: once more with smaller Gauss–Seidel changes.
+            if let Some(failed) = given_up(&rep) {
+                let was = self.active.relax.omega_gs;
+                self.active.relax.omega_gs = omega;
+                let said = format!("before that, Gauss–Seidel changes × {was}, {}", failed.0);
+                let what = format!(
+                    "with lagged laws (θ = {}) and Gauss–Seidel changes × {omega}",
+                    self.active.relax.coefficient_lag
+                );
+                rep = self.attempt(log, &what, failed, said, t0);
+            }
+        }
+        if self.active.flooded_start_fallback && self.levels[0].mass_conserving() {
+            // The film closed (or the attempts above gave up): once more from the clamp's
+            // answer, the supply then switched on. Kept only when it converges; else the
+            // attempts before stand, their state back, with what this one gave.
+            if let Some(failed) = film_closed(&rep).or_else(|| given_up(&rep)) {
+                let kept = self.save();
+                let (note, answer) = match self.attempt_from_flooded(log, failed.1, t0) {
+                    FromFlooded::Fed(Ok(r)) if r.converged => (String::new(), Some(r)),
+                    FromFlooded::Fed(fed) => (what_it_said(&fed), None),
+                    FromFlooded::Flooded(flooded) => {
+                        (format!("its flooded solve: {}", what_it_said(&flooded)), None)
+                    }
+                };
+                rep = match (answer, rep) {
+                    (Some(mut r), _) => {
+                        r.first_attempt = Some(failed.0);
+                        r.from_flooded = true;
+                        Ok(r)
+                    }
+                    (None, before) => {
+                        self.restore(kept);
+                        with_note(before, &format!("; then from the flooded answer: {note}"))
+                    }
+                };
+            }
+        }
+        // A stall or a limit cycle whose answer has settled is returned, saying so.
+        let window = self.stall_window();
+        let rep = rep.map(|mut r| {
+            let stuck = r
+                .diagnosis
+                .as_ref()
+                .is_some_and(|d| matches!(d.kind, FailureKind::Stalled | FailureKind::LimitCycle));
+            if !r.converged && stuck {
+                r.settled = settled(&r.history, window, self.active.mass_tolerance);
+            }
+            r
+        });
+        self.rho_h = vec![self.levels[0].rho_film(&self.prm)];
+        // Stopped inside a later attempt: the stop is the answer, not the attempts before it.
+        ehl_core::cancel::check()?;
+        converged(rep)
+    }
+
+    /// Before a steady solve: no time history, the settings as given, and no contact
+    /// ([`ReynoldsSettings::contact`]: steady solves never touch).
+    pub(super) fn steady_setup(&mut self) {
+        self.active = ReynoldsSettings { contact: false, ..self.settings };
+        for l in &mut self.levels {
+            l.time_a0 = 0.0;
+            l.history.fill(0.0);
+            l.touch = false;
+            l.contact.fill(false);
+        }
+    }
+
+    /// Mass conserving, a steady solve that starts from the flooded answer: the same contact
+    /// solved fully flooded first, then the supply switched on and cycles from that answer
+    /// (what [`ReynoldsSettings::flooded_start_fallback`] does after failed attempts, here the
+    /// only attempt). `Ok` only when converged; a flooded solve that fails ends it with its own
+    /// outcome, said to be the flooded solve's. Without a supply: [`Self::solve`].
+    pub fn solve_from_flooded(
+        &mut self,
+        log: &mut dyn FnMut(&CycleLog),
+    ) -> Result<ReynoldsReport, ReynoldsError> {
+        if !self.levels[0].mass_conserving() {
+            return self.solve(log);
+        }
+        self.steady_setup();
+        let rep = match self.attempt_from_flooded(log, 0, Instant::now()) {
+            FromFlooded::Fed(fed) => fed.map(|mut r| {
+                r.from_flooded = true;
+                r
+            }),
+            FromFlooded::Flooded(flooded) => {
+                with_note(flooded, " (the flooded solve the fed one starts from)")
+            }
+        };
+        self.rho_h = vec![self.levels[0].rho_film(&self.prm)];
+        ehl_core::cancel::check()?;
+        converged(rep.map(|mut r| {
+            // Only a converged answer is the fed one: the flooded solve's settled answer is not.
+            r.settled = None;
+            r
+        }))
+    }
+
+    /// One more attempt of a steady solve, from the start, with the settings now in force
+    /// (`self.active`): `what` names them, `failed` is the attempt before's failure (its text
+    /// and its cycles, counted on) and `said` what the attempts before were and how they ended.
+    /// Its report, or its divergence, says which attempt it is and quotes `said`.
+    pub(super) fn attempt(
+        &mut self,
+        log: &mut dyn FnMut(&CycleLog),
+        what: &str,
+        failed: (String, usize),
+        said: String,
+        t0: Instant,
+    ) -> Result<ReynoldsReport, ReynoldsError> {
+        self.start();
+        let spent = t0.elapsed().as_secs_f64();
+        match self.cycles(log, failed.1, spent, f64::NAN) {
+            Ok(mut r) => {
+                if let Some(d) = r.diagnosis.as_mut() {
+                    d.text = format!("{what}: {}; {said}", d.text);
+                }
+                r.first_attempt = Some(failed.0);
+                Ok(r)
+            }
+            Err(ReynoldsError::Diverged { cycle, kind, at, what: w, film, load }) => {
+                let w = format!("{what}: {w}; {said}");
+                Err(ReynoldsError::Diverged { cycle, kind, at, what: w, film, load })
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// The last attempt of a mass-conserving steady solve: the same contact fully flooded
+    /// first (the clamp, its own full-multigrid start), then the supply switched on and cycles
+    /// from that answer (`θ` from [`Level::start_theta_from_flooded`]), cycle numbers and time
+    /// counted on from `cycles_before` and `t0`: the fed cycles' outcome, or the flooded
+    /// solve's when that did not converge.
+    pub(super) fn attempt_from_flooded(
+        &mut self,
+        log: &mut dyn FnMut(&CycleLog),
+        cycles_before: usize,
+        t0: Instant,
+    ) -> FromFlooded {
+        let kept: Vec<Option<Vec<f64>>> =
+            self.levels.iter().map(|l| l.supply().map(<[f64]>::to_vec)).collect();
+        for l in &mut self.levels {
+            l.set_supply(None);
+        }
+        self.start();
+        let flooded = self.cycles(log, cycles_before, t0.elapsed().as_secs_f64(), f64::NAN);
+        for (l, s) in self.levels.iter_mut().zip(kept) {
+            l.set_supply(s);
+        }
+        let flooded = match flooded {
+            Ok(r) if r.converged => r,
+            other => return FromFlooded::Flooded(other),
+        };
+        self.levels[0].start_theta_from_flooded();
+        let h00 = self.h00;
+        self.levels[0].update_film(h00);
+        // The cycles descend only to grids whose cells are at most twice the grid rule's
+        // ([`formulas::cell_needed`]). Measured at 5 mm/s, 80 N (fed 25 nm, 769², the rule's
+        // grid): cycles down to 17² diverged in their first cycle (the coarse grids' films
+        // closed, and their corrections wrecked the fine film: `H_c` × 20 in one cycle); down to
+        // 385², converged in 93 cycles (90 s, 6.294 nm against 6.32 nm flooded); on 769² alone
+        // (ten sweeps a cycle) the oil balance still missed by 11 % after as many cycles.
+        self.coarsest = self.film_holding_depth(2.0);
+        // The ring of full film round the contact (its meniscus and the pressure inside it,
+        // [`crate::extrapolate`]) moves a little each sweep, and on these fine grids that is
+        // little a cycle: measured at 2 mm/s, 80 N (1153²), the residual fell 5.7× and the oil
+        // unaccounted for from 0.70 to 0.13 over 104 cycles, steadily, when the stall watch's
+        // window (40 cycles) stopped it. Twice the window and twice the cycles.
+        let kept = self.active;
+        self.active.fmg_cycles = 0;
+        self.active.stall_cycles *= 2;
+        self.active.max_cycles *= 2;
+        let fed = self.cycles(log, flooded.cycles, t0.elapsed().as_secs_f64(), f64::NAN);
+        self.active = kept;
+        self.coarsest = usize::MAX;
+        FromFlooded::Fed(fed)
+    }
+
+    /// Cycles until converged or given up; cycle numbers and wall times continue from
+    /// `cycles_before` and `spent_s` (a second attempt's count both); `start_hc` is the central
+    /// film the first cycle's change is measured from (NaN: the first cycle is never the last).
+    pub(super) fn cycles(
+        &mut self,
+        log: &mut dyn FnMut(&CycleLog),
+        cycles_before: usize,
+        spent_s: f64,
+        start_hc: f64,
+    ) -> Result<ReynoldsReport, ReynoldsError> {
+        let t0 = Instant::now()
+            .checked_sub(std::time::Duration::from_secs_f64(spent_s))
+            .unwrap_or_else(Instant::now);
+        let mut history = vec![];
+        let mut cycle = cycles_before;
+        let mut mode_jumps = 0;
+        if self.active.fmg_cycles > 0 {
+            let mass_conserving = self.levels[0].mass_conserving();
+            for l in (1..=self.fmg_top()).rev() {
+                self.levels[l].rhs.fill(0.0);
+                // Mass conserving, each grid of the start settles (the load to 1e-4, the film
+                // and the oil as `STARVED_FMG_SETTLE` says): a meniscus moves a few cells a
+                // cycle, cheaper on the coarser grid.
+                let most =
+                    if mass_conserving { STARVED_FMG_MAX_CYCLES } else { self.active.fmg_cycles };
+                let (film, oil) = STARVED_FMG_SETTLE;
+                let mut prev = f64::NAN;
+                let mut jumps = ModeExtrapolation::new(self.active.mode_extrapolation);
+                for k in 0..most {
+                    cycle += 1;
+                    let rec = self.logged_cycle(l, cycle, t0)?;
+                    let (h00, moved) =
+                        jumps.after_cycle(&mut self.levels[l], self.h00, rec.residual);
+                    self.h00 = h00;
+                    log(&rec);
+                    history.push(rec);
+                    let settled = ((rec.central_film - prev) / rec.central_film).abs() < film
+                        && rec.load_error.abs() < 1e-4
+                        && rec.mass_defect < oil * self.active.mass_tolerance;
+                    // After a jump the record is not the state's: judge the next cycle.
+                    prev = if moved { f64::NAN } else { rec.central_film };
+                    if mass_conserving && k + 1 >= self.active.fmg_cycles && settled && !moved {
+                        break;
+                    }
+                }
+                mode_jumps += jumps.jumps;
+                let p = prolong(&self.levels[l].p);
+                let theta = prolong(&self.levels[l].theta);
+                let h00 = self.h00;
+                let f = &mut self.levels[l - 1];
+                f.p = p;
+                f.theta = theta;
+                f.rhs.fill(0.0);
+                f.update_film(h00);
+            }
+        }
+        for lv in &mut self.levels {
+            lv.touch = self.active.contact;
+        }
+        // The central film of the grid below, where the full-multigrid start left it.
+        let coarse_hc = history.last().map(|c: &CycleLog| c.central_film);
+        let mut prev_hc = start_hc;
+        let film_floor = 1e-2 * self.starved_film_estimate(self.nvm_film());
+        let mut stalled = false;
+        let mut jumps = ModeExtrapolation::new(self.active.mode_extrapolation);
+        for _ in 0..self.active.max_cycles {
+            cycle += 1;
+            let rec = self.logged_cycle(0, cycle, t0)?;
+            let (h00, moved) = jumps.after_cycle(&mut self.levels[0], self.h00, rec.residual);
+            self.h00 = h00;
+            log(&rec);
+            history.push(rec);
+            if moved {
+                // The record is not the state's after a jump: the next cycle judges it.
+                prev_hc = f64::NAN;
+                continue;
+            }
+            let hc = rec.central_film;
+            // Relative to the central film, or to a hundredth of the supplied contact's film
+            // where the centre has closed (a dry band passing after a stop: `H_c` 1e-10 a²/R,
+            // whose relative change no cycle settles).
+            let settled =
+                ((hc - prev_hc) / hc.abs().max(film_floor)).abs() < self.active.film_tolerance;
+            let mass = rec.mass_defect <= self.active.mass_tolerance;
+            let strict = settled && rec.load_error.abs() < self.active.load_tolerance && mass;
+            let discretisation = match (self.active.stop, coarse_hc) {
+                (StopRule::Discretisation, Some(h2)) => {
+                    let e_d = (hc - h2).abs() / 3.0;
+                    (hc - prev_hc).abs() < 0.1 * e_d
+                        && rec.load_error.abs() < 0.1 * e_d / hc
+                        && mass
+                }
+                _ => false,
+            };
+            if strict || discretisation {
+                return Ok(ReynoldsReport {
+                    converged: true,
+                    diagnosis: None,
+                    cycles: cycle,
+                    history,
+                    wall_time_s: t0.elapsed().as_secs_f64(),
+                    lagged_laws: self.active.relax.coefficient_lag,
+                    first_attempt: None,
+                    omega_gs: self.active.relax.omega_gs,
+                    settled: None,
+                    mode_jumps: mode_jumps + jumps.jumps,
+                    from_flooded: false,
+                });
+            }
+            prev_hc = hc;
+            // A stall or a limit cycle: the residual not even halved over the last window.
+            let fine: Vec<f64> =
+                history.iter().filter(|c| c.points == rec.points).map(|c| c.residual).collect();
+            let w = self.stall_window();
+            if w > 0 && fine.len() > 2 * w {
+                let (before, last) = fine.split_at(fine.len() - w);
+                let best = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
+                if best(last) > 0.5 * best(before) {
+                    stalled = true;
+                    break;
+                }
+            }
+        }
+        Ok(ReynoldsReport {
+            converged: false,
+            diagnosis: Some(self.diagnose(&history, stalled)),
+            cycles: cycle,
+            history,
+            wall_time_s: t0.elapsed().as_secs_f64(),
+            lagged_laws: self.active.relax.coefficient_lag,
+            first_attempt: None,
+            omega_gs: self.active.relax.omega_gs,
+            settled: None,
+            mode_jumps: mode_jumps + jumps.jumps,
+            from_flooded: false,
+        })
+    }
+}
+
+/// Why a steady attempt was given up, and after how many cycles: a divergence, a stall or a
+/// limit cycle. Not a cycle limit (more of the same would converge), nor a closed film: the
+/// lagged and smaller-change attempts did not open one where tried (the fed contact at 10 mm/s,
+/// 80 N on 769²: closed again with lagged laws, then stalled with smaller changes, 236 s for no
+/// answer); a fed film that closed goes to the start from the flooded answer
+/// ([`ReynoldsSettings::flooded_start_fallback`]).
+pub(super) fn given_up(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option<(String, usize)> {
+    match rep {
+        // A stop asked for ends the solve: no attempt follows.
+        Err(ReynoldsError::Cancelled(_)) => None,
+        Err(e) => Some((e.to_string(), e.cycle())),
+        Ok(r) => r
+            .diagnosis
+            .as_ref()
+            .filter(|d| matches!(d.kind, FailureKind::Stalled | FailureKind::LimitCycle))
+            .map(|d| (d.text.clone(), r.cycles)),
+    }
+}
+
+/// Where the attempt from the flooded answer ended
+/// ([`ReynoldsSettings::flooded_start_fallback`]).
+pub(super) enum FromFlooded {
+    /// The flooded solve did not converge: its outcome.
+    Flooded(Result<ReynoldsReport, ReynoldsError>),
+    /// The fed cycles from the flooded answer: their outcome.
+    Fed(Result<ReynoldsReport, ReynoldsError>),
+}
+
+/// What a steady attempt that did not converge says: its diagnosis, or its error.
+pub(super) fn what_it_said(rep: &Result<ReynoldsReport, ReynoldsError>) -> String {
+    match rep {
+        Ok(r) => r.diagnosis.as_ref().map(|d| d.text.clone()).unwrap_or_default(),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// A failed steady solve's report or divergence with `note` added to what it says.
+pub(super) fn with_note(
+    rep: Result<ReynoldsReport, ReynoldsError>,
+    note: &str,
+) -> Result<ReynoldsReport, ReynoldsError> {
+    match rep {
+        Ok(mut r) => {
+            if let Some(d) = r.diagnosis.as_mut() {
+                d.text.push_str(note);
+            }
+            Ok(r)
+        }
+        Err(ReynoldsError::Diverged { cycle, kind, at, what, film, load }) => {
+            let what = format!("{what}{note}");
+            Err(ReynoldsError::Diverged { cycle, kind, at, what, film, load })
+        }
+        Err(e) => Err(e),
+    }
+}
+
+/// A steady attempt that ended with its film closed, and after how many cycles.
+pub(super) fn film_closed(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option<(String, usize)> {
+    match rep {
+        Err(_) => None,
+        Ok(r) => r
+            .diagnosis
+            .as_ref()
+            .filter(|d| matches!(d.kind, FailureKind::FilmClosed))
+            .map(|d| (d.text.clone(), r.cycles)),
+    }
+}
