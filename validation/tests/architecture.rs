@@ -294,10 +294,16 @@ const UNWRAP_ALLOWED: &[(&str, usize, &str)] = &[
         15,
         "slices of arrays the solver allocated itself (standard layout), the last of a non-empty level list",
     ),
+    ("crates/reynolds/src/level.rs", 1, "a row of the level's own arrays (standard layout)"),
     (
-        "crates/reynolds/src/level.rs",
-        10,
+        "crates/reynolds/src/level/rows.rs",
+        5,
         "slices of the level's own arrays (standard layout); the ghost row checked present just before",
+    ),
+    (
+        "crates/reynolds/src/level/smoother.rs",
+        4,
+        "the level's own arrays split at the seam (standard layout)",
     ),
     (
         "crates/core/src/deformation.rs",
@@ -352,14 +358,13 @@ fn no_library_path_unwraps_beyond_the_short_list_with_its_reasons() {
 /// The longest a source file in `crates/` may be, in lines, and the files allowed more (the
 /// list may only shrink: a file over its number fails).
 const FILE_LINES: usize = 900;
-const LONG_FILES: &[(&str, usize)] =
-    &[("crates/reynolds/src/level.rs", 1980), ("crates/workbench/src/drive.rs", 920)];
+const LONG_FILES: &[(&str, usize)] = &[("crates/workbench/src/drive.rs", 920)];
 
 /// The longest a function may be, in lines, and the functions allowed more, with why.
 const FN_LINES: usize = 120;
 const LONG_FNS: &[(&str, &str, usize, &str)] = &[
     (
-        "crates/reynolds/src/level.rs",
+        "crates/reynolds/src/level/smoother.rs",
         "relax_line",
         255,
         "the line relaxation: one pass over a line's equations, its cavitation and contact sets",
@@ -402,7 +407,7 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
     ),
     ("crates/scene/src/sweep.rs", "validate", 135, "a sweep's checks, field by field"),
     (
-        "crates/reynolds/src/level.rs",
+        "crates/reynolds/src/level/smoother.rs",
         "relax_columns",
         135,
         "the column pass of the mass-conserving relaxation",
@@ -435,10 +440,12 @@ fn functions(code: &str) -> Vec<(String, usize)> {
     for (i, l) in lines.iter().enumerate() {
         let t = l.trim_start();
         let indent = &l[..l.len() - t.len()];
-        let t = t
-            .trim_start_matches("pub(crate) ")
-            .trim_start_matches("pub ")
-            .trim_start_matches("const ");
+        // Any visibility: `pub`, `pub(crate)`, `pub(super)`, `pub(in …)`.
+        let t = match t.strip_prefix("pub(") {
+            Some(r) => r.split_once(") ").map_or(t, |(_, rest)| rest),
+            None => t.trim_start_matches("pub "),
+        };
+        let t = t.trim_start_matches("const ");
         let Some(rest) = t.strip_prefix("fn ") else { continue };
         let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
         let close = format!("{indent}}}");

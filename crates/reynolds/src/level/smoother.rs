@@ -1,0 +1,605 @@
+//! The relaxation: the line sweeps, the column pass and the meniscus windows of the
+//! cavitation, and the banded solve of a line.
+
+use super::*;
+
+/// Forward elimination (no pivoting) of the pentadiagonal system `band · x = r` (row q holds
+/// columns q−2 … q+2), in place, for rows `from` on: rows before `from` must hold their
+/// eliminated state already, rows from `from` on their original one.
+pub(super) fn eliminate_banded(band: &mut [[f64; 5]], r: &mut [f64], from: usize) {
+    let m = band.len();
+    // Lower bandwidth 2, upper bandwidth 2: fill-in stays inside the band. Pivots `from − 2`
+    // and `from − 1` still act on rows `from`, `from + 1`.
+    for q in from.saturating_sub(2)..m {
+        let piv = band[q][2];
+        if piv == 0.0 || !piv.is_finite() {
+            continue;
+        }
+        for below in 1..=2 {
+            let row = q + below;
+            if row >= m {
+                break;
+            }
+            if row < from {
+                continue;
+            }
+            let f = band[row][2 - below] / piv;
+            if f == 0.0 {
+                continue;
+            }
+            for col in 0..=2 {
+                // column q + col in row q sits at index 2 + col; in row `row` at 2 + col − below.
+                let idx = 2 + col - below;
+                band[row][idx] -= f * band[q][2 + col];
+            }
+            r[row] -= f * r[q];
+        }
+    }
+}
+
+/// Back substitution of an eliminated pentadiagonal system into `x`.
+pub(super) fn back_substitute_banded(band: &[[f64; 5]], r: &[f64], x: &mut [f64]) {
+    let m = band.len();
+    for q in (0..m).rev() {
+        let mut s = r[q];
+        for col in 1..=2 {
+            if q + col < m {
+                s -= band[q][2 + col] * x[q + col];
+            }
+        }
+        x[q] = if band[q][2] != 0.0 { s / band[q][2] } else { 0.0 };
+    }
+}
+
+impl Level {
+    /// One sweep of line relaxation over all lines, then the film recomputed.
+    ///
+    /// Order: the centre line first, then outward in both directions at once (lines above the
+    /// centre upward, lines below downward: the sweep is symmetric, as the contact is, and the
+    /// two halves run on two threads). Each line sees at once the pressure changes of the lines
+    /// relaxed before it in its own half and their near-field film change. The first line below
+    /// the centre reads the centre row as the centre line left it; the distributive changes it
+    /// makes on the centre row are added when both halves are done. The result does not depend
+    /// on the number of threads.
+    pub fn relax(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
+        let (ny, nx) = self.p.dim();
+        self.update_contact();
+        self.laws_for(prm);
+        self.lagged = s.coefficient_lag > 0.0;
+        self.lend(|this, lent| {
+            let Lent { p, film, laws, theta, work } = lent;
+            let mut whole = Rows::whole(p, film, laws, theta);
+            let mid = ny / 2;
+            this.relax_line(
+                prm,
+                s,
+                &mut whole,
+                Line::whole(mid, &[mid - 1, mid + 1]),
+                &mut work[0],
+            );
+            // The lower half keeps a frozen copy of the centre row; its changes there wait.
+            let ghost = Ghost {
+                j: mid,
+                p: whole.p_row(mid).to_vec(),
+                film: whole.film_row(mid).to_vec(),
+                laws: whole.laws[mid * nx..(mid + 1) * nx].to_vec(),
+                theta: whole.theta_row(mid).to_vec(),
+                deferred: Vec::new(),
+            };
+            let (p_lo, p_hi) = p.as_slice_mut().expect("standard layout").split_at_mut(mid * nx);
+            let (f_lo, f_hi) = film.as_slice_mut().expect("standard layout").split_at_mut(mid * nx);
+            let (l_lo, l_hi) = laws.as_slice_mut().expect("standard layout").split_at_mut(mid * nx);
+            let (t_lo, t_hi) =
+                theta.as_slice_mut().expect("standard layout").split_at_mut(mid * nx);
+            let mut below =
+                Rows { ghost: Some(ghost), ..Rows::from_slices(0, nx, p_lo, f_lo, l_lo, t_lo) };
+            let mut above = Rows::from_slices(mid, nx, p_hi, f_hi, l_hi, t_hi);
+            let [w_lo, w_hi] = work;
+            let upper = || {
+                for j in mid + 1..ny - 1 {
+                    this.relax_line(prm, s, &mut above, Line::whole(j, &[j + 1]), w_hi);
+                }
+            };
+            let lower = || {
+                for j in (1..mid).rev() {
+                    this.relax_line(prm, s, &mut below, Line::whole(j, &[j - 1]), w_lo);
+                }
+            };
+            // Even on 17² the halves gain from two threads (measured: a sweep's halves stay
+            // in the pool's hands, and the coarsest grid's 10 sweeps a visit were 12 % of a
+            // 257² solve on 2 threads when run on one).
+            rayon::join(upper, lower);
+            let deferred = below.ghost.take().map(|g| g.deferred).unwrap_or_default();
+            for (i, d) in deferred {
+                above.add_p(i, mid, d);
+            }
+        });
+        self.update_film(h00);
+        if self.mass_conserving() && self.theta_free {
+            if s.column_pass {
+                self.relax_columns(prm, h00, s);
+            }
+            self.relax_menisci(prm, h00, s);
+        }
+        if self.lagged {
+            self.follow_laws(prm, s.coefficient_lag);
+        }
+    }
+
+    /// Lends the pressure, film, laws, film content and line buffers to `f`, with the level
+    /// read-only, and takes them back.
+    pub(super) fn lend<R>(&mut self, f: impl FnOnce(&Self, &mut Lent) -> R) -> R {
+        let mut lent = Lent {
+            p: std::mem::take(&mut self.p),
+            film: std::mem::take(&mut self.film),
+            laws: std::mem::take(&mut self.laws),
+            theta: std::mem::take(&mut self.theta),
+            work: std::mem::take(&mut self.work),
+        };
+        let r = f(self, &mut lent);
+        let Lent { p, film, laws, theta, work } = lent;
+        (self.p, self.film, self.laws, self.theta, self.work) = (p, film, laws, theta, work);
+        r
+    }
+
+    /// Mass conserving: `meniscus_passes` passes of line relaxation over windows of each row
+    /// around the boundaries between full and partly filled gap (7 cells, the neighbours held),
+    /// the rows in turn. A meniscus moves by the oil its neighbours' pressures push into it,
+    /// a little each sweep, and where the supply fills part of the inlet that was the slow
+    /// part of the whole solve: the seed's contact with 25 nm supplied needed ~4× the cycles
+    /// at 3 sweeps a cycle as at 12 (129²), a relaxation-bound mode. Windows cost a few cells
+    /// a row.
+    pub(super) fn relax_menisci(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
+        if s.meniscus_passes == 0 {
+            return;
+        }
+        let (ny, nx) = self.p_dim();
+        let mut windows: Vec<(usize, usize)> = Vec::new();
+        self.lend(|this, lent| {
+            let Lent { p, film, laws, theta, work } = lent;
+            let mut rows = Rows::whole(p, film, laws, theta);
+            for _ in 0..s.meniscus_passes {
+                for j in 1..ny - 1 {
+                    windows.clear();
+                    let (pr, tr) = (rows.p_row(j), rows.theta_row(j));
+                    let full = |i: usize| pr[i] > 0.0 || tr[i] >= 1.0;
+                    for i in 1..nx - 2 {
+                        if full(i) != full(i + 1) {
+                            let (lo, hi) = (i.saturating_sub(3).max(1), (i + 4).min(nx - 2));
+                            match windows.last_mut() {
+                                Some(w) if w.1 + 1 >= lo => w.1 = hi,
+                                _ => windows.push((lo, hi)),
+                            }
+                        }
+                    }
+                    for &span in &windows {
+                        let line = Line { j, next: &[j - 1, j + 1], span: Some(span) };
+                        this.relax_line(prm, s, &mut rows, line, &mut work[0]);
+                    }
+                }
+            }
+        });
+        self.update_film(h00);
+    }
+
+    /// A point's own wedge coefficient through its elastic self-influence, and in a time step
+    /// the transient term's (`a0 ρ̄ K(0, 0)`), per `ρ̄`: what the Poiseuille diagonal is
+    /// compared with to choose a point's relaxation ([`Self::relax_line`] says why).
+    /// What the Poiseuille diagonal is compared with to choose distributive relaxation: the
+    /// wedge diagonal's parts, each times its threshold (per unit `ρ̄`).
+    pub(super) fn switch_diag(&self, s: &RelaxSettings) -> f64 {
+        let (wedge, transient) = self.diag_parts();
+        let t =
+            if self.speed == 0.0 { s.transient_threshold_at_rest } else { s.transient_threshold };
+        s.distributive_threshold * wedge + t * transient
+    }
+
+    /// The wedge's and the time term's self-coefficients through the elastic self-influence,
+    /// per `ρ̄`.
+    pub(super) fn diag_parts(&self) -> (f64, f64) {
+        let wedge = self.speed
+            * (1.5 * self.k(0, 0) - 2.0 * self.k(1, 0) + 0.5 * self.k(2, 0)).abs()
+            / self.h;
+        (wedge, self.time_a0 * self.k(0, 0))
+    }
+
+    pub(super) fn wedge_diag(&self) -> f64 {
+        let (wedge, transient) = self.diag_parts();
+        wedge + transient
+    }
+
+    /// Mass conserving: a second pass of line relaxation with the lines across the rolling
+    /// direction (columns, from the inflow on, so that each sees its upstream neighbours' new
+    /// film content), over the points where the Poiseuille term governs (the distributive
+    /// ones are left to the row pass). Beside the contact the boundary between full and partly
+    /// filled gap runs along `x`, between rows: a row pass holds one side of it while solving
+    /// the other, and the side meniscus crept a little each sweep (the seed's contact with
+    /// 25 nm supplied: film contents beside the contact changing by 0.07 a cycle after 40
+    /// cycles). The column Jacobian keeps the Poiseuille stencil, the film-content columns and
+    /// the elastic coupling along the column; the film is recomputed after the pass.
+    pub(super) fn relax_columns(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
+        let (ny, nx) = self.p_dim();
+        let h = self.h;
+        let (eps, mut rt) = self.coefficients(prm);
+        let m = ny - 2;
+        let mut band = vec![[0.0; 5]; m];
+        let mut solve = vec![[0.0; 5]; m];
+        let (mut r, mut rhs, mut delta) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+        let (mut kind, mut fixed, mut known) = (vec![0u8; m], vec![false; m], vec![0.0; m]);
+        let switch_diag = self.switch_diag(s);
+        const FULL: u8 = 0;
+        const PARTIAL: u8 = 1;
+        const HELD: u8 = 2;
+        for i in 1..nx - 1 {
+            for q in 0..m {
+                let j = q + 1;
+                let e = [row_of(&eps, j - 1), row_of(&eps, j), row_of(&eps, j + 1)];
+                let (p, film) = self.rows(j);
+                let t = row_of(&self.theta, j);
+                r[q] = self.rhs[[j, i]] - self.op_line(e, (row_of(&rt, j), t), p, film, i, j);
+                let dens = prm.density.rho(self.p[[j, i]]);
+                kind[q] = if self.contact[[j, i]] {
+                    HELD
+                } else if self.p[[j, i]] <= 0.0 && (self.theta[[j, i]] < 1.0 || r[q] > 0.0) {
+                    PARTIAL
+                } else if 4.0 * e[1][i] / (h * h) < dens * switch_diag {
+                    HELD
+                } else {
+                    FULL
+                };
+            }
+            for q in 0..m {
+                let j = q + 1;
+                let e = [row_of(&eps, j - 1), row_of(&eps, j), row_of(&eps, j + 1)];
+                let (ee, ew, en, es) = self.half_points(e, i);
+                let rtj = |ii: usize| rt[[j, ii]];
+                let [w0, w1, w2] = self.upwind(row_of(&self.theta, j), i);
+                let (r0, r1, r2) =
+                    (w0 * rtj(i) / h, w1 * rtj(i - 1) / h, w2 * rtj(i.max(2) - 2) / h);
+                let mut row = [0.0; 5];
+                for dj in -1i64..=1 {
+                    let qc = q as i64 + dj;
+                    if qc < 0 || qc >= m as i64 {
+                        continue;
+                    }
+                    let c = (dj + 2) as usize;
+                    row[c] = match kind[qc as usize] {
+                        PARTIAL if dj == 0 => {
+                            -(self.speed * w0 / h + self.time_a0)
+                                * prm.density.rho(self.p[[j, i]])
+                                * self.film[[j, i]]
+                        }
+                        PARTIAL => 0.0,
+                        _ => {
+                            let pois = match dj {
+                                0 => -(ee + ew + en + es) / (h * h),
+                                1 => en / (h * h),
+                                _ => es / (h * h),
+                            };
+                            let elastic = self.speed
+                                * (r0 * self.k(0, dj) + r1 * self.k(1, dj) + r2 * self.k(2, dj))
+                                + self.time_a0 * rtj(i) * self.k(0, dj);
+                            pois - elastic
+                        }
+                    };
+                }
+                band[q] = row;
+            }
+            let omega = |k: u8| if k == PARTIAL { 1.0 } else { s.omega_gs };
+            fixed.iter_mut().zip(&kind).for_each(|(f, &k)| *f = k == HELD);
+            known.fill(0.0);
+            let mut first = Some(0);
+            for _pass in 0..5 {
+                let Some(from) = first else { break };
+                solve[from..].copy_from_slice(&band[from..]);
+                rhs[from..].copy_from_slice(&r[from..]);
+                for q in from..m {
+                    if fixed[q] {
+                        solve[q] = [0.0, 0.0, 1.0, 0.0, 0.0];
+                        rhs[q] = known[q];
+                    }
+                }
+                eliminate_banded(&mut solve, &mut rhs, from);
+                back_substitute_banded(&solve, &rhs, &mut delta);
+                first = None;
+                for q in 0..m {
+                    if fixed[q] {
+                        continue;
+                    }
+                    let j = q + 1;
+                    let k = if kind[q] == PARTIAL {
+                        let t = self.theta[[j, i]] + delta[q];
+                        (!(0.0..=1.0).contains(&t)).then(|| t.clamp(0.0, 1.0) - self.theta[[j, i]])
+                    } else {
+                        let pq = self.p[[j, i]];
+                        (pq + omega(kind[q]) * delta[q] < 0.0).then(|| -pq / omega(kind[q]))
+                    };
+                    if let Some(k) = k {
+                        fixed[q] = true;
+                        known[q] = k;
+                        first.get_or_insert(q);
+                    }
+                }
+            }
+            for q in 0..m {
+                let j = q + 1;
+                let d = delta[q] * omega(kind[q]);
+                if !d.is_finite() || kind[q] == HELD {
+                    continue;
+                }
+                if kind[q] == PARTIAL {
+                    let t = (self.theta[[j, i]] + d).clamp(0.0, 1.0);
+                    self.theta[[j, i]] = t;
+                    rt[[j, i]] = prm.density.rho(self.p[[j, i]]) * t;
+                } else {
+                    let old = self.p[[j, i]];
+                    let new = if old + d > CAVITATION_FLOOR { old + d } else { 0.0 };
+                    self.p[[j, i]] = new;
+                    // The film nearby follows at once (the kernel's nearest field, what the
+                    // column Jacobian reads).
+                    for jj in j.saturating_sub(2).max(1)..(j + 3).min(ny - 1) {
+                        for ii in i.saturating_sub(2)..=(i + 2).min(nx - 1) {
+                            self.film[[jj, ii]] +=
+                                (new - old) * self.k(ii as i64 - i as i64, jj as i64 - j as i64);
+                        }
+                    }
+                }
+            }
+        }
+        self.update_film(h00);
+    }
+
+    /// Relaxes line `j` of `rows`, then adds the near-field film change of its pressure changes
+    /// to the rows `next` (the lines relaxed after it in this half).
+    pub(super) fn relax_line(
+        &self,
+        prm: &ReynoldsParams,
+        s: &RelaxSettings,
+        rows: &mut Rows,
+        line: Line,
+        w: &mut LineWork,
+    ) {
+        let Line { j, next, span } = line;
+        let (ny, nx) = self.p_dim();
+        let h = self.h;
+        // The line's unknowns: points `lo ..= hi` (the whole interior, or a window whose
+        // neighbours are held).
+        let (lo, hi) = span.unwrap_or((1, nx - 2));
+        let m = hi + 1 - lo;
+        // Wedge coefficients of a point's own change on its own equation, and in a time step the
+        // transient term's (`a0 ρ̄ K(0, 0)`, the same elastic self-influence): compare with the
+        // Poiseuille diagonal to choose the relaxation. Without the transient term, points in
+        // the outlet constriction whose elastic coupling a time step doubles stayed Gauss–Seidel
+        // and the smoother amplified an error there from step to step (seed conditions, 257²,
+        // one step a cell: the residual grew 1.37× a step and diverged after ~50 steps; more
+        // sweeps diverged sooner).
+        let (wedge_diag, switch_diag) = (self.wedge_diag(), self.switch_diag(s));
+        w.band.resize(m, [0.0; 5]);
+        w.delta.resize(m, 0.0);
+        // The coefficients the line's equations and Jacobian read: `ε̄` at a point's neighbours
+        // and `ρ̄H` two points upstream (three cells each way, to spare).
+        let reach = lo.saturating_sub(3)..=(hi + 3).min(nx - 1);
+        Self::line_coefficients(prm, s.coefficient_lag > 0.0, rows, j, reach, w);
+        let eps = w.eps.each_ref().map(|r| r.as_slice());
+        let p = [rows.p_row(j - 1), rows.p_row(j), rows.p_row(j + 1)];
+        let film = rows.film_row(j);
+        let rhs = row_of(&self.rhs, j);
+        let mass_conserving = self.mass_conserving();
+        // Where the gap is full `P` is a line unknown; mass conserving, where `P = 0` and the
+        // equation asks for less oil than a full gap holds (`r > 0`), or the gap is partly
+        // filled, `θ` is (its column in the line Jacobian the wedge's and the time term's
+        // weight of `ρ̄H`). Solving both kinds in one line system matters: with the seed's
+        // `ε̄` a pressure change of 1e-5 moves a neighbour's film-content equation by ~0.4,
+        // and updating `θ` point by point between the pressure solves moved the meniscus
+        // one cell in several sweeps (129², a 5 nm supply: the force balance stalled at 2e-4).
+        // A coarser grid of a cycle holds `θ` (its partly filled points keep `P = 0`), unless it
+        // solves for it too ([`Self::coarse_theta`]).
+        if mass_conserving {
+            // A loaded point's gap is full (a prolonged start, a correction, may leave less).
+            for i in 1..nx - 1 {
+                if p[1][i] > 0.0 && w.theta[i] != 1.0 {
+                    w.theta[i] = 1.0;
+                    w.rho[i] = w.dens[i];
+                }
+            }
+        }
+        let rho = w.rho.as_slice();
+        w.r.clear();
+        let theta_row = w.theta.as_slice();
+        w.r.extend((lo..=hi).map(|i| rhs[i] - self.op_line(eps, (rho, theta_row), p, film, i, j)));
+        w.partial.clear();
+        let touching = |i: usize| self.contact[[j, i]];
+        w.partial.extend((lo..=hi).map(|i| {
+            mass_conserving
+                && !touching(i)
+                && p[1][i] <= 0.0
+                && (w.theta[i] < 1.0 || w.r[i - lo] > 0.0)
+        }));
+        // Which points distribute (by the density: not a partly filled point, nor a point
+        // beside one on the line, whose change the distribution would spread onto it).
+        let part = |q: usize| w.partial[q];
+        w.dist.clear();
+        // Where the solids touch the change distributes always: the gap's equation is the
+        // limit `ε̄ → 0` of Reynolds', the elastic response to a point change reaches across
+        // the whole contact, and with the far field a sweep late (the film is recomputed after
+        // it) point changes that close each gap overshoot by the kernel's sum over the contact
+        // (17², the seed's start: the load doubled in one sweep). A distributed change's
+        // response is local.
+        w.dist.extend((lo..=hi).map(|i| {
+            let q = i - lo;
+            !(part(q) || q > 0 && part(q - 1) || q + 1 < m && part(q + 1))
+                && (touching(i) || 4.0 * eps[1][i] / (h * h) < w.dens[i] * switch_diag)
+        }));
+        for q in 0..m {
+            w.band[q] = if touching(q + lo) {
+                // The gap's row: its change through the elastic response to the line's
+                // pressure changes (a film-content unknown moves no gap).
+                std::array::from_fn(|c| {
+                    let qc = q as i64 + c as i64 - 2;
+                    if qc < 0 || qc >= m as i64 || w.partial[qc as usize] {
+                        return 0.0;
+                    }
+                    let k = if w.dist[qc as usize] { &self.kd_line } else { &self.k_line };
+                    k[(c as i64 - 2).unsigned_abs() as usize]
+                })
+            } else {
+                self.jacobian_row(eps, rho, &w.theta, q + lo, lo, &w.dist)
+            };
+        }
+        for q in (0..m).filter(|&q| w.partial[q]) {
+            // ∂L_i/∂θ_q for the rows i = q, q+1, q+2 the upwind stencil reaches (first order
+            // at the first point).
+            let mass = w.dens[q + lo] * film[q + lo];
+            // The rows upstream of the point do not see its film content.
+            for ahead in 1..=2 {
+                if q >= ahead {
+                    w.band[q - ahead][2 + ahead] = 0.0;
+                }
+            }
+            for back in 0..3 {
+                let row = q + back;
+                if row >= m {
+                    break;
+                }
+                if touching(row + lo) {
+                    continue;
+                }
+                let weight = self.upwind(&w.theta, row + lo)[back];
+                let own = if back == 0 { self.time_a0 * mass } else { 0.0 };
+                w.band[row][2 - back] = -self.speed * weight * mass / h - own;
+            }
+        }
+        // Complementarity on the line: points whose pressure the solve would drive negative
+        // are fixed at P = 0 (their row becomes δ = −P) and the line solved again, so that
+        // the others' changes account for it; clamping afterwards instead makes the
+        // cavitation boundary flip from cycle to cycle. Film contents the solve would take
+        // above 1 or below 0 are fixed there the same way (a full gap becomes a pressure
+        // unknown at the next sweep).
+        let dist = &w.dist;
+        let partial = &w.partial;
+        // (A larger step beside the meniscus, 0.7, halved the cycles with 25 nm supplied on the
+        // seed's contact and diverged with 5 and 10 nm.)
+        // Mass conserving, where the Poiseuille term outweighs the wedge's elastic coupling many
+        // times (the open inlet and the sides) a full Gauss–Seidel step is stable, and the
+        // pressures there (a few 1e-5 p_h, carrying the oil the menisci trade) settle twice as
+        // fast: the seed's contact with 25 nm supplied, 257², 112 → 60 cycles; 100 nm 45 → 21;
+        // M = 20, L = 10 with 3 µm 112 → 57, and 25 nm on 513² converged (119 cycles) where it had
+        // stalled. The ratio: at 10 the seed's 5 nm on 513² kept a limit cycle, at 3 the 100 nm
+        // case of M = 20 stalled, at 1 the seed's 5 nm diverged on 257²; 30 and 100 gave the
+        // same cycles as 10 on 257² and converged on 513².
+        let big = s.poiseuille_full_step;
+        let poiseuille = |q: usize| {
+            big > 0.0 && mass_conserving && {
+                let i = q + lo;
+                4.0 * eps[1][i] / (h * h) > big * w.dens[i] * wedge_diag
+            }
+        };
+        let omega = |q: usize| {
+            if partial[q] {
+                1.0
+            } else if touching(q + lo) {
+                s.omega_contact
+            } else if dist[q] {
+                s.omega_jd
+            } else if poiseuille(q) {
+                1.0
+            } else {
+                s.omega_gs
+            }
+        };
+        let p_line = p[1];
+        w.fixed.clear();
+        w.fixed.resize(m, false);
+        w.known.clear();
+        w.known.resize(m, 0.0);
+        w.solve.resize(m, [0.0; 5]);
+        w.rhs.resize(m, 0.0);
+        if !self.theta_free && !self.coarse_theta {
+            for q in (0..m).filter(|&q| partial[q]) {
+                w.fixed[q] = true;
+            }
+        }
+        let mut first = Some(0);
+        for _pass in 0..5 {
+            // The rows before the first newly fixed one eliminate as they did in the last
+            // pass: the elimination resumes there (the same operations, the same numbers).
+            let Some(from) = first else { break };
+            w.solve[from..].copy_from_slice(&w.band[from..]);
+            w.rhs[from..].copy_from_slice(&w.r[from..]);
+            for q in from..m {
+                if w.fixed[q] {
+                    w.solve[q] = [0.0, 0.0, 1.0, 0.0, 0.0];
+                    w.rhs[q] = w.known[q];
+                }
+            }
+            eliminate_banded(&mut w.solve, &mut w.rhs, from);
+            back_substitute_banded(&w.solve, &w.rhs, &mut w.delta);
+            first = None;
+            for q in 0..m {
+                if w.fixed[q] {
+                    continue;
+                }
+                let known = if partial[q] {
+                    let t = w.theta[q + lo] + w.delta[q];
+                    (!(0.0..=1.0).contains(&t)).then(|| t.clamp(0.0, 1.0) - w.theta[q + lo])
+                } else {
+                    let pq = p_line[q + lo];
+                    (pq + omega(q) * w.delta[q] < 0.0).then(|| -pq / omega(q))
+                };
+                if let Some(k) = known {
+                    w.fixed[q] = true;
+                    w.known[q] = k;
+                    first.get_or_insert(q);
+                }
+            }
+        }
+        // Apply changes (cavitation: no negative pressures, film contents in [0, 1]).
+        w.applied.clear();
+        for q in 0..m {
+            let i = q + lo;
+            let d = w.delta[q] * omega(q);
+            if !d.is_finite() {
+                continue;
+            }
+            if partial[q] {
+                let t = (w.theta[i] + d).clamp(0.0, 1.0);
+                w.theta[i] = t;
+                w.rho[i] = w.dens[i] * t;
+            } else if dist[q] {
+                w.applied.extend(rows.add_p(i, j, d));
+                for (ii, jj) in [(i - 1, j), (i + 1, j), (i, j - 1), (i, j + 1)] {
+                    if ii >= 1 && ii < nx - 1 && jj >= 1 && jj < ny - 1 {
+                        w.applied.extend(rows.add_p(ii, jj, -0.25 * d));
+                    }
+                }
+            } else {
+                w.applied.extend(rows.add_p(i, j, d));
+            }
+        }
+        if mass_conserving {
+            rows.theta_row_mut(j).copy_from_slice(&w.theta);
+        }
+        // The next lines see the near-field film change of these changes at once (the full
+        // film is recomputed by FFT after the sweep): within NEAR cells the kernel carries
+        // what the line Jacobian needs; beyond, the change is smooth and small.
+        const NEAR: usize = 8;
+        for &jn in next.iter().filter(|&&jn| jn >= 1 && jn < ny - 1) {
+            let film = rows.film_row_mut(jn);
+            for &(i, jj, d) in &w.applied {
+                let krow = &self.kernel[jn.abs_diff(jj)];
+                let (lo, hi) = (i.saturating_sub(NEAR), (i + NEAR).min(nx - 1));
+                // `film[ii] += d K(|ii − i|)` for `ii` in `lo ..= hi`, as two slices (upstream,
+                // the kernel read backwards; from `i` on, forwards): the same sums, bit for bit,
+                // vectorised and without an index check per point. Measured over the seed's dent
+                // passage (257²): this loop held ~30 % of the line relaxation's samples, and the
+                // relaxation's share of the run fell from 44 % to 40 % (steps ~3 % faster).
+                for (f, &k) in film[lo..i].iter_mut().zip(krow[1..=i - lo].iter().rev()) {
+                    *f += d * k;
+                }
+                for (f, &k) in film[i..=hi].iter_mut().zip(&krow[..=hi - i]) {
+                    *f += d * k;
+                }
+            }
+        }
+    }
+}
