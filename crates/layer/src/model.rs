@@ -155,6 +155,24 @@ impl LayerSpec {
 }
 
 /// Everything the layer model needs, in Hertz units, with the contact solver of its grid.
+///
+/// ```
+/// use ehl_core::{DrySettings, Grid, Kinematics, SEED_CONTACT, SEED_LUBRICANT};
+/// use ehl_layer::{LayerModel, SEED_LAYER, SEED_SUPPLY_THICKNESS_M, SteadySettings};
+/// let rolling = Kinematics::constant(0.01).unwrap(); // u1 [m/s]
+/// let (contact, lub, grid) = (SEED_CONTACT, SEED_LUBRICANT, Grid::square(65, 1.25));
+/// let m = LayerModel::new(
+///     &contact, &lub, &SEED_LAYER, SEED_SUPPLY_THICKNESS_M, rolling, grid,
+///     DrySettings::default(),
+/// )
+/// .unwrap();
+/// let (state, _) = ehl_layer::rolling_steady(&m, &SteadySettings::default()).unwrap();
+/// // The layer carries the load as the dry contact would: a peak near Hertz's p_h (1 in these
+/// // units), the strain within [0, 1].
+/// let p_max = state.p.iter().cloned().fold(0.0, f64::max);
+/// assert!((p_max - 1.0).abs() < 0.05, "{p_max}");
+/// assert!(state.eps.iter().all(|e| (0.0..=1.0).contains(e)));
+/// ```
 pub struct LayerModel {
     /// Hertz scales of the contact.
     pub scales: HertzScales,

@@ -87,6 +87,18 @@ impl Schedule {
 
 /// Runs every model of `scene` (validated) at once ([`Schedule::SideBySide`]), each on
 /// `scene.for_model(m)`: the same conditions, domain and grid.
+///
+/// ```
+/// use ehl_workbench::Outcome;
+/// let scene = ehl_scene::load("seed").unwrap().with_points(65).unwrap();
+/// let c = ehl_workbench::compare::run(&scene);
+/// // One entry per model of the scene, in its order; a model that fails has its diagnosis.
+/// let names: Vec<String> = c.entries.iter().map(|e| e.name()).collect();
+/// assert_eq!(names, ["layer", "reynolds", "reynolds-flooded", "dry"]);
+/// let dry = c.entries[3].outcome.as_ref().unwrap();
+/// // The same contact in every entry: the dry one's peak is Hertz's p_h within 1 %.
+/// assert!((dry.observables().max_pressure_pa / dry.scales().p_h - 1.0).abs() < 1e-2);
+/// ```
 pub fn run(scene: &Scene) -> Comparison {
     run_with(scene, Schedule::default())
 }
