@@ -224,8 +224,9 @@ def test_ctrl_c_stops_the_solve_and_frees_the_cores():
         # tests in the background (`cmd &`) hands it SIGINT ignored.
         "import ehl, resource, signal, time\n"
         "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
-        "print('start', flush=True)\n"
+        # 'start' inside the try: a signal that lands as soon as it is read is caught too.
         "try:\n"
+        "    print('start', flush=True)\n"
         "    ehl.compare('seed', grid=1025, estimate=False)\n"
         "except KeyboardInterrupt:\n"
         "    c0 = resource.getrusage(resource.RUSAGE_SELF)\n"
@@ -242,6 +243,8 @@ def test_ctrl_c_stops_the_solve_and_frees_the_cores():
         text=True,
     )
     assert p.stdout.readline().strip() == "start"
+    # Two seconds in, the 1025² solves are under way: the stop is asked of a running solver.
+    time.sleep(2.0)
     t0 = time.monotonic()
     p.send_signal(signal.SIGINT)
     out, err = p.communicate(timeout=120)
