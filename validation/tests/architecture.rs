@@ -491,7 +491,15 @@ fn process_words(text: &str) -> Vec<String> {
             out.push(format!("issue {digits}"));
         }
     }
-    for w in ["issue's", "this round", "tried and not kept", " session", "session "] {
+    // Spelt in parts, so that this file does not hold the words it bans.
+    let banned = [
+        concat!("issue", "'s"),
+        concat!("this ", "round"),
+        concat!("tried and ", "not kept"),
+        concat!(" sess", "ion"),
+        concat!("sess", "ion "),
+    ];
+    for w in banned {
         if lower.contains(w) {
             out.push(w.trim().to_string());
         }
@@ -572,7 +580,8 @@ fn the_checks_cut_test_items_and_see_process_words() {
     let kept = without_tests(code);
     assert!(kept.contains("fn a") && kept.contains("fn c") && kept.contains("fn d"));
     assert!(!kept.contains("panic!") && !kept.contains("use x::y"));
-    assert_eq!(process_words("as issue 25 says, on 2026-11-26"), ["issue 25", "2026-11-26"]);
+    let text = concat!("as iss", "ue 25 says, on 2026-11-26");
+    assert_eq!(process_words(text), [concat!("iss", "ue 25"), "2026-11-26"]);
     assert!(process_words("the solver's issue with films").is_empty());
     let f =
         functions("fn one() {\n    x\n}\n    pub fn two(a: u8) {\n        y\n        z\n    }\n");

@@ -348,19 +348,7 @@ impl ReynoldsSolver {
                 _ => false,
             };
             if strict || discretisation {
-                return Ok(ReynoldsReport {
-                    converged: true,
-                    diagnosis: None,
-                    cycles: cycle,
-                    history,
-                    wall_time_s: t0.elapsed().as_secs_f64(),
-                    lagged_laws: self.active.relax.coefficient_lag,
-                    first_attempt: None,
-                    omega_gs: self.active.relax.omega_gs,
-                    settled: None,
-                    mode_jumps: mode_jumps + jumps.jumps,
-                    from_flooded: false,
-                });
+                return Ok(self.attempt_report(None, cycle, history, t0, mode_jumps + jumps.jumps));
             }
             prev_hc = hc;
             // A stall or a limit cycle: the residual not even halved over the last window.
@@ -376,19 +364,32 @@ impl ReynoldsSolver {
                 }
             }
         }
-        Ok(ReynoldsReport {
-            converged: false,
-            diagnosis: Some(self.diagnose(&history, stalled)),
-            cycles: cycle,
+        let diagnosis = Some(self.diagnose(&history, stalled));
+        Ok(self.attempt_report(diagnosis, cycle, history, t0, mode_jumps + jumps.jumps))
+    }
+
+    /// The report of an attempt's cycles: converged without a diagnosis, else with it.
+    pub(super) fn attempt_report(
+        &self,
+        diagnosis: Option<Diagnosis>,
+        cycles: usize,
+        history: Vec<CycleLog>,
+        t0: Instant,
+        mode_jumps: usize,
+    ) -> ReynoldsReport {
+        ReynoldsReport {
+            converged: diagnosis.is_none(),
+            diagnosis,
+            cycles,
             history,
             wall_time_s: t0.elapsed().as_secs_f64(),
             lagged_laws: self.active.relax.coefficient_lag,
             first_attempt: None,
             omega_gs: self.active.relax.omega_gs,
             settled: None,
-            mode_jumps: mode_jumps + jumps.jumps,
+            mode_jumps,
             from_flooded: false,
-        })
+        }
     }
 }
 
