@@ -204,7 +204,7 @@ def test_a_sweeps_table_equals_the_command_lines_results_csv(tmp_path):
 def test_a_model_that_does_not_converge_raises_its_diagnosis():
     d = ehl.scene("reynolds-m20-l10").to_dict()
     d["reynolds"]["solver"]["max_cycles"] = 2
-    d["reynolds"]["solver"]["fallback_lag"] = 0.0
+    d["reynolds"]["solver"]["advanced"] = {"fallback_lag": 0.0}
     with pytest.raises(ehl.ModelError) as e:
         ehl.run(d, grid=33)
     assert "did not converge" in str(e.value)

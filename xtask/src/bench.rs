@@ -508,7 +508,7 @@ fn squeeze(n: usize) -> Result<std::path::PathBuf> {
          solve, 5 ms rolling at two steps a cell, a sudden stop, then error-controlled steps \
          (tolerance 1e-3) at rest until the scene's steady rule (1e-3 over 0.5 s) or 5 s. The \
          relaxation's threshold for the time term at rest \
-         (`reynolds.solver.relax.transient_threshold_at_rest`) as it was (1) and as the scene \
+         (`reynolds.solver.advanced.relax.transient_threshold_at_rest`) as it was (1) and as the scene \
          sets it. The target: the full squeeze on 257² within 2 min.",
         &[("The full squeeze", &t)],
     )

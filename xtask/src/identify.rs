@@ -367,7 +367,7 @@ fn lateral(th: &Theta, n: usize) -> Result<Value> {
                     ehl_core::Kinematics::constant(s.conditions.rolling_velocity_m_s.unwrap())
                         .unwrap(),
                     s.grid(),
-                    s.solver,
+                    *s.solver,
                 )
                 .unwrap();
                 let (p, eps) = (&o.final_state.p, &o.final_state.eps);

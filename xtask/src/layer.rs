@@ -369,7 +369,7 @@ fn model_of(scene: &Scene) -> Result<(LayerModel, f64)> {
         scene.supply.as_ref().context("a layer scene has a supply")?.thickness_m,
         ehl_core::Kinematics::constant(scene.conditions.rolling_velocity_m_s.unwrap()).unwrap(),
         scene.grid(),
-        scene.solver,
+        *scene.solver,
     )
     .unwrap();
     let e = ehl_layer::stability_estimate(&m);

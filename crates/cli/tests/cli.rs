@@ -277,7 +277,7 @@ fn compare_writes_the_table_and_each_model_and_lists_a_failure() {
     // the table names the failure, the exit status is non-zero.
     let mut v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(given).unwrap()).unwrap();
-    v["reynolds"] = serde_json::json!({"solver": {"max_cycles": 3, "fallback_lag": 0.0}});
+    v["reynolds"] = serde_json::json!({"solver": {"max_cycles": 3, "advanced": {"fallback_lag": 0.0}}});
     let scene = dir.path().join("user-10n-3-cycles.json");
     std::fs::write(&scene, v.to_string()).unwrap();
     let o = ehl()
@@ -382,16 +382,20 @@ fn check_fills_defaults_and_names_bad_fields() {
     let o = ehl().args(["check", "rolling-steady"]).output().unwrap();
     assert!(o.status.success());
     let filled: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    // Defaults spelled out: the dry solver's settings and the steady solve's.
+    // User settings spelled out with their defaults; the solvers' internal knobs only where a
+    // scene changes them (under `advanced`).
     assert!(filled["solver"]["max_iterations"].as_u64().unwrap() > 0);
-    assert_eq!(filled["run"]["steady"]["substeps"], 4);
+    assert!(filled["run"]["steady"]["strain_tolerance"].as_f64().unwrap() > 0.0);
+    assert!(filled["run"]["steady"].get("advanced").is_none(), "{filled}");
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.json");
-    let text = String::from_utf8_lossy(&o.stdout).replace("\"substeps\": 4", "\"substeps\": 0");
+    let mut wrong = filled.clone();
+    wrong["run"]["steady"]["advanced"] = serde_json::json!({ "substeps": 0 });
+    let text = serde_json::to_string_pretty(&wrong).unwrap();
     std::fs::write(&bad, text).unwrap();
     let o = ehl().arg("check").arg(&bad).output().unwrap();
     assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("run.steady.substeps"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("run.steady.advanced.substeps"));
 }
 
 #[test]

@@ -15,6 +15,7 @@ mod builtins;
 mod error;
 mod spec;
 pub mod sweep;
+mod tiers;
 mod validate;
 pub mod views;
 use builtins::parse;
@@ -25,6 +26,7 @@ pub use spec::{
     StopSettings, TimeSettings,
 };
 pub use sweep::{Axis, Parameter, Sweep, builtin_sweep_names, load_sweep};
+pub use tiers::{Tiered, Tiers};
 use validate::Check;
 pub use validate::{
     MAX_A_OVER_R, MAX_DOMAIN_A, MAX_PLACE_A, MAX_SNAPSHOTS, MAX_SPEED_M_S, MAX_TIME_S, PLAUSIBLE,
@@ -74,7 +76,7 @@ pub struct Scene {
     pub grid: GridSpec,
     #[serde(default)]
     /// The dry contact solver's settings (every model's contact).
-    pub solver: DrySettings,
+    pub solver: Tiered<DrySettings>,
     #[serde(default)]
     /// Which files a run writes.
     pub outputs: Outputs,
@@ -164,7 +166,7 @@ pub struct ReynoldsSpec {
     pub moes: Option<ehl_core::Moes>,
     #[serde(default)]
     /// The multigrid solver's settings.
-    pub solver: ReynoldsSettings,
+    pub solver: Tiered<ReynoldsSettings>,
 }
 
 impl Scene {
@@ -550,7 +552,7 @@ mod tests {
             viscosity: ViscosityLaw::default(),
             density: DensityLaw::default(),
             moes: None,
-            solver: ReynoldsSettings::default(),
+            solver: Tiered::default(),
         });
         let s = s.comparing(&[Model::Layer, Model::Reynolds]).unwrap();
         assert!(s.is_comparison() && s.comparing(&[Model::Layer, Model::Layer]).is_err());
@@ -641,8 +643,11 @@ mod tests {
             "\"motion\": \"rolling\", \"snapshots_s\": [0.01],",
         ));
         assert!(m.contains("run.snapshots_s"), "{m}");
-        let m = refused(&steady.replace("\"substeps\": 4", "\"substeps\": 0"));
-        assert!(m.contains("run.steady.substeps") && m.contains("1 ..= 64"), "{m}");
+        let m = refused(&steady.replace(
+            "\"strain_tolerance\": 1e-05",
+            "\"strain_tolerance\": 1e-05, \"advanced\": { \"substeps\": 0 }",
+        ));
+        assert!(m.contains("run.steady.advanced.substeps") && m.contains("1 ..= 64"), "{m}");
         // A march needs its start.
         let m = refused(&text("hole").replace("\"start\": \"steady-rolling\",", ""));
         assert!(m.contains("run.start") && m.contains("required"), "{m}");
@@ -658,7 +663,7 @@ mod tests {
             )
         };
         Scene::from_json(&with("{\"stop\": \"discretisation\"}"), "test").unwrap();
-        let m = refused(&with("{\"stop\": \"discretisation\", \"fmg_cycles\": 0}"));
+        let m = refused(&with("{\"stop\": \"discretisation\", \"advanced\": {\"fmg_cycles\": 0}}"));
         assert!(m.contains("reynolds.solver.stop") && m.contains("fmg_cycles"), "{m}");
     }
 
@@ -671,25 +676,32 @@ mod tests {
                 &format!("\"solver\": {solver}, \"viscosity\": \"roelands\","),
             )
         };
-        Scene::from_json(&with("{\"step_pre_sweeps\": 1, \"mode_extrapolation\": 0}"), "t")
-            .unwrap();
-        let m = refused(&with("{\"step_pre_sweeps\": 0}"));
-        assert!(m.contains("reynolds.solver.step_pre_sweeps") && m.contains("1 ..= 4"), "{m}");
-        let m = refused(&with("{\"fallback_omega_gs\": 1.5}"));
+        let adv = |knobs: &str| with(&format!("{{\"advanced\": {knobs}}}"));
+        Scene::from_json(&adv("{\"step_pre_sweeps\": 1, \"mode_extrapolation\": 0}"), "t").unwrap();
+        let m = refused(&adv("{\"step_pre_sweeps\": 0}"));
         assert!(
-            m.contains("reynolds.solver.fallback_omega_gs") && m.contains("0: no third"),
+            m.contains("reynolds.solver.advanced.step_pre_sweeps") && m.contains("1 ..= 4"),
             "{m}"
         );
-        let m = refused(&with("{\"mode_extrapolation\": -1}"));
+        let m = refused(&adv("{\"fallback_omega_gs\": 1.5}"));
         assert!(
-            m.contains("reynolds.solver.mode_extrapolation") && m.contains("0: no jumps"),
+            m.contains("reynolds.solver.advanced.fallback_omega_gs") && m.contains("0: no third"),
             "{m}"
         );
-        let m = refused(&with("{\"relax\": {\"transient_threshold_at_rest\": 0}}"));
+        let m = refused(&adv("{\"mode_extrapolation\": -1}"));
         assert!(
-            m.contains("reynolds.solver.relax.transient_threshold_at_rest") && m.contains("1000"),
+            m.contains("reynolds.solver.advanced.mode_extrapolation") && m.contains("0: no jumps"),
             "{m}"
         );
+        let m = refused(&adv("{\"relax\": {\"transient_threshold_at_rest\": 0}}"));
+        assert!(
+            m.contains("reynolds.solver.advanced.relax.transient_threshold_at_rest")
+                && m.contains("1000"),
+            "{m}"
+        );
+        // A knob written beside the user settings is refused with where it goes.
+        let m = refused(&with("{\"step_pre_sweeps\": 1}"));
+        assert!(m.contains("reynolds.solver") && m.contains("under `advanced`"), "{m}");
     }
 
     #[test]

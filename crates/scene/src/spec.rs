@@ -233,7 +233,7 @@ pub struct RunSpec {
     pub snapshots_a: Vec<f64>,
     /// The direct steady solve (method `steady`, and a `steady-rolling` start).
     #[serde(default)]
-    pub steady: SteadySettings,
+    pub steady: Tiered<SteadySettings>,
 }
 
 impl RunSpec {

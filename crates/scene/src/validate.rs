@@ -210,7 +210,7 @@ impl Scene {
             )?;
         }
         self.validate_domain(&ck)?;
-        ck.own("solver", self.solver.check())?;
+        ck.own("solver", self.solver.check().map_err(Tiered::<DrySettings>::placed))?;
         if let Some(u) = c.rolling_velocity_m_s {
             ck.speed("conditions.rolling_velocity_m_s", u)?;
         }
@@ -357,7 +357,7 @@ impl Scene {
         if let Some(run) = &self.run {
             self.validate_reynolds_run(ck, run)?;
         }
-        ck.own("reynolds.solver", r.solver.check())?;
+        ck.own("reynolds.solver", r.solver.check().map_err(Tiered::<ReynoldsSettings>::placed))?;
         if self.grid.nx != self.grid.ny
             || ((self.domain.x_a[1] - self.domain.x_a[0]) / (self.grid.nx - 1) as f64
                 - (self.domain.y_a[1] - self.domain.y_a[0]) / (self.grid.ny - 1) as f64)
@@ -517,7 +517,7 @@ impl Scene {
                 |allowed| format!("{allowed} with run.method \"steady\" (use \"march\")"),
             )?;
         }
-        ck.own("run.steady", r.steady.check())?;
+        ck.own("run.steady", r.steady.check().map_err(Tiered::<SteadySettings>::placed))?;
         let u = kin.speed_before();
         if r.start == Some(StartState::SteadyRolling) && !(u > 0.0) {
             return Err(ck.err(

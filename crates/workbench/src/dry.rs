@@ -98,7 +98,7 @@ fn run_dry(scene: &Scene) -> Result<DryOutcome> {
     let grid = scene.grid();
     let spin = crate::progress::spinner(&format!("dry contact {}x{}", grid.nx, grid.ny));
     let t0 = Instant::now();
-    let solver = DrySolver::new(grid, scene.solver);
+    let solver = DrySolver::new(grid, *scene.solver);
     let setup_time_s = t0.elapsed().as_secs_f64();
     let shape = grid.paraboloid();
     let problem =

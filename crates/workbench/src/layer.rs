@@ -219,7 +219,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
         supply_m,
         motion,
         grid,
-        scene.solver,
+        *scene.solver,
     )
     .within(|| format!("scene `{}`", scene.name))?;
     let setup_time_s = t0.elapsed().as_secs_f64();
@@ -250,7 +250,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
             // steps keep the scene's sub-steps.
             let own = r.time.scheme == Scheme::Implicit && r.time.steps_per_cell == 1.0;
             let settings =
-                SteadySettings { substeps: if own { 1 } else { r.steady.substeps }, ..r.steady };
+                SteadySettings { substeps: if own { 1 } else { r.steady.substeps }, ..*r.steady };
             solve_steady("steady-rolling start", &settings)?
         }
         (Method::March, StartState::Squeezed) => {

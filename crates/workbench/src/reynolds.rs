@@ -405,7 +405,7 @@ pub fn build_solver(scene: &Scene) -> Result<(ReynoldsParams, ReynoldsSolver)> {
     let (spec, lub) = (&v.spec, &v.lubricant);
     let prm =
         ReynoldsParams::from_si(&v.contact, lub, v.sum_velocity_m_s, spec.viscosity, spec.density);
-    Ok((prm, ReynoldsSolver::new(scene.grid(), prm, spec.solver)))
+    Ok((prm, ReynoldsSolver::new(scene.grid(), prm, *spec.solver)))
 }
 
 /// Solves a Reynolds scene: steady, then the march it asks for.
