@@ -277,7 +277,8 @@ fn compare_writes_the_table_and_each_model_and_lists_a_failure() {
     // the table names the failure, the exit status is non-zero.
     let mut v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(given).unwrap()).unwrap();
-    v["reynolds"] = serde_json::json!({"solver": {"max_cycles": 3, "advanced": {"fallback_lag": 0.0}}});
+    v["reynolds"] =
+        serde_json::json!({"solver": {"max_cycles": 3, "advanced": {"fallback_lag": 0.0}}});
     let scene = dir.path().join("user-10n-3-cycles.json");
     std::fs::write(&scene, v.to_string()).unwrap();
     let o = ehl()
