@@ -320,11 +320,7 @@ const UNWRAP_ALLOWED: &[(&str, usize, &str)] = &[
         4,
         "serialising a unit enum and a plan to JSON text; a lubricant checked present before",
     ),
-    (
-        "crates/workbench/src/reynolds.rs",
-        2,
-        "the motion built with the run; a report has its cycles",
-    ),
+    ("crates/workbench/src/reynolds.rs", 1, "a report has its cycles"),
     ("crates/reynolds/src/solver.rs", 1, "the last of a non-empty grid list"),
     ("crates/reynolds/src/solver/fas.rs", 1, "a solve's diagnosis has at least one cycle"),
     (
@@ -358,7 +354,7 @@ fn no_library_path_unwraps_beyond_the_short_list_with_its_reasons() {
 /// The longest a source file in `crates/` may be, in lines, and the files allowed more (the
 /// list may only shrink: a file over its number fails).
 const FILE_LINES: usize = 900;
-const LONG_FILES: &[(&str, usize)] = &[("crates/workbench/src/drive.rs", 920)];
+const LONG_FILES: &[(&str, usize)] = &[];
 
 /// The longest a function may be, in lines, and the functions allowed more, with why.
 const FN_LINES: usize = 120;
@@ -413,7 +409,7 @@ const LONG_FNS: &[(&str, &str, usize, &str)] = &[
         "the column pass of the mass-conserving relaxation",
     ),
     (
-        "crates/workbench/src/drive.rs",
+        "crates/workbench/src/drive/plan.rs",
         "from_run",
         130,
         "the march's plan from the run block, phase by phase",

@@ -31,7 +31,7 @@ use validate::Check;
 pub use validate::{
     MAX_A_OVER_R, MAX_DOMAIN_A, MAX_PLACE_A, MAX_SNAPSHOTS, MAX_SPEED_M_S, MAX_TIME_S, PLAUSIBLE,
 };
-pub use views::{LayerView, ReynoldsView};
+pub use views::{LayerView, MarchCase, ReynoldsView};
 
 /// A scene. Unknown fields are refused, so a typo never silently falls back to a default.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -1,14 +1,80 @@
-//! Parse, don't validate: what each model reads of a scene, as a value with every block it
-//! needs present. A model's adapter asks for its view and gets it or a refusal naming the
-//! missing field; no adapter unwraps an optional block.
+//! Parse, don't validate: what each model reads of a scene, resolved once into a value with
+//! every block it needs present, the motion built and the features in metres. A model's
+//! adapter asks for its view once and runs from it, never returning to the scene; a missing
+//! block is refused naming the field.
 
 use crate::{Check, Model, ReynoldsSpec, RunSpec, Scene, SceneError};
-use ehl_core::{Contact, Lubricant, Supply};
+use ehl_core::{Contact, Dent, DrySettings, Grid, Kinematics, Lubricant, Passing, Supply};
 use ehl_layer::LayerSpec;
+
+/// A march resolved: its run block, the motion built, what passes through the contact.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MarchCase {
+    /// The run block (steps, stop rules, snapshots).
+    pub run: RunSpec,
+    /// The motion, on the model's reference speed.
+    pub motion: Kinematics,
+    /// What passes through the contact, in order: the dents, then the supply's holes
+    /// ([`Scene::passing`]).
+    pub passing: Vec<Passing>,
+    /// The dents in the ball, depths in metres.
+    pub dents: Vec<Dent>,
+}
+
+impl MarchCase {
+    /// The run's block and motion resolved on the reference speed `u_ref` [m/s].
+    fn of(scene: &Scene, run: &RunSpec, u_ref: f64) -> Result<MarchCase, SceneError> {
+        let motion = run.kinematics(u_ref).map_err(|e| {
+            Check { origin: &scene.name }.err(
+                "run.motion",
+                run.motion.label().into(),
+                &e.to_string(),
+            )
+        })?;
+        Ok(MarchCase { run: run.clone(), motion, passing: scene.passing(), dents: scene.dents()? })
+    }
+
+    /// The rest a squeezed start takes before this march: the same contact, supply and steps,
+    /// a sudden stop from the reference speed and rest under the load until steady by the
+    /// run's own rule or `max_time_s`; no dents (the supply's holes still pass).
+    pub fn at_rest(&self, max_time_s: f64) -> Result<MarchCase, SceneError> {
+        let run = RunSpec {
+            start: Some(crate::StartState::SteadyRolling),
+            motion: crate::Motion::Squeeze,
+            features: vec![],
+            snapshots_s: vec![],
+            snapshots_a: vec![],
+            stop: crate::StopSettings {
+                until_features_passed: false,
+                until_feature_at_a: None,
+                max_time_s: Some(max_time_s),
+                ..self.run.stop
+            },
+            ..self.run.clone()
+        };
+        let motion = run.kinematics(self.motion.reference_speed()).map_err(|e| {
+            Check { origin: "(the squeezed start)" }.err(
+                "run.motion",
+                "squeeze".into(),
+                &e.to_string(),
+            )
+        })?;
+        let passing = self.passing[self.dents.len()..].to_vec();
+        Ok(MarchCase { run, motion, passing, dents: vec![] })
+    }
+}
 
 /// The layer model's view of a scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LayerView {
+    /// The scene's name (for the diagnoses).
+    pub name: String,
+    /// The grid over the scene's domain.
+    pub grid: Grid,
+    /// The contact solver's settings.
+    pub dry: DrySettings,
+    /// The run resolved (its motion on the rolling speed; a steady run's too).
+    pub march: MarchCase,
     /// Ball, load, modulus.
     pub contact: Contact,
     /// The damper's lubricant.
@@ -26,6 +92,10 @@ pub struct LayerView {
 /// The Reynolds model's view of a scene (Moes input resolved).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReynoldsView {
+    /// The scene's name (for the diagnoses).
+    pub name: String,
+    /// The grid over the scene's domain.
+    pub grid: Grid,
     /// Ball, load (from Moes' `M` where given), modulus.
     pub contact: Contact,
     /// The sum velocity `u1 + u2` [m/s] (pure rolling: twice the rolling speed).
@@ -34,8 +104,9 @@ pub struct ReynoldsView {
     pub lubricant: Lubricant,
     /// Laws and solver settings.
     pub spec: ReynoldsSpec,
-    /// The march after the steady solve, if the scene asks for one.
-    pub march: Option<RunSpec>,
+    /// The march after the steady solve, if the scene asks for one, its motion on the mean
+    /// velocity (under pure rolling a dent on the ball moves at it).
+    pub march: Option<MarchCase>,
     /// The oil supplied (read by the starved solver; the flooded one says it did not).
     pub supply: Option<Supply>,
 }
@@ -53,13 +124,22 @@ impl Scene {
     /// What the layer model reads.
     pub fn layer_view(&self) -> Result<LayerView, SceneError> {
         let m = Model::Layer;
+        let lubricant = self.lubricant.ok_or_else(|| self.missing("lubricant", m))?.lubricant();
+        let supply = self.supply.clone().ok_or_else(|| self.missing("supply", m))?;
+        let layer = self.layer.ok_or_else(|| self.missing("layer", m))?;
+        let run = self.run.clone().ok_or_else(|| self.missing("run", m))?;
+        let rolling_velocity_m_s = self.conditions.rolling_velocity_m_s.unwrap_or(0.0);
         Ok(LayerView {
+            name: self.name.clone(),
+            grid: self.grid(),
+            dry: *self.solver,
+            march: MarchCase::of(self, &run, rolling_velocity_m_s)?,
             contact: self.conditions.contact(),
-            lubricant: self.lubricant.ok_or_else(|| self.missing("lubricant", m))?.lubricant(),
-            supply: self.supply.clone().ok_or_else(|| self.missing("supply", m))?,
-            layer: self.layer.ok_or_else(|| self.missing("layer", m))?,
-            run: self.run.clone().ok_or_else(|| self.missing("run", m))?,
-            rolling_velocity_m_s: self.conditions.rolling_velocity_m_s.unwrap_or(0.0),
+            lubricant,
+            supply,
+            layer,
+            run,
+            rolling_velocity_m_s,
         })
     }
 
@@ -69,12 +149,18 @@ impl Scene {
         let lubricant = self.lubricant.ok_or_else(|| self.missing("lubricant", m))?.lubricant();
         let spec = self.reynolds.clone().ok_or_else(|| self.missing("reynolds", m))?;
         let (contact, sum_velocity_m_s) = self.reynolds_conditions();
+        let march = match self.run.as_ref().filter(|r| r.method() == crate::Method::March) {
+            Some(r) => Some(MarchCase::of(self, r, 0.5 * sum_velocity_m_s)?),
+            None => None,
+        };
         Ok(ReynoldsView {
+            name: self.name.clone(),
+            grid: self.grid(),
             contact,
             sum_velocity_m_s,
             lubricant,
             spec,
-            march: self.run.clone().filter(|r| r.method() == crate::Method::March),
+            march,
             supply: self.supply.clone(),
         })
     }

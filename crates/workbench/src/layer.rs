@@ -206,24 +206,17 @@ impl Outcome for LayerOutcome {
 /// Runs a layer scene: its start state, then the march or the steady solve it asks for.
 pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     let t_all = Instant::now();
+    // The scene resolved once: everything below reads the view.
     let view = scene.layer_view()?;
     let (r, spec, supply_m) = (&view.run, view.layer, view.supply.thickness_m);
-    let motion =
-        r.kinematics(view.rolling_velocity_m_s).within(|| format!("scene `{}`", scene.name))?;
-    let grid = scene.grid();
+    let motion = view.march.motion.clone();
+    let grid = view.grid.clone();
     let t0 = Instant::now();
-    let mut m = LayerModel::new(
-        &view.contact,
-        &view.lubricant,
-        &spec,
-        supply_m,
-        motion,
-        grid,
-        *scene.solver,
-    )
-    .within(|| format!("scene `{}`", scene.name))?;
+    let mut m =
+        LayerModel::new(&view.contact, &view.lubricant, &spec, supply_m, motion, grid, view.dry)
+            .within(|| format!("scene `{}`", view.name))?;
     let setup_time_s = t0.elapsed().as_secs_f64();
-    let fail = |what: &str| format!("scene `{}`: {what}", scene.name);
+    let fail = |what: &str| format!("scene `{}`: {what}", view.name);
 
     let spin = crate::progress::spinner("layer");
     let mut squeeze = None;
@@ -261,7 +254,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     };
     // The scene's own motion starts at t = 0.
     state.t = 0.0;
-    m.set_passing(scene.dents()?, scene.holes());
+    m.set_passing(view.march.dents.clone(), view.supply.holes.clone());
     let record = match (method, &r.motion) {
         (Method::Steady, _) | (_, Motion::None) => None,
         (Method::March, motion) => {
@@ -271,7 +264,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
             let order = if stepper.scheme == Scheme::Implicit { 3.0 } else { 2.0 };
             let controlled = Some((m.eta(0.0) / m.eo * 1e-2, order));
             let plan =
-                Plan::from_run(r, &scene.passing(), &grid, m.scales.a, m.motion(), controlled)
+                Plan::from_run(r, &view.march.passing, &grid, m.scales.a, m.motion(), controlled)
                     .within(|| fail("run"))?;
             let mut march = LayerMarch { m: &m, state, stepper };
             let mut rec = drive::drive(&mut march, &plan, &mut |t| {

@@ -401,11 +401,15 @@ impl Outcome for ReynoldsOutcome {
 /// The dimensionless parameters and a solver (hierarchy built, Hertz start) for a Reynolds
 /// scene.
 pub fn build_solver(scene: &Scene) -> Result<(ReynoldsParams, ReynoldsSolver)> {
-    let v = scene.reynolds_view()?;
+    Ok(solver_for(&scene.reynolds_view()?))
+}
+
+/// The dimensionless parameters and a solver for a resolved Reynolds case.
+fn solver_for(v: &ReynoldsView) -> (ReynoldsParams, ReynoldsSolver) {
     let (spec, lub) = (&v.spec, &v.lubricant);
     let prm =
         ReynoldsParams::from_si(&v.contact, lub, v.sum_velocity_m_s, spec.viscosity, spec.density);
-    Ok((prm, ReynoldsSolver::new(scene.grid(), prm, *spec.solver)))
+    (prm, ReynoldsSolver::new(v.grid.clone(), prm, *spec.solver))
 }
 
 /// Solves a Reynolds scene: steady, then the march it asks for.
@@ -441,11 +445,12 @@ impl<'a> FinerStart<'a> {
 /// Solves a Reynolds scene, its steady solve started from a finer answer when one is given
 /// (else from Hertz, full multigrid).
 fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<ReynoldsOutcome> {
+    // The scene resolved once: everything below reads the view.
     let view = scene.reynolds_view()?;
     let (contact, u_sum, lub) = (view.contact, view.sum_velocity_m_s, view.lubricant);
-    let grid = scene.grid();
+    let grid = view.grid.clone();
     let t0 = Instant::now();
-    let (prm, mut solver) = build_solver(scene)?;
+    let (prm, mut solver) = solver_for(&view);
     let run = view.march.as_ref();
     if run.is_some() {
         // A march starts from a steady answer whose coarser grids held the film content: from
@@ -456,10 +461,9 @@ fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<Reynol
         // with the start handing over loosely (`STARVED_FMG_SETTLE`): 30 cycles, 2.16e-6.
         solver.settings.coarse_film_content = false;
     }
-    let dents = if run.is_some() { scene.dents()? } else { vec![] };
     // The march starts from the steady solution with the dents at their start.
-    if !dents.is_empty() {
-        set_dents(&mut solver, &dents, 0.0);
+    if let Some(m) = run.filter(|m| !m.dents.is_empty()) {
+        set_dents(&mut solver, &m.dents, 0.0);
     }
     // The supply: the layer arriving at the inflow boundary (holes there at the start left
     // out of the steady solve: a steady contact has none; they enter as the march carries them).
@@ -467,24 +471,16 @@ fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<Reynol
         let h_oil = sup.thickness_m / prm.scales.delta;
         solver.set_supply(Some(&|_| h_oil));
     }
-    // A march's motion, on the mean velocity (under pure rolling a dent on the ball moves at
-    // it: the reference speed of the solver's scales, `λ̄` and the time unit `a/u_m`); it
-    // starts from the steady state at the speed before its motion starts.
-    let motion = match run {
-        Some(r) => {
-            let m = r.kinematics(0.5 * u_sum).within(|| format!("scene `{}`", scene.name))?;
-            // A squeezed start rolled at the scene's speed before it stopped; a steady-rolling
-            // one rolls at the speed before its motion starts.
-            let before = if r.start == Some(StartState::Squeezed) {
-                1.0
-            } else {
-                m.speed_before() / m.reference_speed()
-            };
-            solver.set_speed(before);
-            Some(m)
-        }
-        None => None,
-    };
+    // A march starts from the steady state at the speed before its motion starts; a squeezed
+    // start rolled at the scene's speed before it stopped.
+    if let Some(m) = run {
+        let before = if m.run.start == Some(StartState::Squeezed) {
+            1.0
+        } else {
+            m.motion.speed_before() / m.motion.reference_speed()
+        };
+        solver.set_speed(before);
+    }
     if let Some(f) = finer.filter(|_| run.is_none()) {
         // Near its own answer already: cycles from there, no full-multigrid start.
         solver.settings.fmg_cycles = 0;
@@ -505,21 +501,19 @@ fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<Reynol
                 c.cycle, c.central_film, c.load_error
             ))
         })
-        .within(|| format!("scene `{}`", scene.name))?;
+        .within(|| format!("scene `{}`", view.name))?;
     spin.finish_and_clear();
     let formulas =
         (hamrock_dowson_central(&contact, &lub, 0.5 * u_sum), nvm_central(&contact, &lub, u_sum));
     let transient = match run {
-        Some(r) => {
-            let motion = motion.expect("built with the run");
+        Some(m) => {
             // The march's plan, made before a squeezed start's rest (which may take long), so
             // that a plan the driver refuses is refused at once.
-            let plan = march_plan(scene, r, &motion, &prm, &solver.grid())?;
-            let rest = (r.start == Some(StartState::Squeezed))
-                .then(|| squeeze_start(scene, r, u_sum, &prm, &mut solver, &dents, &view.supply))
+            let plan = march_plan(&view.name, m, &prm, &solver.grid())?;
+            let rest = (m.run.start == Some(StartState::Squeezed))
+                .then(|| squeeze_start(&view, m, &prm, &mut solver))
                 .transpose()?;
-            let mut t =
-                run_transient(scene, plan, motion, &prm, &mut solver, dents, view.supply.clone())?;
+            let mut t = run_transient(&view.name, plan, m, &prm, &mut solver, view.supply.clone())?;
             t.squeezed_rest = rest;
             Some(t)
         }

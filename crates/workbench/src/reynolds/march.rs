@@ -7,7 +7,7 @@ use crate::error::{Result, Within};
 use ehl_core::observe::Observables;
 use ehl_core::{Dent, Grid, Kinematics};
 use ehl_reynolds::{ReynoldsParams, ReynoldsSolver};
-use ehl_scene::{Scene, StartState};
+use ehl_scene::{MarchCase, ReynoldsView};
 use ndarray::Array2;
 
 /// The squeezed start: the steady solve at the scene's speed (the surfaces rolled before they
@@ -17,33 +17,14 @@ use ndarray::Array2;
 /// The trapped film drains for as long as one waits (its lobes closed, the centre sealed), so
 /// "steady" is the scene's tolerance over its window, not a limit reached.
 pub(super) fn squeeze_start(
-    scene: &Scene,
-    r: &ehl_scene::RunSpec,
-    u_sum: f64,
+    view: &ReynoldsView,
+    march: &MarchCase,
     prm: &ReynoldsParams,
     solver: &mut ReynoldsSolver,
-    dents: &[Dent],
-    supply: &Option<ehl_core::Supply>,
 ) -> Result<SqueezedRest> {
-    let rest = ehl_scene::RunSpec {
-        start: Some(StartState::SteadyRolling),
-        motion: ehl_scene::Motion::Squeeze,
-        features: vec![],
-        snapshots_s: vec![],
-        snapshots_a: vec![],
-        stop: ehl_scene::StopSettings {
-            until_features_passed: false,
-            until_feature_at_a: None,
-            max_time_s: Some(SQUEEZE_START_MAX_S),
-            ..r.stop
-        },
-        ..r.clone()
-    };
-    let mut at_rest = scene.clone();
-    at_rest.run = Some(rest.clone());
-    let motion = rest.kinematics(0.5 * u_sum).within(|| format!("scene `{}`", scene.name))?;
-    let plan = march_plan(&at_rest, &rest, &motion, prm, &solver.grid())?;
-    let t = run_transient(&at_rest, plan, motion, prm, solver, dents.to_vec(), supply.clone())
+    let rest = march.at_rest(SQUEEZE_START_MAX_S)?;
+    let plan = march_plan(&view.name, &rest, prm, &solver.grid())?;
+    let t = run_transient(&view.name, plan, &rest, prm, solver, view.supply.clone())
         .within(|| "the squeezed start (at rest after steady rolling)".to_string())?;
     Ok(SqueezedRest {
         rest_s: t.observed.last().map_or(0.0, |o| o.0),
@@ -202,30 +183,29 @@ impl Transient for ReynoldsMarch<'_> {
 /// at rest, error control from a first step of one cell's transit at the reference speed
 /// (backward Euler: local error of order 2 in the step).
 pub(super) fn march_plan(
-    scene: &Scene,
-    run: &ehl_scene::RunSpec,
-    motion: &Kinematics,
+    name: &str,
+    march: &MarchCase,
     prm: &ReynoldsParams,
     g: &Grid,
 ) -> Result<drive::Plan> {
-    let a = prm.scales.a;
+    let (a, motion) = (prm.scales.a, &march.motion);
     let controlled = Some((g.dx() * a / motion.reference_speed(), 2.0));
-    drive::Plan::from_run(run, &scene.passing(), g, a, motion, controlled)
-        .within(|| format!("scene `{}`: run", scene.name))
+    drive::Plan::from_run(&march.run, &march.passing, g, a, motion, controlled)
+        .within(|| format!("scene `{name}`: run"))
 }
 
 /// Marches the scene's run from the steady solution on `plan` ([`march_plan`]: steps per cell,
 /// the stop rule, snapshots); a step that does not converge ends the run with its diagnosis,
 /// step and time.
 pub(super) fn run_transient(
-    scene: &Scene,
+    name: &str,
     mut plan: drive::Plan,
-    motion: Kinematics,
+    case: &MarchCase,
     prm: &ReynoldsParams,
     solver: &mut ReynoldsSolver,
-    dents: Vec<Dent>,
     supply: Option<ehl_core::Supply>,
 ) -> Result<TransientRecord> {
+    let (motion, dents) = (case.motion.clone(), case.dents.clone());
     let s = prm.scales;
     let g = solver.grid();
     // An error estimate below the solve's own algebraic error (the central film settles to
@@ -245,7 +225,7 @@ pub(super) fn run_transient(
         None => 0.0,
     };
     // The first feature's start (the first dent, else the first hole; 0 without any).
-    let x0 = scene.passing().first().map_or(0.0, |p| p.x_start_a);
+    let x0 = case.passing.first().map_or(0.0, |p| p.x_start_a);
     let centre = (g.row_nearest(0.0), g.col_nearest(0.0));
     let time_unit = s.a / motion.reference_speed();
     let h_ref = s.h_si(solver.films().0);
@@ -273,12 +253,12 @@ pub(super) fn run_transient(
     let expected = plan.end.as_ref().map_or(0, |e| (e.0 / dt_s).round() as u64);
     let spin = crate::progress::bar(expected, "reynolds march");
     let rec = drive::drive(&mut march, &plan, &mut |_| spin.inc(1))
-        .within(|| format!("scene `{}`: Reynolds march", scene.name))?;
+        .within(|| format!("scene `{name}`: Reynolds march"))?;
     spin.finish_and_clear();
     let at = |t: f64| x0 + march.motion.travel(t) / s.a;
     Ok(TransientRecord {
         snapshots: rec.snapshots.into_iter().map(|(t, (p, h))| (t, at(t), p, h)).collect(),
-        passing: !scene.passing().is_empty(),
+        passing: !case.passing.is_empty(),
         rows: rec.rows,
         observed: rec.observed,
         dt_s,
