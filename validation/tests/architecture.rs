@@ -583,3 +583,23 @@ fn the_checks_cut_test_items_and_see_process_words() {
         functions("fn one() {\n    x\n}\n    pub fn two(a: u8) {\n        y\n        z\n    }\n");
     assert_eq!(f, [("one".to_string(), 3), ("two".to_string(), 4)]);
 }
+
+/// The fenced block that follows `marker` in `text` (the block's lines, without the fences).
+fn block_after(text: &str, marker: &str) -> Option<String> {
+    let rest = &text[text.find(marker)? + marker.len()..];
+    let start = rest.find("```\n")? + 4;
+    let len = rest[start..].find("```")?;
+    Some(rest[start..start + len].to_string())
+}
+
+#[test]
+fn the_readme_example_is_its_measured_page_s_table() {
+    // The README's table and docs/measured/example-compare.md come from one run of
+    // `cargo xtask example`: a hand edit of either shows here.
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let page = std::fs::read_to_string(root().join("docs/measured/example-compare.md")).unwrap();
+    let shown = block_after(&readme, "<!-- example-compare").expect("the README's example block");
+    let measured = block_after(&page, "README's first command").expect("the page's table");
+    assert!(shown.starts_with("scene seed"), "{shown}");
+    assert_eq!(shown, measured, "README.md's example differs from its measured page");
+}

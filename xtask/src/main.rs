@@ -7,6 +7,7 @@ mod accuracy;
 mod bench;
 mod compare;
 mod convergence;
+mod example;
 mod identify;
 mod layer;
 mod measured;
@@ -137,6 +138,9 @@ enum Command {
         #[arg(long, default_value_t = 257)]
         points: usize,
     },
+    /// The README's example (`ehl compare seed --accuracy 5%`): writes
+    /// `docs/measured/example-compare.md` and the README's table from one run.
+    Example,
     /// The sweep's cluster path against a real SLURM: a one-node cluster on localhost (installed
     /// with apt-get when missing; root), a 4-point sweep as an array of 2, merged, compared with
     /// a local run byte for byte; the daemons stopped.
@@ -207,6 +211,7 @@ fn main() -> Result<()> {
             Ok(())
         }
         Command::SlurmCheck { keep } => slurm::check(keep),
+        Command::Example => example::run(),
         Command::Accuracy { out, points: n } => accuracy::run(&out, points(n)),
         Command::Mutants { file, shard, timeout, out } => {
             mutants::run(&file, shard.as_deref(), timeout, &out)

@@ -210,7 +210,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     let view = scene.layer_view()?;
     let (r, spec, supply_m) = (&view.run, view.layer, view.supply.thickness_m);
     let motion = view.march.motion.clone();
-    let grid = view.grid.clone();
+    let grid = view.grid;
     let t0 = Instant::now();
     let mut m =
         LayerModel::new(&view.contact, &view.lubricant, &spec, supply_m, motion, grid, view.dry)

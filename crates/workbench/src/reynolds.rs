@@ -409,7 +409,7 @@ fn solver_for(v: &ReynoldsView) -> (ReynoldsParams, ReynoldsSolver) {
     let (spec, lub) = (&v.spec, &v.lubricant);
     let prm =
         ReynoldsParams::from_si(&v.contact, lub, v.sum_velocity_m_s, spec.viscosity, spec.density);
-    (prm, ReynoldsSolver::new(v.grid.clone(), prm, *spec.solver))
+    (prm, ReynoldsSolver::new(v.grid, prm, *spec.solver))
 }
 
 /// Solves a Reynolds scene: steady, then the march it asks for.
@@ -448,7 +448,7 @@ fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<Reynol
     // The scene resolved once: everything below reads the view.
     let view = scene.reynolds_view()?;
     let (contact, u_sum, lub) = (view.contact, view.sum_velocity_m_s, view.lubricant);
-    let grid = view.grid.clone();
+    let grid = view.grid;
     let t0 = Instant::now();
     let (prm, mut solver) = solver_for(&view);
     let run = view.march.as_ref();
