@@ -7,9 +7,7 @@ use super::*;
 #[serde(rename_all = "kebab-case")]
 pub enum TimeScheme {
     /// First order (implicit Euler): robust. The default, because second order amplifies
-    /// what each step's iteration leaves: on 257² (`M = 20, L = 10`, one step per cell) a
-    /// steady state drifted by a factor ~2 per step at the usual per-step tolerances, and in
-    /// the seed's regime the cycles diverged on the second step.
+    /// what each step's iteration leaves (docs/decisions.md, "Time steps").
     #[default]
     Bdf1,
     /// Second order (first step first order): needs per-step tolerances far below the time
@@ -31,33 +29,19 @@ pub struct ReynoldsSettings {
     pub coarse_sweeps: usize,
     /// Coarse-grid visits per level: 2 = W-cycle, 1 = V-cycle.
     pub gamma: usize,
-    /// The same in a time step. V-cycles: with the time derivative's term W-cycles diverged
-    /// within a step on the seed's conditions over `[−1.25, 1.25]²` (257², one step a cell:
-    /// the residual grew 2.8× a cycle from the fifth cycle on, with `H00` held or not), where
-    /// V-cycles converge at 0.5 a cycle and held the steady state through 100 steps.
+    /// The same in a time step: V-cycles, which converge where W-cycles diverged with the time
+    /// derivative's term (docs/decisions.md, "Time steps").
     pub step_gamma: usize,
     /// `h00_gain` in a time step. Lower: the time derivative's term makes the pressure answer
-    /// a change of `H00` more strongly than in a steady solve. Measured on the seed's shallow
-    /// dent over `[−1.25, 1.25]²` (257², one step a cell, V-cycles): at 0.3 the force balance
-    /// stopped at 1.1e-6 (tolerance 1e-6) as the dent crossed `x = 0.87–0.92 a`, with 30
-    /// coarsest-grid sweeps too; at 0.1 all 224 steps converge.
+    /// a change of `H00` more strongly than in a steady solve (docs/decisions.md, "Time steps").
     pub step_h00_gain: f64,
     /// Sweeps before the coarse-grid correction in a rolling time step (1 by default); steps at
-    /// rest take at least 2, as a steady solve: with 1 the rigid isoviscous squeeze
-    /// (`tests/squeeze.rs`, 129²) cycles at its first step (the load error changing sign
-    /// every cycle, residual 5e3). Measured on the seed's contact, 257²,
-    /// `cargo xtask bench --only steps`, 2 → 1: the shallow dent's passage fed 25 nm 0.046 →
-    /// 0.034 s a step (1.14 → 1.16 cycles), its largest deviations from the tight march 0.60 →
-    /// 0.95 % (central film), 0.08 → 0.19 % (minimum film), 0.23 → 0.43 % (pressure maximum);
-    /// rolling 0.032 → 0.025 s; at rest after a stop 0.121 → 0.076 s (3.65 → 3.25 cycles).
+    /// rest take at least 2, as a steady solve, or the rigid squeeze cycles at its first step
+    /// (`tests/squeeze.rs`; the cost: docs/measured/bench-steps.md, docs/decisions.md).
     pub step_pre_sweeps: usize,
     /// The cycle limit of a time step. A step that has not converged by then fails, and error
-    /// control tries it shorter. Accepted steps take at most 14 cycles in every march measured
-    /// (the seed's stop on 257²: 844 steps, 2.1 a step; the dent passage: 9 at most). With the
-    /// steady limit (`max_cycles`) a failing step ran until the stall watch could judge it (81
-    /// cycles, mass conserving): on 257² the stop's 0.5 s at rest took 294 s, 0.34 s a step;
-    /// at 30, 152 s with the same steps and answer. (The rigid squeeze check, whose force
-    /// balance has a deliberately weak gain, sets its own.)
+    /// control tries it shorter: well above what accepted steps take, well below the steady
+    /// limit a failing step would otherwise run to (docs/decisions.md, "Time steps").
     pub step_max_cycles: usize,
     /// Coarsest grid (points per side, at least).
     pub coarsest_points: usize,
@@ -66,10 +50,8 @@ pub struct ReynoldsSettings {
     /// … and the force balance is met to this (relative).
     pub load_tolerance: f64,
     /// Mass conserving, also: the oil the equations leave unaccounted for, over the supply
-    /// ([`CycleLog::mass_defect`]), below this. The central film's change per cycle alone
-    /// stopped where a meniscus still crept: on the seed's contact with 25 nm supplied (257²)
-    /// 0.4 % short of its converged value at a change of 1e-4 a cycle, where the oil
-    /// unaccounted for was 10 % of the supply; at 1 % the film is within 0.05 %.
+    /// ([`CycleLog::mass_defect`]), below this: the central film's change per cycle alone stops
+    /// where a meniscus still creeps (docs/decisions.md, "The oil's own stop criterion").
     pub mass_tolerance: f64,
     /// Stop, not converged, when the finest residual has not halved over this many cycles
     /// (a stall or a limit cycle; 0: run to `max_cycles`).
@@ -82,59 +64,45 @@ pub struct ReynoldsSettings {
     /// Lagged laws for a second attempt: when a steady solve with the laws following the
     /// pressures at once diverges, stalls or cycles, it starts again with
     /// `relax.coefficient_lag` set to this (and keeps it for the time steps that follow);
-    /// 0: no second attempt. Lagged laws cost cycles (`M = 20, L = 10` on 257²: 17 against 13
-    /// at 0.2) but converge where the high-`L` light-load cases diverged (every `L = 20` case of
-    /// the map up to `M = 2223` on 257²).
+    /// 0: no second attempt. Lagged laws cost cycles but converge where the high-`L`
+    /// light-load cases diverge (docs/reynolds.md, the stability map).
     pub fallback_lag: f64,
     /// Smaller Gauss–Seidel changes for a third attempt (`relax.omega_gs` set to this, the
     /// laws still lagged), when the lagged attempt also diverges, stalls or cycles; 0, or not
-    /// below `relax.omega_gs`: no third attempt. Measured (`seed-speed-load`, fed
-    /// 25 nm): at 0.3 m/s and 20 N on 385², and at 1 m/s under 5 and 10 N on 641² and 577², the
-    /// heavily starved contacts (films of 21–22 nm, `h_oil/ρ̄`) ended both attempts in a limit
-    /// cycle of the force balance or a stall at × 0.4, and converge at × 0.25; a smaller `H00`
-    /// gain diverged instead.
+    /// below `relax.omega_gs`: no third attempt. For heavily starved contacts whose first two
+    /// attempts end in a limit cycle of the force balance (docs/reynolds.md, the attempts).
     pub fallback_omega_gs: f64,
     /// Mass conserving, steady: when the attempts above end with the film closed, diverged,
     /// stalled or cycling, a last attempt solves the contact fully flooded (the clamp), then
     /// switches the supply on and cycles from that answer, descending only to grids that hold
-    /// the film (cells at most twice [`crate::formulas::cell_needed`]). Kept when it converges.
-    /// Measured on `seed-speed-load` fed 25 nm: at 2 mm/s, 40 N and 5 mm/s, 80 N (769², the
-    /// grid rule's) every earlier attempt diverged in the start on 193² or closed the film at
-    /// the outlet (`x` = 0.92–0.99 a), where the flooded solve converges on the same grid; from
-    /// the flooded answer they converge (3.668 and 6.294 nm against 3.67 and 6.32 nm flooded),
-    /// and so does 2 mm/s, 80 N on 1153² (3.376 against 3.380 nm), whose start diverged on
-    /// every start grid tried.
+    /// the film (cells at most twice [`crate::formulas::cell_needed`]). Kept when it converges:
+    /// for fine fed grids whose coarser start grids cannot hold the film (docs/reynolds.md, the
+    /// attempts).
     pub flooded_start_fallback: bool,
     /// Time discretisation of transient runs.
     pub time_scheme: TimeScheme,
     /// A time step starts from the last state plus the last step's change (pressure and
     /// `H00`), the pressure's carried downstream by the surfaces' travel over the step (at rest,
-    /// the linear extrapolation in time), rather than from the last state. Measured with the
-    /// extrapolation in place: at rest after a stop (the seed's contact fed 25 nm, 129², steps
-    /// of a cell's transit) 3.9 cycles a step against 5.4; a dent passing `M = 20, L = 10`
-    /// (129², one step a cell) 3.70 against 3.92, the answers within the step's tolerances (the
-    /// dent's peak pressure by 2e-4). Carried with the surfaces, the seed's shallow dent (257²,
-    /// fed 25 nm) 4.02 → 1.14 cycles a step.
+    /// the linear extrapolation in time), rather than from the last state: fewer cycles a step,
+    /// the same answers (docs/reynolds.md, "A step's start carried with the surfaces").
     pub extrapolated_start: bool,
     /// Mass conserving, in a time step: the steady solve's extra passes of the relaxation, along
     /// the columns and around the menisci ([`RelaxSettings::column_pass`],
     /// [`RelaxSettings::meniscus_passes`]). A steady solve needs them to move its menisci from
     /// the start to where they settle, many cells; a step starts one step from its answer, and
-    /// without them (the default) it costs half as much and ends no further from the fully
-    /// converged march (measured in `docs/reynolds.md`, "Time steps without the extra passes").
+    /// without them (the default) it costs less and ends no further from the fully converged
+    /// march (docs/reynolds.md, "Time steps without the extra passes").
     pub step_extra_passes: bool,
     /// In time steps, where the film closes the solids touch (`H = 0`, the pressure there the
     /// contact's, `≥ 0`; the point lets go when holding the gap shut would take a negative
     /// pressure) instead of the film going negative: the side lobes and the exit constriction
     /// after a stop, squeezed shut, and the dry band they leave when rolling starts again. A
     /// rolling step decides its contact anew from its closed films (the set of the last step
-    /// is let go, its points full: `θ = 1`, which carries no oil while `H = 0`); holding the
-    /// set from step to step instead, the first rolling steps after a stop failed to converge
-    /// (`stop-start-compare`, `rolling-from-squeezed-compare`). Steady solves never touch: in
-    /// steady rolling a positive film exists on a grid fine enough (2 mm/s, 80 N: closed on
-    /// 257², +0.50 nm on 1025²), so a film that closes there is the grid's (the sweeps' grid
-    /// rule), and contact rows in the steady full-multigrid start turned the seed's flooded
-    /// contact into a dry one (98 % of the load on contact on 129²).
+    /// is let go, its points full: `θ = 1`, which carries no oil while `H = 0`; a set held from
+    /// step to step kept the first rolling steps after a stop from converging). Steady solves
+    /// never touch: a film that closes there is the grid's (the sweeps' grid rule), and contact
+    /// in the steady cycles turned a flooded contact dry (docs/decisions.md, "The solids
+    /// touching in the steady cycles").
     pub contact: bool,
     /// Mass conserving, steady: the largest factor of a jump along the solve's slow mode when
     /// one mode governs its cycles (the meniscus ring and the pressure inside it; the module

@@ -11,22 +11,8 @@ impl ReynoldsSolver {
     ///
     /// Mass conserving, the first attempt's coarser grids solve for the film content
     /// ([`ReynoldsSettings::coarse_film_content`]): the ring of full film round the contact,
-    /// which the finest grid's relaxation moved a little each cycle, moves with the coarse-grid
-    /// correction. Measured (2 cores, the same tolerances, against the coarser grids holding
-    /// `θ` with the jumps along the slow mode): the seed's contact fed 25 nm on 257², 33 → 20
-    /// cycles (2.3 → 1.2 s); 15 nm 31 → 24, 100 nm 21 → 13, 5 nm 13 → 13, 10 nm 10 → 14,
-    /// 50 nm 16 → 18; 5 mm/s, 40 N on 641², 104 → 52 cycles (35 → 19 s); 10 mm/s, 80 N (257²)
-    /// 71 → 26; 1 m/s, 80 N 24 → 19; 20 mm/s, 40 N (385²) 40 → 26 cycles, and the film it
-    /// stops at 2e-5 from the one converged 10× tighter, against 1.8e-3. Slower: 2 mm/s, 20 N
-    /// (257²), 53 → 73 cycles; 1 m/s, 5 N, 213 → 260. The depth ([`COARSE_FILM_CELLS`]):
-    /// down to cells of 8× the grid rule's, the seed's 5–100 nm take 10–23 cycles; to 4×,
-    /// 11–20, but 10 mm/s, 80 N 65 cycles against 25 and 5 mm/s, 40 N on 641² 76 against 30;
-    /// to 16×, 14–23; to 2×, 24–54; every grid down to 17² closed the film. It needs the
-    /// coarser grids' Couette faces first order where the gap is partly filled
-    /// ([`Level::first_order_partial`]; the depths above were measured with them on every grid).
-    /// Since then every attempt's full-multigrid start hands over from its coarser grid loosely
-    /// (`STARVED_FMG_SETTLE` in `solver.rs`: the seed's 25 nm 20 → 9 cycles, 5 mm/s, 40 N on
-    /// 641² 52 → 17, on 1281² 796 → 145).
+    /// which the finest grid's relaxation moves a little each cycle, moves with the coarse-grid
+    /// correction (docs/decisions.md, "The coarser grids solving for the film content").
     pub fn solve(
         &mut self,
         log: &mut dyn FnMut(&CycleLog),
@@ -232,17 +218,12 @@ impl ReynoldsSolver {
         let h00 = self.h00;
         self.levels[0].update_film(h00);
         // The cycles descend only to grids whose cells are at most twice the grid rule's
-        // ([`formulas::cell_needed`]). Measured at 5 mm/s, 80 N (fed 25 nm, 769², the rule's
-        // grid): cycles down to 17² diverged in their first cycle (the coarse grids' films
-        // closed, and their corrections wrecked the fine film: `H_c` × 20 in one cycle); down to
-        // 385², converged in 93 cycles (90 s, 6.294 nm against 6.32 nm flooded); on 769² alone
-        // (ten sweeps a cycle) the oil balance still missed by 11 % after as many cycles.
+        // ([`formulas::cell_needed`]): deeper, the coarse grids' closed films wreck the fine one
+        // (docs/reynolds.md, the attempt from the flooded answer).
         self.coarsest = self.film_holding_depth(2.0);
         // The ring of full film round the contact (its meniscus and the pressure inside it,
         // [`crate::extrapolate`]) moves a little each sweep, and on these fine grids that is
-        // little a cycle: measured at 2 mm/s, 80 N (1153²), the residual fell 5.7× and the oil
-        // unaccounted for from 0.70 to 0.13 over 104 cycles, steadily, when the stall watch's
-        // window (40 cycles) stopped it. Twice the window and twice the cycles.
+        // little a cycle, but steadily: twice the stall window and twice the cycles.
         let kept = self.active;
         self.active.fmg_cycles = 0;
         self.active.stall_cycles *= 2;
@@ -394,11 +375,9 @@ impl ReynoldsSolver {
 }
 
 /// Why a steady attempt was given up, and after how many cycles: a divergence, a stall or a
-/// limit cycle. Not a cycle limit (more of the same would converge), nor a closed film: the
-/// lagged and smaller-change attempts did not open one where tried (the fed contact at 10 mm/s,
-/// 80 N on 769²: closed again with lagged laws, then stalled with smaller changes, 236 s for no
-/// answer); a fed film that closed goes to the start from the flooded answer
-/// ([`ReynoldsSettings::flooded_start_fallback`]).
+/// limit cycle. Not a cycle limit (more of the same would converge), nor a closed film, which
+/// the lagged and smaller-change attempts did not open where tried; a fed film that closed goes
+/// to the start from the flooded answer ([`ReynoldsSettings::flooded_start_fallback`]).
 pub(super) fn given_up(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option<(String, usize)> {
     match rep {
         // A stop asked for ends the solve: no attempt follows.
