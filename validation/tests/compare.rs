@@ -349,7 +349,7 @@ fn a_start_after_a_stop_refills_the_reynolds_contact_in_one_transit_and_ends_whe
     // film's dip) about one transit `a/u` after the start: measured 0.86 (11.6 ms against
     // 13.5 ms) at the scene's one step a cell, 0.97 and 0.96 at two and four (time-converged).
     // At one step a cell the dip is to 0 (a dry band, the contact carrying up to 20 % of the
-    // load), which finer steps do not show: the time step's error (docs/reynolds.md, "Steps at
+    // load), which finer steps do not show: the time step's error (docs/decisions.md, "Steps at
     // rest"). Bound ±30 %: a film carried at the sum velocity instead of the mean arrives at 0.5.
     // The dip is where the central film is least; where it is zero (the band that touches),
     // a film being never below zero, the middle of that stretch.
@@ -370,7 +370,7 @@ fn converged_in_time_the_restart_after_a_stop_carries_no_dry_band_through_the_co
     // stop-start-compare's Reynolds side with its rolling phases at two steps a cell instead of
     // one. At one step a cell the ring closed at rest crosses the contact as a dry band (the
     // centre dry from 0.55 to 0.86 transits, the contact carrying up to 20 % of the load); at
-    // two and four it does not: the time step's error, not physics (docs/reynolds.md, "Steps
+    // two and four it does not: the time step's error, not physics (docs/decisions.md, "Steps
     // at rest").
     let mut scene = ehl_scene::builtin("stop-start-compare").unwrap().for_model(Model::Reynolds);
     scene.outputs.figures = false;

@@ -241,7 +241,96 @@ pub fn stability(out: &Path, n: usize, narrow_from_m: f64) -> Result<Vec<PathBuf
             &json!({"grid": n, "cases": rows, "barus_incompressible": rows_barus}),
         )? + "\n",
     )?;
-    Ok(vec![map, chart, json_path])
+    let page = stability_page(n, narrow_from_m, &rows, &rows_barus)?;
+    Ok(vec![map, chart, json_path, page])
+}
+
+/// The stability map's rows as a measured page (`docs/measured/reynolds-stability.md`).
+fn stability_page(
+    n: usize,
+    narrow_from_m: f64,
+    rows: &[Value],
+    barus: &[Value],
+) -> Result<PathBuf> {
+    let table = |rows: &[Value]| {
+        let mut t = crate::measured::Table::new(&[
+            "M",
+            "L",
+            "answer",
+            "cycles",
+            "h_c [nm]",
+            "vs Hamrock-Dowson",
+            "vs NVM",
+            "wall [s]",
+            "on the rule's grid",
+        ]);
+        for r in rows {
+            let f = |k: &str| r[k].as_f64().unwrap_or(f64::NAN);
+            let ok = r["converged"].as_bool() == Some(true);
+            let hc = f("central_film_m");
+            let rule = &r["on_the_rules_grid"];
+            let on_rule = if rule.is_null() {
+                "-".to_string()
+            } else if rule["converged"].as_bool() == Some(true) {
+                format!(
+                    "{}²: h_c {:.4} nm, {:.1} s",
+                    rule["grid"],
+                    rule["central_film_m"].as_f64().unwrap_or(f64::NAN) * 1e9,
+                    rule["wall_time_s"].as_f64().unwrap_or(f64::NAN)
+                )
+            } else {
+                format!("{}²: failed", rule["grid"])
+            };
+            let answer = match (ok, r["lagged_laws"].as_bool() == Some(true)) {
+                (true, false) => "converged".to_string(),
+                (true, true) => "converged, lagged laws".to_string(),
+                _ => {
+                    let d = r["diagnosis"].as_str().unwrap_or("failed");
+                    format!("failed: {}", d.chars().take(60).collect::<String>())
+                }
+            };
+            let pct = |k: &str| {
+                if ok { format!("{:+.1} %", (hc / f(k) - 1.0) * 100.0) } else { "-".into() }
+            };
+            t.rows.push(vec![
+                format!("{}", f("m")),
+                format!("{}", f("l")),
+                answer,
+                format!("{}", r["cycles"]),
+                if ok { format!("{:.4}", hc * 1e9) } else { "-".into() },
+                pct("hamrock_dowson_m"),
+                pct("nvm_m"),
+                format!("{:.2}", f("wall_time_s")),
+                on_rule,
+            ]);
+        }
+        t
+    };
+    let count = |rows: &[Value]| {
+        let ok = rows.iter().filter(|r| r["converged"].as_bool() == Some(true)).count();
+        format!("{ok} of {}", rows.len())
+    };
+    let intro = format!(
+        "The Reynolds solver over Moes' `M` and `L` (`reference/reynolds_cases.json`: `R`, `E'`, \
+         `η0`, `α` of `reynolds-m20-l10`, load and velocity from `M`, `L`), each case from Hertz on \
+         {n}² over `[-4.5, 1.5] × [-3, 3]`, from `M = {narrow_from_m}` on `[-1.25, 1.25]²`, one \
+         thread a case. A case that fails is run again on the grid the sweeps' rule gives it. \
+         The central film is set against Hamrock–Dowson (1977) and NVM (1994), which were fitted \
+         to Barus, incompressible solutions. Converged: Roelands and Dowson–Higginson {}, Barus \
+         and incompressible {}.",
+        count(rows),
+        count(barus)
+    );
+    crate::measured::write(
+        "reynolds-stability",
+        "The Reynolds stability map and the film formulas",
+        &format!("cargo xtask stability reynolds --points {n}"),
+        &intro,
+        &[
+            ("Roelands viscosity, Dowson–Higginson density (the map)", &table(rows)),
+            ("Barus viscosity, incompressible (the formulas' own laws)", &table(barus)),
+        ],
+    )
 }
 
 /// One Reynolds solve of the grid study.
@@ -523,10 +612,107 @@ pub fn convergence(out: &Path, max_points: usize) -> Result<Vec<PathBuf>> {
         )? + "\n",
     )?;
     written.push(json_path);
+    written.push(convergence_page(max_points, &all, &orders, &references, &stop_rules)?);
     for f in &written {
         println!("  wrote {}", f.display());
     }
     Ok(written)
+}
+
+/// The grid studies as a measured page (`docs/measured/reynolds-convergence.md`).
+fn convergence_page(
+    max_points: usize,
+    all: &[Vec<Solve>],
+    orders: &[Value],
+    references: &[Value],
+    stop_rules: &[Value],
+) -> Result<PathBuf> {
+    use crate::measured::Table;
+    let mut grids = Table::new(&[
+        "scene",
+        "grid",
+        "answer",
+        "cycles",
+        "wall [s]",
+        "h_c [nm]",
+        "h_min [nm]",
+        "p_max / p_h",
+    ]);
+    for p in all.iter().flatten() {
+        grids.rows.push(vec![
+            p.scene.clone(),
+            format!("{}²", p.n),
+            if p.converged { "converged".into() } else { "not converged".into() },
+            p.cycles.to_string(),
+            format!("{:.3}", p.wall_s),
+            format!("{:.4}", p.central_nm),
+            format!("{:.4}", p.minimum_nm),
+            format!("{:.4}", p.max_pressure_ph),
+        ]);
+    }
+    let mut ord = Table::new(&["scene", "grids", "order of h_c", "order of h_min"]);
+    for o in orders {
+        ord.rows.push(vec![
+            o["scene"].as_str().unwrap_or_default().to_string(),
+            o["grids"].as_array().map_or(String::new(), |g| {
+                g.iter().map(|n| format!("{n}²")).collect::<Vec<_>>().join(", ")
+            }),
+            format!("{:.2}", o["central"].as_f64().unwrap_or(f64::NAN)),
+            format!("{:.2}", o["minimum"].as_f64().unwrap_or(f64::NAN)),
+        ]);
+    }
+    let mut rich = Table::new(&["scene", "h_c [nm]", "its order", "h_min [nm]", "its order"]);
+    for r in references {
+        let f = |k: &str| r[k].as_f64().unwrap_or(f64::NAN);
+        rich.rows.push(vec![
+            r["scene"].as_str().unwrap_or_default().to_string(),
+            format!("{:.4}", f("central_nm")),
+            format!("{:.2}", f("central_order")),
+            format!("{:.4}", f("minimum_nm")),
+            format!("{:.2}", f("minimum_order")),
+        ]);
+    }
+    let mut stops = Table::new(&[
+        "scene",
+        "grid",
+        "strict: cycles, wall [s], h_c [nm]",
+        "discretisation stop: cycles, wall [s], h_c [nm]",
+    ]);
+    for s in stop_rules {
+        let scene = s["scene"].as_str().unwrap_or_default();
+        let (Some(a), Some(b)) = (s["strict"].as_array(), s["discretisation"].as_array()) else {
+            continue;
+        };
+        for (p, q) in a.iter().zip(b) {
+            let cell = |v: &Value| {
+                format!(
+                    "{}, {:.3}, {:.4}",
+                    v["cycles"],
+                    v["wall_s"].as_f64().unwrap_or(f64::NAN),
+                    v["central_nm"].as_f64().unwrap_or(f64::NAN)
+                )
+            };
+            stops.rows.push(vec![scene.to_string(), format!("{}²", p["n"]), cell(p), cell(q)]);
+        }
+    }
+    crate::measured::write(
+        "reynolds-convergence",
+        "The Reynolds solver's grid convergence",
+        &format!("cargo xtask convergence reynolds --max-points {max_points}"),
+        "The built-in Reynolds scenes `reynolds-m20-l10` (`M = 20, L = 10` over `[-4.5, 1.5] × \
+         [-3, 3]`) and `reynolds-seed` (the seed's Table 1 over `[-1.25, 1.25]²`), each grid \
+         solved from Hertz with the full-multigrid start to the strict stop rule (the central film \
+         settled to 1e-4 a cycle, the load to 1e-6), on the machine's cores; then the observed \
+         orders of three successive grids, the Richardson limits (the finest two at the finest \
+         three's order when it lies in 1 … 3, else 2), and the same grids under the \
+         discretisation-error stop rule.",
+        &[
+            ("Each grid", &grids),
+            ("Observed orders", &ord),
+            ("Richardson limits", &rich),
+            ("The strict stop rule and the discretisation-error stop", &stops),
+        ],
+    )
 }
 
 /// `cargo xtask bench`, Reynolds part: each built-in steady scene from Hertz to converged,

@@ -71,7 +71,7 @@ pub struct RelaxSettings {
     /// 1.1e-2 of the oil moved at 3 (6.6e-3 at 1, 5.3e-2 at 10, past that test's bound). The
     /// default stays 1 for now: at 3
     /// `rolling-from-squeezed-compare`'s first rolling step after its rest (up to 5 s, the
-    /// lobes shut) fails at any step length (docs/reynolds.md, "Steps at rest");
+    /// lobes shut) fails at any step length (docs/decisions.md, "Steps at rest");
     /// `stop-compare`, which never rolls again, sets 3.
     pub transient_threshold_at_rest: f64,
     /// Under-relaxation of Gauss–Seidel changes. At 0.7 the outlet pressure spike on 513²

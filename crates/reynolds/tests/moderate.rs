@@ -20,7 +20,7 @@ fn m20_films(n: usize) -> (f64, f64) {
 #[test]
 fn m20_l10_converges_at_second_order_to_the_formulas() {
     // 65², 129², 257² (0.1 + 0.2 + 0.8 s). The discretisation is second order: the observed
-    // order of H_c was 1.98 (docs/reynolds.md, to 1025²); a first-order term (a wrong half-point
+    // order of H_c was 1.98 (docs/measured/reynolds-convergence.md); a first-order term (a wrong half-point
     // coefficient, an upwinded wedge) would read below 1.5.
     let hc: Vec<f64> = [65, 129, 257].iter().map(|&n| m20_films(n).0).collect();
     let order = ((hc[1] - hc[0]) / (hc[2] - hc[1])).log2();
@@ -67,7 +67,7 @@ fn seed_regime_converges_on_the_standard_domain_with_the_expected_grid_error() {
     // (force balance 1.65e-5 after 49 cycles) until the symmetric two-half sweep; measured now:
     // converged in 18 cycles at H_c = 8.75 nm. A cell here is 0.0234 a, 2.39× the layer
     // domain's 0.0098 a, so at second order its film error is 2.39² × the narrow 257² grid's
-    // (12.48 − 11.79 = 0.69 nm, docs/reynolds.md): 12.48 − 3.93 = 8.55 nm predicted. 5 % holds the
+    // (12.48 − 11.79 = 0.69 nm, docs/measured/reynolds-convergence.md): 12.48 − 3.93 = 8.55 nm predicted. 5 % holds the
     // measured +2.3 % (the wide domain's inlet also feeds the film more than the narrow one's)
     // and fails a film off by a quarter of its grid error.
     let prm = common::seed();

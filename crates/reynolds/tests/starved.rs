@@ -217,7 +217,7 @@ fn a_fed_solve_started_from_the_flooded_answer_reaches_the_fed_answer() {
     // The seed's contact fed 25 nm on 257² (the seed's grid), solved from its own start and
     // from the flooded answer (the last attempt's path, here taken first). Both relax the same
     // discrete equations, so they must stop at the same film within what the stop rule leaves
-    // (the oil balance to 1 % moves the central film by up to 5e-4, docs/reynolds.md; bound
+    // (the oil balance to 1 % moves the central film by up to 5e-4, docs/decisions.md; bound
     // 1e-3; measured 1.9e-4, 51 cycles in all against 20). A start that kept the flooded inlet
     // full, or cycles that did not switch the supply on, would stop at the flooded film, 1.3 %
     // thicker.

@@ -65,33 +65,34 @@ pub struct ReynoldsSettings {
     /// pressures at once diverges, stalls or cycles, it starts again with
     /// `relax.coefficient_lag` set to this (and keeps it for the time steps that follow);
     /// 0: no second attempt. Lagged laws cost cycles but converge where the high-`L`
-    /// light-load cases diverge (docs/reynolds.md, the stability map).
+    /// light-load cases diverge (docs/measured/reynolds-stability.md).
     pub fallback_lag: f64,
     /// Smaller Gauss–Seidel changes for a third attempt (`relax.omega_gs` set to this, the
     /// laws still lagged), when the lagged attempt also diverges, stalls or cycles; 0, or not
     /// below `relax.omega_gs`: no third attempt. For heavily starved contacts whose first two
-    /// attempts end in a limit cycle of the force balance (docs/reynolds.md, the attempts).
+    /// attempts end in a limit cycle of the force balance (docs/reynolds.md, "The attempts
+    /// after a failure").
     pub fallback_omega_gs: f64,
     /// Mass conserving, steady: when the attempts above end with the film closed, diverged,
     /// stalled or cycling, a last attempt solves the contact fully flooded (the clamp), then
     /// switches the supply on and cycles from that answer, descending only to grids that hold
     /// the film (cells at most twice [`crate::formulas::cell_needed`]). Kept when it converges:
-    /// for fine fed grids whose coarser start grids cannot hold the film (docs/reynolds.md, the
-    /// attempts).
+    /// for fine fed grids whose coarser start grids cannot hold the film (docs/reynolds.md,
+    /// "The attempts after a failure").
     pub flooded_start_fallback: bool,
     /// Time discretisation of transient runs.
     pub time_scheme: TimeScheme,
     /// A time step starts from the last state plus the last step's change (pressure and
     /// `H00`), the pressure's carried downstream by the surfaces' travel over the step (at rest,
     /// the linear extrapolation in time), rather than from the last state: fewer cycles a step,
-    /// the same answers (docs/reynolds.md, "A step's start carried with the surfaces").
+    /// the same answers (docs/decisions.md, "A step's start carried with the surfaces").
     pub extrapolated_start: bool,
     /// Mass conserving, in a time step: the steady solve's extra passes of the relaxation, along
     /// the columns and around the menisci ([`RelaxSettings::column_pass`],
     /// [`RelaxSettings::meniscus_passes`]). A steady solve needs them to move its menisci from
     /// the start to where they settle, many cells; a step starts one step from its answer, and
     /// without them (the default) it costs less and ends no further from the fully converged
-    /// march (docs/reynolds.md, "Time steps without the extra passes").
+    /// march (docs/decisions.md, "Time steps without the extra passes").
     pub step_extra_passes: bool,
     /// In time steps, where the film closes the solids touch (`H = 0`, the pressure there the
     /// contact's, `≥ 0`; the point lets go when holding the gap shut would take a negative

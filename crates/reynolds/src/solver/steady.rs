@@ -219,7 +219,7 @@ impl ReynoldsSolver {
         self.levels[0].update_film(h00);
         // The cycles descend only to grids whose cells are at most twice the grid rule's
         // ([`formulas::cell_needed`]): deeper, the coarse grids' closed films wreck the fine one
-        // (docs/reynolds.md, the attempt from the flooded answer).
+        // (docs/reynolds.md, "The attempts after a failure").
         self.coarsest = self.film_holding_depth(2.0);
         // The ring of full film round the contact (its meniscus and the pressure inside it,
         // [`crate::extrapolate`]) moves a little each sweep, and on these fine grids that is

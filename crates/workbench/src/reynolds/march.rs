@@ -78,7 +78,7 @@ impl ReynoldsMarch<'_> {
     /// watching the edge (as measured when it was found). (At one step a cell the
     /// restart after a stop moved with this watch's variants, `stop-start-compare`'s dip at
     /// 0.62–0.98 transits: the rolling steps' own error at Courant 1; at two steps a cell and
-    /// finer it is 0.96–0.97 whatever the steps at rest, docs/reynolds.md, "Steps at rest".)
+    /// finer it is 0.96–0.97 whatever the steps at rest, docs/decisions.md, "Steps at rest".)
     fn watched_now(&self) -> [f64; 3] {
         let (hc, hmin) = self.solver.films();
         let touching = self.solver.contact().1 > 0.0;
