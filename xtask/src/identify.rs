@@ -23,7 +23,7 @@ use ehl_workbench::{Outcome, run_scene};
 use plotters::prelude::SeriesLabelPosition;
 use serde::Serialize;
 use serde_json::{Value, json};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Parameter names, in the order of `Theta`'s entries.
@@ -546,6 +546,7 @@ pub fn run(out: &Path, n: usize, squeeze_n: usize, check_n: usize) -> Result<()>
     });
     let text = serde_json::to_string_pretty(&report)? + "\n";
     std::fs::write(out.join("seed-fit.json"), &text)?;
+    page(&report)?;
     // A quick run's fit is on coarse grids: it never replaces the reference the layer reads.
     if !crate::quick() {
         std::fs::write(
@@ -825,4 +826,137 @@ mod tests {
             (0..10).map(|k| mon(0.1 * k as f64, -(0.1 * k as f64 - 0.37).powi(2))).collect();
         assert!((peak_time(&s) - 0.37).abs() < 1e-12);
     }
+}
+
+/// The identification as a measured page (`docs/measured/identify.md`), from its report.
+fn page(r: &Value) -> Result<PathBuf> {
+    use crate::measured::Table;
+    let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+    let mut targets = Table::new(&[
+        "target",
+        "seed",
+        "reconstruction",
+        "seed-fit",
+        "deviation",
+        "band",
+        "∂ln/∂ln κ",
+        "∂ln/∂σ",
+        "∂ln/∂ln p_ref",
+    ]);
+    for t in r["targets"].as_array().into_iter().flatten() {
+        let s = |k: usize| format!("{:+.2}", f(&t["sensitivity"][k]));
+        targets.rows.push(vec![
+            t["what"].as_str().unwrap_or_default().to_string(),
+            format!("{:.4}", f(&t["seed"])),
+            format!("{:.4}", f(&t["reconstruction"])),
+            format!("{:.4}", f(&t["seed_fit"])),
+            format!("{:+.1} %", 100.0 * f(&t["deviation"])),
+            format!("±{:.0} %", 100.0 * f(&t["band"])),
+            s(0),
+            s(1),
+            s(2),
+        ]);
+    }
+    let sq = &r["steady_squeeze"];
+    let mut laws = Table::new(&["law", "value", "standard deviation"]);
+    laws.rows.push(vec![
+        "κ (damper prefactor)".into(),
+        format!("{:.3e}", f(&r["laws"]["damper_constant"])),
+        format!("ln κ ± {:.3}", f(&r["standard_deviation"][0])),
+    ]);
+    laws.rows.push(vec![
+        "σ (scale of the damper's pressure dependence)".into(),
+        format!("{:.4}", f(&r["laws"]["damper_pressure_scale"])),
+        format!("± {:.3}", f(&r["standard_deviation"][1])),
+    ]);
+    laws.rows.push(vec![
+        "p_ref / p_h (the modulus law's reference pressure)".into(),
+        format!("{:.3}", f(&r["laws"]["reference_pressure_over_p_h"])),
+        "not constrained: held".into(),
+    ]);
+    let c = &r["compromise_all_four"];
+    let mut comp = Table::new(&["fit", "κ", "σ", "χ²", "deviations of the four targets"]);
+    comp.rows.push(vec![
+        "all four targets".into(),
+        format!("{:.3e}", f(&c["theta"][0]).exp()),
+        format!("{:.3}", f(&c["theta"][1])),
+        format!("{:.0}", f(&c["chi2"])),
+        c["deviation"].as_array().map_or(String::new(), |d| {
+            d.iter().map(|v| format!("{:+.0} %", 100.0 * f(v))).collect::<Vec<_>>().join(", ")
+        }),
+    ]);
+    let mut lateral = Table::new(&[
+        "law set",
+        "wiggle unsmoothed / p_h",
+        "wiggle smoothed / p_h",
+        "share of the loaded zone where a streak grows",
+    ]);
+    for (name, key) in [("reconstruction", "reconstruction"), ("seed-fit", "seed_fit")] {
+        let l = &r["lateral"][key];
+        lateral.rows.push(vec![
+            name.into(),
+            format!("{:.3}", f(&l["unsmoothed"]["wiggle_ph"])),
+            format!("{:.3}", f(&l["smoothed"]["wiggle_ph"])),
+            format!("{:.0} %", 100.0 * f(&l["unsmoothed"]["growing_fraction"])),
+        ]);
+    }
+    let mut profile = Table::new(&["σ (held)", "χ²", "κ refitted", "wiggle unsmoothed / p_h"]);
+    for p in r["profile_sigma"].as_array().into_iter().flatten() {
+        profile.rows.push(vec![
+            format!("{}", f(&p["sigma"])),
+            format!("{:.0}", f(&p["chi2"])),
+            format!("{:.3e}", f(&p["theta"][0]).exp()),
+            format!("{:.3}", f(&p["lateral"]["unsmoothed"]["wiggle_ph"])),
+        ]);
+    }
+    let mut dent = Table::new(&[
+        "law set",
+        "dent width [a]",
+        "pressure inside / p_h",
+        "layer change",
+        "a bump",
+    ]);
+    for (name, key) in [("reconstruction", "reconstruction"), ("seed-fit", "seed_fit")] {
+        for d in r["features_129"][key]["shallow_dent"].as_array().into_iter().flatten() {
+            dent.rows.push(vec![
+                name.into(),
+                format!("{}", f(&d["width_a"])),
+                format!("{:.3}", f(&d["pressure_ph"])),
+                format!("{:+.1} %", 100.0 * f(&d["layer_change"])),
+                if d["bump"].as_bool() == Some(true) { "yes".into() } else { "no".into() },
+            ]);
+        }
+    }
+    let intro = format!(
+        "The seed's lost laws (Eqs. 10–11) fitted to its reported numbers \
+         (`reference/seed.json`): the reconstruction's families with the damper's prefactor `κ`, \
+         the scale `σ` of its pressure dependence and the modulus law's reference pressure free, \
+         Levenberg–Marquardt on `ln(value/seed)` in units of half each target's band, fitted on \
+         {}² (rolling) and {}² (squeeze), checked on {}²; {} evaluations, {:.0} s. The steady \
+         squeeze does not depend on these laws: `p_max / p_h` {:.4}, contact and dry diameter / \
+         2a {:.4} and {:.4}. Every number is in `reference/seed-fit.json`; docs/layer.md says \
+         what it shows.",
+        r["grids"]["rolling"],
+        r["grids"]["squeeze"],
+        r["check_grids"]["rolling"],
+        r["evaluations"],
+        f(&r["wall_s"]),
+        f(&sq["max_pressure_ph"]),
+        f(&sq["contact_diameter_2a"]),
+        f(&sq["dry_diameter_2a"]),
+    );
+    crate::measured::write(
+        "identify",
+        "The seed's lost laws, identified",
+        "cargo xtask identify",
+        &intro,
+        &[
+            ("The targets (the check grid)", &targets),
+            ("The `seed-fit` law set", &laws),
+            ("Fitting all four targets instead", &comp),
+            ("Lateral stability (129², the row-to-row pressure wiggle)", &lateral),
+            ("The profile over σ (κ refitted to h_c and the peak time)", &profile),
+            ("The shallow dent's bump against the dent's width (129², centred)", &dent),
+        ],
+    )
 }

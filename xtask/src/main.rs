@@ -14,6 +14,7 @@ mod measured;
 mod mutants;
 mod reynolds;
 mod scene_study;
+mod seed_page;
 mod slurm;
 mod starvation;
 
@@ -138,6 +139,13 @@ enum Command {
         #[arg(long, default_value_t = 257)]
         points: usize,
     },
+    /// The seed's reported values against the built-in scenes that reproduce them, on the
+    /// seed's grid: writes `docs/measured/seed-against-ours.md`.
+    Seed {
+        /// Points per side.
+        #[arg(long, default_value_t = 257)]
+        points: usize,
+    },
     /// The README's example (`ehl compare seed --accuracy 5%`): writes
     /// `docs/measured/example-compare.md` and the README's table from one run.
     Example,
@@ -212,6 +220,7 @@ fn main() -> Result<()> {
         }
         Command::SlurmCheck { keep } => slurm::check(keep),
         Command::Example => example::run(),
+        Command::Seed { points: n } => seed_page::run(points(n)),
         Command::Accuracy { out, points: n } => accuracy::run(&out, points(n)),
         Command::Mutants { file, shard, timeout, out } => {
             mutants::run(&file, shard.as_deref(), timeout, &out)
