@@ -8,6 +8,7 @@ mod bench;
 mod compare;
 mod convergence;
 mod example;
+mod findings;
 mod identify;
 mod layer;
 mod measured;
@@ -146,6 +147,9 @@ enum Command {
         #[arg(long, default_value_t = 257)]
         points: usize,
     },
+    /// The seed's comparisons that move (a hole, a dent, a stop, a start) through every model:
+    /// writes `docs/measured/findings.md`.
+    Findings,
     /// The README's example (`ehl compare seed --accuracy 5%`): writes
     /// `docs/measured/example-compare.md` and the README's table from one run.
     Example,
@@ -220,6 +224,7 @@ fn main() -> Result<()> {
         }
         Command::SlurmCheck { keep } => slurm::check(keep),
         Command::Example => example::run(),
+        Command::Findings => findings::run(),
         Command::Seed { points: n } => seed_page::run(points(n)),
         Command::Accuracy { out, points: n } => accuracy::run(&out, points(n)),
         Command::Mutants { file, shard, timeout, out } => {

@@ -112,7 +112,8 @@ pub fn run(n: usize) -> Result<()> {
     let drop = 1.0 - hole.final_monitor.central_pressure / roll.final_monitor.central_pressure;
     row("hole centred: central pressure drop", "hole_central_pressure_drop", drop, "", "hole")?;
     // The Reynolds reference the seed drew its Fig. 4 from.
-    let rey = run_scene(&ehl_scene::builtin("reynolds-seed")?.with_points(n)?)?;
+    // Quickly, the least grid its film exists on.
+    let rey = run_scene(&ehl_scene::builtin("reynolds-seed")?.with_points(crate::seed_grid(n))?)?;
     let l0 = ehl_layer::SEED_SUPPLY_THICKNESS_M;
     row(
         "Reynolds: h_c / l0",
