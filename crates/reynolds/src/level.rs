@@ -47,36 +47,20 @@ pub struct RelaxSettings {
     /// distributively …
     pub distributive_threshold: f64,
     /// … and the time term's part of that diagonal (its elastic self-coupling `a0 ρ̄ K(0, 0)`,
-    /// zero in a steady solve) counts with this threshold instead. Measured on the seed's
-    /// contact over `[−1.25, 1.25]²` on 257², steps of one cell: at 0.3, Gauss–Seidel steps
-    /// where the time term rivals the Poiseuille one made the V-cycle amplify the residual ~7× a
-    /// cycle (fed 25 nm, rolling; steps of two cells held) and the first step at rest after a
-    /// stop diverged (flooded and fed); at 1 every case converges (2–4 cycles a step); 0.5 and
-    /// 0.7 fail some. The cost: on 33² at a twentieth of a cell a step (`M = 20, L = 10`, a
-    /// dent, BDF2) the switch at 1 cycles with the load error at ~1e-6 (0.3 converges there).
+    /// zero in a steady solve) counts with this threshold instead: counted at the steady
+    /// threshold, Gauss–Seidel steps where the time term rivals the Poiseuille one made the
+    /// V-cycle amplify the residual (docs/decisions.md, "The time term in the relaxation switch").
     pub transient_threshold: f64,
     /// … and at rest (no wedge term: the time term's coupling is the whole of it) with this
-    /// one. At rest the coupling falls as the step grows (`a0 = 1/ΔT`), and points where it
-    /// was still a fifth of the Poiseuille term took Gauss–Seidel steps at the threshold of 1:
-    /// the seed's stop on 257² (fed 25 nm) cycled with period 2, growing 1.2× a cycle, in
-    /// steps over 2.5e-4 s, so error control, held back by those failures, kept the steps near
-    /// 1.2 ms (the squeeze to its steady end: 1676 steps, 192 rejected, 227.5 s). Over its first
-    /// 0.1 s: at 1, 374 steps and 32 failed solves; 3, 169 and 6; 10, 129 and 1; 30, 133 and 1;
-    /// 100, 145 and 4. The whole squeeze at 3: 675 steps, 105.5 s (`cargo xtask bench --only
-    /// squeeze`); at 10: 558 steps, 91 s. The price is a slower contraction per cycle, which a
-    /// step's stop rule (the film's change per cycle) reads as converged earlier: against the
-    /// same march converged tightly (first 0.5 s), the central film is within 0.16 % at 3
-    /// (0.02 % at 1, 0.12 % at 10) and the minimum film 0.4 % (1.3 % at 1, 0.02 % at 10); the
-    /// oil balance of a squeeze that closes the lobes on 129² (`tests/squeeze.rs`) misses by
-    /// 1.1e-2 of the oil moved at 3 (6.6e-3 at 1, 5.3e-2 at 10, past that test's bound). The
-    /// default stays 1 for now: at 3
-    /// `rolling-from-squeezed-compare`'s first rolling step after its rest (up to 5 s, the
-    /// lobes shut) fails at any step length (docs/decisions.md, "Steps at rest");
-    /// `stop-compare`, which never rolls again, sets 3.
+    /// one. At rest the coupling falls as the step grows (`a0 = 1/ΔT`), and points where it is
+    /// still a fifth of the Poiseuille term cycle with Gauss–Seidel steps at the threshold of 1;
+    /// a larger one lets the steps grow, at the price of a slower contraction per cycle. The
+    /// default stays 1 because a restart after a long rest fails at its first rolling step at 3;
+    /// `stop-compare`, which never rolls again, sets 3 (docs/decisions.md, "Steps at rest").
     pub transient_threshold_at_rest: f64,
-    /// Under-relaxation of Gauss–Seidel changes. At 0.7 the outlet pressure spike on 513²
-    /// (M = 20, L = 10) keeps a period-2 limit cycle (load ±1.5e-5); 0.5 converges in 18
-    /// cycles, 0.4 in 15.
+    /// Under-relaxation of Gauss–Seidel changes: small enough that the outlet pressure spike
+    /// keeps no limit cycle on fine grids (docs/decisions.md, "Three changes that made the
+    /// steady cycles converge").
     pub omega_gs: f64,
     /// Under-relaxation of distributive changes.
     pub omega_jd: f64,
@@ -84,16 +68,13 @@ pub struct RelaxSettings {
     /// also within a sweep; `θ` in (0, 1], they are held through a sweep and then follow `θ`
     /// of each point's pressure change (at convergence both are the same). The line Jacobian
     /// holds `ε̄` fixed, and where `η̄` rises steeply with `P` (high `L`, light loads) a
-    /// checkerboard of a few tenths of `p_h` changes `ε̄` by orders of magnitude: on 257²
-    /// (`M = 10, L = 20`) the relaxation alone diverged from the converged 129² solution and
-    /// converged with `ε̄` held. Measured (257², `L = 20`): θ = 1 and 0.7 diverge, 0.5 leaves
-    /// `M = 20` stalled, 0.3 leaves `M = 500` and `2223` stalled, 0.2 converges `M = 10 … 2223`,
-    /// 0.1 diverges again at `M = 2223`. Slower where not needed (`M = 20, L = 10`: 17 cycles at 0.2
-    /// against 13), hence a second attempt's setting ([`crate::ReynoldsSettings::fallback_lag`]).
+    /// checkerboard of a few tenths of `p_h` changes `ε̄` by orders of magnitude. Slower where
+    /// not needed, hence a second attempt's setting
+    /// ([`crate::ReynoldsSettings::fallback_lag`]; docs/decisions.md, "Why `L = 20` failed").
     pub coefficient_lag: f64,
     /// Mass conserving: passes of line relaxation, after each sweep, over windows of each row
-    /// around the boundaries between full and partly filled gap (the menisci). 4 halved the
-    /// cycles with 10 nm supplied on the seed's contact (257²: 47 → 21); 8 diverged with 5 nm.
+    /// around the boundaries between full and partly filled gap (the menisci), which the row
+    /// sweeps move a cell at a time (docs/decisions.md, "Passes around the menisci").
     pub meniscus_passes: usize,
     /// Mass conserving: after each sweep, a pass of line relaxation along the columns
     /// (the column pass, `relax_columns`, says why).
