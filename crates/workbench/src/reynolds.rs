@@ -180,14 +180,13 @@ impl ContactModel for Reynolds {
             .map_or(f64::INFINITY, |h| ehl_reynolds::formulas::cell_for_change(h, change))
     }
     /// The first attempt alone, and at most `ESTIMATE_CYCLES` cycles: a coarse grid near the
-    /// film's existence limit stalls and hands over to attempt after attempt (the seed flooded on
-    /// 129²: 144 cycles, 3.8 s, four times the 257² answer's own 15 cycles), and an answer that
-    /// takes that is no error estimate to wait for.
+    /// film's existence limit stalls and hands over to attempt after attempt, many times the
+    /// finer answer's own cycles, and an answer that takes that is no error estimate to wait
+    /// for (docs/decisions.md, "An error estimate's coarser grids").
     /// The grid error law of the central film ([`ehl_reynolds::formulas::GRID_CHANGE_PER_CELL2`]:
     /// the half grid moves it by `K ρ²`), read as the grid convergence index of that change at
     /// order 2, `1.25 K ρ² / 3`. Measured for `ρ` up to 0.25; beyond it (a grid coarser than
-    /// the film's existence asks for) it overstates: the steel ball of the README on 129²
-    /// (`ρ` = 0.6) reads 65 % where the film is 33 % off.
+    /// the film's existence asks for) it overstates the error, which errs on the safe side.
     fn film_error_law(&self, scene: &Scene) -> Option<(f64, String)> {
         let h = nvm_film(scene)?;
         let g = scene.grid();
@@ -225,15 +224,16 @@ impl ContactModel for Reynolds {
 const ESTIMATE_CYCLES: usize = 25;
 
 /// The central film's change a cycle at which a coarser grid of an error estimate stops: a
-/// sixth of the least error an estimate gives a film ([`crate::accuracy::FILM_FLOOR`]). The
-/// seed's flooded 129², started from its finer answer, settles within 1e-4 by its sixth cycle
-/// and then alternates by 3e-4 a cycle, which the solve's own 1e-4 never accepts.
+/// sixth of the least error an estimate gives a film ([`crate::accuracy::FILM_FLOOR`]): a coarse
+/// grid started from its finer answer settles quickly and then alternates by more than the
+/// solve's own tolerance, which it never accepts (docs/decisions.md, "An error estimate's
+/// coarser grids").
 const ESTIMATE_FILM_TOLERANCE: f64 = 5e-4;
 
 /// The force balance a coarser grid of an error estimate is held to: a load off by 1e-5 moves
 /// the film by about 1e-6 (`h ∝ W^-0.07`), far below the least error an estimate gives a film
-/// ([`crate::accuracy::FILM_FLOOR`]), where the solve's own 1e-6 took the seed's flooded 129²
-/// from its finer answer 25 cycles and more.
+/// ([`crate::accuracy::FILM_FLOOR`]), where the solve's own tolerance costs a coarse grid many
+/// cycles more.
 const ESTIMATE_LOAD_TOLERANCE: f64 = 1e-5;
 
 /// The Nijenbanning–Venner–Moes central film of the scene's rolling contact in Hertz units
@@ -454,11 +454,8 @@ fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<Reynol
     let run = view.march.as_ref();
     if run.is_some() {
         // A march starts from a steady answer whose coarser grids held the film content: from
-        // the first attempt's answer with them moving the menisci (converged to the same
-        // tolerances), the first step of `rolling-from-squeezed-compare` stopped unconverged at
-        // its 30 cycles (force balance 2.2e-6 against 1e-6); from it after 10 more cycles to a
-        // film tolerance of 1e-5, or from the holding answer, every step converges. Still so
-        // with the start handing over loosely (`STARVED_FMG_SETTLE`): 30 cycles, 2.16e-6.
+        // the first attempt's answer, with them moving the menisci, a squeezed restart's first
+        // step stopped unconverged (docs/decisions.md, "The start of a march").
         solver.settings.coarse_film_content = false;
     }
     // The march starts from the steady solution with the dents at their start.

@@ -105,9 +105,8 @@ impl Level {
                     this.relax_line(prm, s, &mut below, Line::whole(j, &[j - 1]), w_lo);
                 }
             };
-            // Even on 17² the halves gain from two threads (measured: a sweep's halves stay
-            // in the pool's hands, and the coarsest grid's 10 sweeps a visit were 12 % of a
-            // 257² solve on 2 threads when run on one).
+            // Even on the coarsest grids the halves gain from two threads: its many sweeps a
+            // visit are a noticeable share of a solve when run on one.
             rayon::join(upper, lower);
             let deferred = below.ghost.take().map(|g| g.deferred).unwrap_or_default();
             for (i, d) in deferred {
@@ -477,16 +476,10 @@ impl Level {
         // unknown at the next sweep).
         let dist = &w.dist;
         let partial = &w.partial;
-        // (A larger step beside the meniscus, 0.7, halved the cycles with 25 nm supplied on the
-        // seed's contact and diverged with 5 and 10 nm.)
         // Mass conserving, where the Poiseuille term outweighs the wedge's elastic coupling many
         // times (the open inlet and the sides) a full Gauss–Seidel step is stable, and the
-        // pressures there (a few 1e-5 p_h, carrying the oil the menisci trade) settle twice as
-        // fast: the seed's contact with 25 nm supplied, 257², 112 → 60 cycles; 100 nm 45 → 21;
-        // M = 20, L = 10 with 3 µm 112 → 57, and 25 nm on 513² converged (119 cycles) where it had
-        // stalled. The ratio: at 10 the seed's 5 nm on 513² kept a limit cycle, at 3 the 100 nm
-        // case of M = 20 stalled, at 1 the seed's 5 nm diverged on 257²; 30 and 100 gave the
-        // same cycles as 10 on 257² and converged on 513².
+        // pressures there (carrying the oil the menisci trade) settle twice as fast
+        // (docs/decisions.md, "Full Gauss–Seidel steps where the Poiseuille term dominates").
         let big = s.poiseuille_full_step;
         let poiseuille = |q: usize| {
             big > 0.0 && mass_conserving && {
