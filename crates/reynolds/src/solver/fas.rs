@@ -31,11 +31,9 @@ impl ReynoldsSolver {
         let (prm, s) = (self.prm, self.active);
         let last = self.levels.len() - 1;
         if l >= last.min(self.coarsest) {
-            // Where the solids touch, twice the gain. Measured on `stop-compare` (129², the
-            // seed's stop, the side lobes closed): with the gain of the film alone the force
-            // balance held a period-2 cycle of ±1.5e-6 (tolerance 1e-6) with the contact set
-            // unchanged, 14 solves failed and were retried shorter (305 steps, 17 s); with
-            // twice the gain 218 steps, 12 s; half the gain: 5503 steps.
+            // Where the solids touch, twice the gain: with the film's alone the force balance
+            // held a period-2 cycle with the contact set unchanged (docs/decisions.md, "Contact
+            // in time steps").
             let touching = self.levels[l].touch && self.levels[l].contact.iter().any(|&c| c);
             let gain = if touching { 2.0 * s.h00_gain } else { s.h00_gain };
             for _ in 0..s.coarse_sweeps {
@@ -113,14 +111,12 @@ impl ReynoldsSolver {
             }
             // Only points inside the pressurised region are corrected: the coarse grid cannot
             // resolve the cavitation boundary, and a correction at a cavitated point, or at a
-            // loaded point beside one, moves that boundary every cycle (on 257² this kept a
-            // period-2 limit cycle in the load at ±1.2e-4, with residuals of order one at
-            // near-zero pressures on the outlet boundary). Relaxation fixes those points. The
-            // same for a point where the solids touch or beside one: the coarse grid holds the
-            // gap's equation only at its own injected points, and its correction there kept a
-            // period-2 cycle in the central film (5.0670/5.0686e-3 a²/R) with the contact set
-            // unchanged over 30 cycles (`stop-compare`, 129², 0.04 s after the stop; 910 steps
-            // and 50 s with the correction, 305 and 17 s without).
+            // loaded point beside one, moves that boundary every cycle (a period-2 limit cycle
+            // in the load). Relaxation fixes those points. The same for a point where the
+            // solids touch or beside one: the coarse grid holds the gap's equation only at its
+            // own injected points, and its correction there kept a period-2 cycle in the central
+            // film (docs/decisions.md, "Three changes that made the steady cycles converge",
+            // "Contact in time steps").
             let p0 = f.p.clone();
             let (ny, nx) = p0.dim();
             for j in 1..ny - 1 {

@@ -49,9 +49,8 @@ impl ReynoldsSolver {
             // scaled to this step's length (pressures kept non-negative, partly filled points
             // left at `P = 0`). What a dent or a film front does to the pressure travels with
             // the surfaces; at rest the travel is 0 and this is the linear extrapolation in
-            // time. Measured on the seed's shallow dent passing the contact fed 25 nm (257², one
-            // step a cell): 4.02 cycles a step with the change extrapolated in place (the
-            // moving dent's pressure extrapolated where it was), 1.14 with it carried.
+            // time. Extrapolated in place, a moving dent's pressure was extrapolated where it
+            // had been (docs/decisions.md, "A step's start carried with the surfaces").
             let w = dt / self.last_dt;
             let f = &mut self.levels[0];
             let change = &f.p - p_before;
@@ -97,16 +96,10 @@ impl ReynoldsSolver {
             ..s
         };
         // Rolling, the first cycle's film change is judged against the start, so that a step
-        // whose start was already its answer takes one cycle, not two. Measured on the seed's
-        // contact over [−1.25, 1.25]² (257², one step a cell, `cargo xtask bench --only
-        // steps`): rolling steadily, fed 25 nm or flooded, 2.0 → 1.0 cycles a step (0.064 →
-        // 0.031 s); the shallow dent's passage 4.22 → 4.02 cycles, and its largest deviations
-        // from the tightly converged march 1.88 → 1.56 % (central film), 0.16 → 0.13 %
-        // (minimum film), 0.85 → 0.81 % (pressure maximum): no less accurate. At rest the
-        // trapped film drains by less than the stop rule's 1e-4 a step, and one-cycle steps
-        // let it drift: `stop-compare`'s film after 5 s at rest was 9.636 nm against 9.591 nm
-        // converged tightly (film 1e-6, load 1e-8) and 9.606 nm with two cycles at least, so
-        // at rest the first cycle is never the last.
+        // whose start was already its answer takes one cycle, not two, no less accurate. At
+        // rest the trapped film drains by less than the stop rule's tolerance a step, and
+        // one-cycle steps let it drift, so at rest the first cycle is never the last
+        // (docs/decisions.md, "A step's start carried with the surfaces").
         let start_hc = if self.levels[0].speed != 0.0 { self.films().0 } else { f64::NAN };
         let rep = converged(self.cycles(log, 0, 0.0, start_hc));
         let rho_h = self.levels[0].rho_film(&self.prm);
