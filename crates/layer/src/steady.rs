@@ -28,16 +28,13 @@
 //! and a mismatch measured on such a loose solve never counts as converged.
 //! Coarser grids are solved first and interpolated up (nested iteration).
 //!
-//! At low speed (2–5 mm/s at the seed's loads) the iteration can settle on a cycle instead: the
-//! mismatch wanders between ~3e-5 and ~1e-3 at a few points where the layer is squeezed out
-//! (`ε` at its bound 1) or the contact's lateral edge grazes a row, points that switch in and
-//! out of those sets from one iteration to the next. It is the equations', not the iteration's:
-//! the time march at the same point settles (1e-7 of strain a step) with a mismatch of the same
-//! size, and the cycle's answer is the marched one to 4e-6 (tested). Measured on the 10
-//! low-speed points of `seed-speed-load` (257²): plain 8 stall, Anderson mixing (depth 3) 9,
-//! contact solves held tight at every iteration 8, both 7; damping (0.7, 0.5) did not help
-//! either. The cycle moves the answer little (5 mm/s, 80 N: the central layer by 1.4e-5 of
-//! itself, the maximum pressure by 8e-8), so when the solve stalls with the central film and
+//! At low speed the iteration can settle on a cycle instead: the mismatch wanders at a few
+//! points where the layer is squeezed out (`ε` at its bound 1) or the contact's lateral edge
+//! grazes a row, points that switch in and out of those sets from one iteration to the next. It
+//! is the equations', not the iteration's: the time march at the same point settles with a
+//! mismatch of the same size, and the cycle's answer is the marched one (tested); mixing,
+//! tighter contact solves and damping did not remove it (docs/decisions.md, "The direct steady
+//! solve at low speed"). The cycle moves the answer little, so when the solve stalls with the central film and
 //! the maximum pressure steady over the stall window to [`CYCLE_BOUND`], it returns the last
 //! iterate with the cycle reported ([`SteadyCycle`]): an answer with its bound, which a sweep
 //! flags, instead of a hole in the map.
@@ -619,10 +616,9 @@ impl<'a> Cell<'a> {
     }
 }
 
-/// Upstream neighbours whose pressure changes the local march adds to a point's deflection.
-/// Measured (Table 1, strain tolerance 1e-5; finest-grid iterations on 257² / 513²): none 24 /
-/// 26, one 20 / 24, two 16 / 22 (1025²: 31 → 25, 36 → 30 s), three 18 / 22, four 21 / 27: a
-/// sweep along `x` sees the upstream changes only, and a longer one-sided near field does worse.
+/// Upstream neighbours whose pressure changes the local march adds to a point's deflection: a
+/// sweep along `x` sees the upstream changes only, and a longer one-sided near field does
+/// worse (docs/decisions.md, "The direct steady solve: grids, speed, and what was tried").
 const NEAR_UPSTREAM: usize = 2;
 
 /// One Gauss–Seidel sweep along every row of the coupled problem with the elastic response
