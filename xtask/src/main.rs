@@ -18,6 +18,7 @@ mod scene_study;
 mod seed_page;
 mod slurm;
 mod starvation;
+mod sweep_page;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -150,6 +151,14 @@ enum Command {
     /// The seed's comparisons that move (a hole, a dent, a stop, a start) through every model:
     /// writes `docs/measured/findings.md`.
     Findings,
+    /// A built-in sweep run as `ehl sweep NAME` runs it, merged: writes
+    /// `docs/measured/sweep-NAME.md` (its table and robustness counts).
+    Sweep {
+        /// The built-in sweep (`ehl sweep --list`).
+        name: String,
+        #[arg(long, default_value = "out/sweeps")]
+        out: PathBuf,
+    },
     /// The README's example (`ehl compare seed --accuracy 5%`): writes
     /// `docs/measured/example-compare.md` and the README's table from one run.
     Example,
@@ -225,6 +234,7 @@ fn main() -> Result<()> {
         Command::SlurmCheck { keep } => slurm::check(keep),
         Command::Example => example::run(),
         Command::Findings => findings::run(),
+        Command::Sweep { name, out } => sweep_page::run(&name, &out),
         Command::Seed { points: n } => seed_page::run(points(n)),
         Command::Accuracy { out, points: n } => accuracy::run(&out, points(n)),
         Command::Mutants { file, shard, timeout, out } => {
