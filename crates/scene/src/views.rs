@@ -73,7 +73,7 @@ pub struct LayerView {
     pub grid: Grid,
     /// The contact solver's settings.
     pub dry: DrySettings,
-    /// The run resolved (its motion on the rolling speed; a steady run's too).
+    /// What happens in time, resolved (its motion on the rolling speed; a steady run's too).
     pub march: MarchCase,
     /// Ball, load, modulus.
     pub contact: Contact,
@@ -83,8 +83,6 @@ pub struct LayerView {
     pub supply: Supply,
     /// The layer's laws.
     pub layer: LayerSpec,
-    /// What happens in time.
-    pub run: RunSpec,
     /// The scene's rolling speed [m/s] (0 when the scene gives none): the motion's reference.
     pub rolling_velocity_m_s: f64,
 }
@@ -138,7 +136,6 @@ impl Scene {
             lubricant,
             supply,
             layer,
-            run,
             rolling_velocity_m_s,
         })
     }

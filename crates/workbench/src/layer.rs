@@ -208,7 +208,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     let t_all = Instant::now();
     // The scene resolved once: everything below reads the view.
     let view = scene.layer_view()?;
-    let (r, spec, supply_m) = (&view.run, view.layer, view.supply.thickness_m);
+    let (r, spec, supply_m) = (&view.march.run, view.layer, view.supply.thickness_m);
     let motion = view.march.motion.clone();
     let grid = view.grid;
     let t0 = Instant::now();
@@ -312,7 +312,7 @@ impl LayerOutcome {
     /// What only the layer model reports (`summary.json`'s `details`).
     pub fn summary(&self) -> Value {
         let (s, f) = (&self.scales, &self.final_monitor);
-        let (spec, r) = (&self.view.layer, &self.view.run);
+        let (spec, r) = (&self.view.layer, &self.view.march.run);
         let mut run_json = json!({
             "start": r.start, "motion": r.motion, "features": r.features,
             "scheme": r.time.scheme, "time": r.time, "stop": r.stop,
@@ -417,7 +417,7 @@ impl LayerOutcome {
 
     /// Conditions and laws, for figure footnotes.
     pub fn note(&self) -> String {
-        let (spec, r) = (&self.view.layer, &self.view.run);
+        let (spec, r) = (&self.view.layer, &self.view.march.run);
         format!(
             "{}: R = {} mm, F = {} N, u1 = {} m/s, l0 = {} nm, E law {}, damper {} (κ = {:e}, {} laws){}, {} n_t = {}; grid {}x{}; a = {:.4} mm",
             self.scene.name,
