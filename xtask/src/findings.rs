@@ -128,8 +128,9 @@ pub fn run() -> Result<()> {
          every model on its own grid, the models at once. Each model's history (after every step) \
          reduced to the central film at its start and end, its least and most, the least minimum \
          film, the largest pressure and, for the Reynolds solver, the largest share of the load \
-         the solids carry where its film closed; times from the start of the motion, and while \
-         it rolls in transits `a/u` of the scene's speed. What they show: docs/findings.md.",
+         the solids carry where its film closed; times from the start of the motion, in s and \
+         in `a/u` (the time the scene's rolling speed takes to carry the surfaces over a contact \
+         radius). What they show: docs/findings.md.",
         &refs,
     )?;
     Ok(())

@@ -334,6 +334,7 @@ fn convergence_page(
             "h_c [nm]",
             "h_min [nm]",
             "p_max / p_h",
+            "row-to-row wiggle / p_h",
             "steps",
             "wall [s]",
             "per step [ms]",
