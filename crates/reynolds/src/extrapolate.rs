@@ -1,22 +1,15 @@
 //! A mass-conserving solve's slow mode, extrapolated.
 //!
-//! Fed a supply comparable to the film it needs (the seed's contact with 25 nm), the steady
-//! solve's last error is one mode: the ring of full film around the contact (its meniscus from
-//! the inlet round to the sides, where the gap is ~15× the central film and Poiseuille flow
-//! governs) and the pressure inside it move together, and each V/W-cycle takes the same small
-//! fraction off them. The coarse grids hold the film content and cannot move that ring; the
-//! fine relaxation moves it by the oil the ring is short of, a little each sweep. Measured on
-//! 257² (the seed's contact, 25 nm): the oil unaccounted for falls by 0.955 a cycle everywhere
-//! along the meniscus at once (16×16-cell blocks: 0.953–0.977), and neither more meniscus passes
-//! (8: 49 cycles against 60), nor two or three column passes a sweep (58, 55), nor more sweeps
-//! (V(3,1): 51) change that rate; letting every coarse grid (down to 17²) solve for the film
-//! content too made the solve diverge (the film closed).
-//!
-//! A steady solve's first attempt lets the coarse grids that hold the film
-//! solve for the film content ([`crate::ReynoldsSettings::coarse_film_content`]), and they
-//! move the ring: the seed's contact with 25 nm on 257² converges in 20 cycles without a jump.
-//! The jumps remain for the attempts after a failed first one, for the start from the flooded
-//! answer, and for solves with that setting off.
+//! Fed a supply comparable to the film it needs, the steady solve's last error is one mode: the
+//! ring of full film around the contact (its meniscus from the inlet round to the sides, where
+//! Poiseuille flow governs) and the pressure inside it move together, and each cycle takes the
+//! same small fraction off them. Coarse grids that hold the film content cannot move that ring;
+//! the fine relaxation moves it by the oil the ring is short of, a little each sweep, and more
+//! passes or sweeps do not change that rate. A steady solve's first attempt lets the coarse
+//! grids that hold the film solve for the film content
+//! ([`crate::ReynoldsSettings::coarse_film_content`]), and they move the ring; the jumps remain
+//! for the attempts after a failed first one, for the start from the flooded answer, and for
+//! solves with that setting off.
 //!
 //! A fixed-point iteration whose error is one mode `e` with `e_(k+1) = g e_k` changes its state
 //! by `Δ_(k+1) = g Δ_k`, and its limit is `x_k + Δ_k g / (1 − g)` (Aitken's Δ² applied to the
@@ -24,16 +17,10 @@
 //! (cosine ≥ [`MIN_COSINE`]) and their ratio `g` has held (to [`RATIO_DRIFT`] over three
 //! cycles), the pressure, the film content and `H00` are moved along the last change by
 //! `g / (1 − g)`, at most `cap` (pressures kept non-negative, film contents in `[0, 1]` and
-//! full where the gap is loaded); the cycles then go on from there. Measured on the seed's
-//! contact with 25 nm (to the same tolerances): 257², 60 → 33 cycles (4.5 → 2.4 s), and the
-//! central film it stops at 2.7e-4 from the converged one (oil 1000× tighter) instead of 4.3e-4
-//! (15 nm: 51 → 31 cycles, 2e-6 instead of 8.9e-4); 513², 119 → 52 cycles (32 → 11 s). A
-//! fuller step (cap 20–40) overshot at the side menisci: their residual grew 100× for several
-//! cycles before it fell, for no real gain (32 cycles against 33), hence the cap of 10. A jump
-//! after which the residual grows tenfold is undone, and the solve goes on without jumps.
-//!
-//! Anderson acceleration in the jumps' place was measured and set aside: `docs/decisions.md`,
-//! "Anderson acceleration of the fed cycles".
+//! full where the gap is loaded); the cycles then go on from there. A jump after which the
+//! residual grows tenfold is undone, and the solve goes on without jumps. What it measured,
+//! the cap's choice, and Anderson acceleration set aside in its place: `docs/decisions.md`,
+//! "Jumps along the fed solve's slow mode" and "Anderson acceleration of the fed cycles".
 
 use crate::level::Level;
 use ndarray::{Array2, Zip};

@@ -174,9 +174,9 @@ impl ReynoldsSolver {
     /// Whether the coarser grids of the cycles solve for the film content, and with it whether
     /// their Couette faces are first order where the gap is partly filled
     /// ([`Level::first_order_partial`]; the finest grid's equations, the answer's, never are).
-    /// Without, the coarser grids are as they were before either existed: a time step's cycles
-    /// with the first-order faces on its coarser grids failed to converge in the first step of
-    /// `rolling-from-squeezed-compare` (30 cycles, force balance 2.2e-6 against 1e-6).
+    /// Without, the coarser grids hold the film content with second-order faces: a time step's
+    /// cycles with the first-order faces on its coarser grids failed to converge in a squeezed
+    /// restart's first step (docs/decisions.md, "The start of a march").
     fn set_coarse_theta(&mut self, on: bool) {
         self.coarse_theta = on;
         for l in self.levels.iter_mut().skip(1) {
