@@ -794,40 +794,6 @@ fn seed_fit_note() -> String {
     )
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn mon(t: f64, p: f64) -> LayerRow {
-        let observed = ehl_core::Observables { max_pressure_pa: p, ..Default::default() };
-        let layer = ehl_layer::Monitor {
-            t,
-            central_thickness: 0.0,
-            minimum_thickness: 0.0,
-            dry_diameter: 0.0,
-            approach: 0.0,
-            central_pressure: 0.0,
-            lateral_wiggle: 0.0,
-            iterations: 0,
-        };
-        LayerRow { t, observed, layer }
-    }
-
-    #[test]
-    fn settle_and_peak_times_interpolate() {
-        // p = 1 − e^{−t}: within 0.01 of the final 1 − e^{−10} from t ≈ ln(1/0.01) = 4.6.
-        let s: Vec<LayerRow> =
-            (0..=100).map(|k| mon(0.1 * k as f64, 1.0 - (-0.1 * k as f64).exp())).collect();
-        let t = settle_time(&s, &[&|m: &LayerRow| m.observed.max_pressure_pa], 0.01);
-        let exact = -(0.01f64 + (-10.0f64).exp()).ln();
-        assert!((t - exact).abs() < 0.01, "{t} against {exact}");
-        // A parabola's vertex at 0.37 sampled every 0.1: recovered exactly.
-        let s: Vec<LayerRow> =
-            (0..10).map(|k| mon(0.1 * k as f64, -(0.1 * k as f64 - 0.37).powi(2))).collect();
-        assert!((peak_time(&s) - 0.37).abs() < 1e-12);
-    }
-}
-
 /// The identification as a measured page (`docs/measured/identify.md`), from its report.
 fn page(r: &Value) -> Result<PathBuf> {
     use crate::measured::Table;
@@ -959,4 +925,38 @@ fn page(r: &Value) -> Result<PathBuf> {
             ("The shallow dent's bump against the dent's width (129², centred)", &dent),
         ],
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mon(t: f64, p: f64) -> LayerRow {
+        let observed = ehl_core::Observables { max_pressure_pa: p, ..Default::default() };
+        let layer = ehl_layer::Monitor {
+            t,
+            central_thickness: 0.0,
+            minimum_thickness: 0.0,
+            dry_diameter: 0.0,
+            approach: 0.0,
+            central_pressure: 0.0,
+            lateral_wiggle: 0.0,
+            iterations: 0,
+        };
+        LayerRow { t, observed, layer }
+    }
+
+    #[test]
+    fn settle_and_peak_times_interpolate() {
+        // p = 1 − e^{−t}: within 0.01 of the final 1 − e^{−10} from t ≈ ln(1/0.01) = 4.6.
+        let s: Vec<LayerRow> =
+            (0..=100).map(|k| mon(0.1 * k as f64, 1.0 - (-0.1 * k as f64).exp())).collect();
+        let t = settle_time(&s, &[&|m: &LayerRow| m.observed.max_pressure_pa], 0.01);
+        let exact = -(0.01f64 + (-10.0f64).exp()).ln();
+        assert!((t - exact).abs() < 0.01, "{t} against {exact}");
+        // A parabola's vertex at 0.37 sampled every 0.1: recovered exactly.
+        let s: Vec<LayerRow> =
+            (0..10).map(|k| mon(0.1 * k as f64, -(0.1 * k as f64 - 0.37).powi(2))).collect();
+        assert!((peak_time(&s) - 0.37).abs() < 1e-12);
+    }
 }
