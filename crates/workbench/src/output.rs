@@ -34,14 +34,19 @@ pub fn check_out_dir(dir: &Path) -> Result<()> {
             ));
         }
     }
-    if !dir.exists() {
-        return Ok(());
-    }
-    if !dir.is_dir() {
-        return refuse(
-            "is a file: refusing to replace it (give a new folder, or an earlier ehl output)"
-                .into(),
-        );
+    // One look at the path: another run may move an earlier output aside and its own into
+    // place at any moment, and a folder seen to exist and then gone is no file.
+    let gone = |e: &std::io::Error| e.kind() == std::io::ErrorKind::NotFound;
+    match std::fs::metadata(dir) {
+        Err(e) if gone(&e) => return Ok(()),
+        Err(e) => return Err(io(format!("reading {}", dir.display()))(e)),
+        Ok(m) if !m.is_dir() => {
+            return refuse(
+                "is a file: refusing to replace it (give a new folder, or an earlier ehl output)"
+                    .into(),
+            );
+        }
+        Ok(_) => {}
     }
     if let (Ok(here), Ok(there)) = (std::env::current_dir(), dir.canonicalize())
         && here.starts_with(&there)
@@ -54,10 +59,13 @@ pub fn check_out_dir(dir: &Path) -> Result<()> {
     if dir.join(MARKER).is_file() {
         return Ok(());
     }
-    let entries: Vec<String> = std::fs::read_dir(dir)
-        .map_err(io(format!("reading {}", dir.display())))?
-        .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
-        .collect();
+    let entries: Vec<String> = match std::fs::read_dir(dir) {
+        Err(e) if gone(&e) => return Ok(()),
+        listing => listing
+            .map_err(io(format!("reading {}", dir.display())))?
+            .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
+            .collect(),
+    };
     if entries.is_empty() {
         return Ok(());
     }
