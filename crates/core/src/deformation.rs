@@ -171,7 +171,7 @@ impl Deformation {
         // The kernel is even in both offsets, and each coefficient combines the corner function
         // at four cell corners shared with its neighbours: one table of the corner function
         // over the quarter's corners gives every coefficient from (n + 1)² evaluations instead
-        // of 16 n² (257²: setup 0.08 → 0.01 s).
+        // of 16 n² (docs/decisions.md, "The influence coefficients from one table").
         let quarter = influence_quarter(&self.grid);
         let mut rows = vec![Complex::new(0.0, 0.0); my * kx];
         let mut line = vec![0.0; mx];
@@ -234,8 +234,9 @@ impl Deformation {
         );
         // B: per column k: gather, FFT along y, multiply by the symbol, inverse FFT along y.
         // Columns go in blocks of `TILE`: the gather then reads `TILE` neighbouring values of
-        // each row (whole cache lines) instead of one value a row (measured: the strided gathers
-        // of B and C were 18 % of a 513² steady layer solve).
+        // each row (whole cache lines) instead of one value a row: the strided gathers were a
+        // large share of a fine steady layer solve (docs/decisions.md, "The direct steady
+        // solve: grids, speed, and what was tried").
         let rows_ref = &rows;
         let min_blocks = crate::par_min_len(my * TILE);
         cols.par_chunks_mut(my * TILE).with_min_len(min_blocks).enumerate().for_each_init(

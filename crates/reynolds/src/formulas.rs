@@ -34,16 +34,9 @@ pub fn starvation_boundary(h_hertz: f64) -> f64 {
 }
 
 /// The grid rule's constant: cells no larger than this times `H_c^{2/3}` [a] (`H_c` the NVM
-/// central film in Hertz units). Measured where the film's existence turns on the cell (pure
-/// rolling, Table 1's lubricant, flooded), in units of `H_c^{2/3}`: the seed (10 mm/s, 20 N,
-/// `M = 2223, L = 2.49`) converges at 0.25 (257²) and stalls at 0.50 (129²); 2 mm/s, 80 N
-/// (`M = 29729, L = 1.67`) converges at 0.25 (1025², minimum film +0.50 nm), to a negative
-/// minimum film at 0.51 (513²), and its film closes at 1.0 (257²); 5 mm/s, 10 N converges at
-/// 0.48. Half the cell where existence ends: every flooded point of `seed-speed-load` whose film
-/// closed on 65² asks for more than 65² by this rule, and at light load it is up to 3× finer
-/// than needed (5–30 mm/s at 5 N converge on 65²). It is a rule for an answer, not for its
-/// accuracy: at 10 mm/s, 20 N the central film still moves 4 % from 257² to 513² (the rule for
-/// accuracy is [`cell_for_change`]).
+/// central film in Hertz units): half the cell at which the film's existence was measured to end
+/// (docs/decisions.md, "The grid rule's constants"). It is a rule for an answer, not for its
+/// accuracy (the rule for accuracy is [`cell_for_change`]).
 pub const CELLS_PER_FILM: f64 = 0.25;
 /// The grid rule: the largest cell [a] on which a steady film of central thickness `h_hertz`
 /// (Hertz units [a²/R], the NVM estimate) exists, [`CELLS_PER_FILM`] `· h_hertz^{2/3}`: the
