@@ -13,7 +13,7 @@ const BEGIN: &str = "<!-- example-compare: written by `cargo xtask example` -->"
 const END: &str = "<!-- /example-compare -->";
 
 /// Runs the example and writes the page (and, unless quick, the README's block).
-pub fn run() -> Result<()> {
+pub fn run(out: &Path) -> Result<()> {
     let seed = ehl_scene::builtin("seed")?;
     // Quickly, the seed's least grid for its films: the code path, not the README's numbers.
     let scene = if quick() { seed.with_points(129)? } else { seed.with_accuracy(0.05)? };
@@ -22,6 +22,7 @@ pub fn run() -> Result<()> {
     if !c.all_converged() {
         bail!("the example did not converge for every model:\n{table}");
     }
+    c.write(out)?;
     let block = format!("```\n{}```\n", table);
     let intro = format!(
         "`ehl compare seed --accuracy 5%`, the README's first command: the seed's Table 1 through \

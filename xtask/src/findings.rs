@@ -27,7 +27,7 @@ fn extreme(rows: &[(f64, f64)], max: bool) -> Option<(f64, f64)> {
 }
 
 /// Runs every comparison and writes the page.
-pub fn run() -> Result<()> {
+pub fn run(out: &std::path::Path) -> Result<()> {
     let mut tables = vec![];
     // Quickly, two of them: the code path (a hole that closes the film, a stop and a start).
     let scenes: &[&str] =
@@ -36,6 +36,8 @@ pub fn run() -> Result<()> {
         let scene = ehl_scene::builtin(name)?;
         let scene = scene.with_points(crate::scene_points(&scene))?;
         let c = compare::run(&scene);
+        // The histories and figures behind the page's rows.
+        c.write(&out.join(name))?;
         let u = scene.conditions.rolling_velocity_m_s.unwrap_or(0.0);
         let mut t = Table::new(&[
             "model",

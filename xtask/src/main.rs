@@ -147,10 +147,17 @@ enum Command {
         /// Points per side.
         #[arg(long, default_value_t = 257)]
         points: usize,
+        /// Where the comparison's rows go as JSON.
+        #[arg(long, default_value = "out/seed-against-ours")]
+        out: PathBuf,
     },
     /// The seed's comparisons that move (a hole, a dent, a stop, a start) through every model:
-    /// writes `docs/measured/findings.md`.
-    Findings,
+    /// writes `docs/measured/findings.md`, and each comparison's outputs (histories, figures)
+    /// into `--out`.
+    Findings {
+        #[arg(long, default_value = "out/findings")]
+        out: PathBuf,
+    },
     /// A built-in sweep run as `ehl sweep NAME` runs it, merged: writes
     /// `docs/measured/sweep-NAME.md` (its table and robustness counts).
     Sweep {
@@ -160,8 +167,12 @@ enum Command {
         out: PathBuf,
     },
     /// The README's example (`ehl compare seed --accuracy 5%`): writes
-    /// `docs/measured/example-compare.md` and the README's table from one run.
-    Example,
+    /// `docs/measured/example-compare.md` and the README's table from one run, and the
+    /// comparison's outputs into `--out`, as the command does.
+    Example {
+        #[arg(long, default_value = "out/seed")]
+        out: PathBuf,
+    },
     /// The sweep's cluster path against a real SLURM: a one-node cluster on localhost (installed
     /// with apt-get when missing; root), a 4-point sweep as an array of 2, merged, compared with
     /// a local run byte for byte; the daemons stopped.
@@ -232,10 +243,10 @@ fn main() -> Result<()> {
             Ok(())
         }
         Command::SlurmCheck { keep } => slurm::check(keep),
-        Command::Example => example::run(),
-        Command::Findings => findings::run(),
+        Command::Example { out } => example::run(&out),
+        Command::Findings { out } => findings::run(&out),
         Command::Sweep { name, out } => sweep_page::run(&name, &out),
-        Command::Seed { points: n } => seed_page::run(points(n)),
+        Command::Seed { points: n, out } => seed_page::run(points(n), &out),
         Command::Accuracy { out, points: n } => accuracy::run(&out, points(n)),
         Command::Mutants { file, shard, timeout, out } => {
             mutants::run(&file, shard.as_deref(), timeout, &out)

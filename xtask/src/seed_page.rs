@@ -36,7 +36,7 @@ fn layer(scene: &str, n: usize, edit: impl Fn(&mut ehl_scene::Scene)) -> Result<
 }
 
 /// Runs the comparisons on `n`² and writes the page.
-pub fn run(n: usize) -> Result<()> {
+pub fn run(n: usize, out: &std::path::Path) -> Result<()> {
     let mut t = Table::new(&["quantity", "seed (its section)", "ours", "deviation", "scene"]);
     let mut row = |what: &str, id: &str, ours: f64, unit: &str, scene: &str| -> Result<()> {
         let (value, normalised, section) = seed(id)?;
@@ -130,6 +130,16 @@ pub fn run(n: usize) -> Result<()> {
          normalised. Why each differs: docs/layer.md. The tests in `validation/tests/seed.rs` \
          hold the same comparisons on coarse grids."
     );
+    std::fs::create_dir_all(out)?;
+    let rows: Vec<serde_json::Value> = t
+        .rows
+        .iter()
+        .map(|r| serde_json::json!({"quantity": r[0], "seed": r[1], "ours": r[2], "deviation": r[3], "scene": r[4]}))
+        .collect();
+    std::fs::write(
+        out.join("seed-against-ours.json"),
+        serde_json::to_string_pretty(&rows)? + "\n",
+    )?;
     measured::write(
         "seed-against-ours",
         "The seed's reported values against the workbench",
