@@ -29,11 +29,17 @@ pub fn run(name: &str, out: &Path) -> Result<()> {
     sweep::merge::merge(&dir)?;
     let recs = sweep::records(&dir, &plan)?;
     let table = sweep::merge::table(&plan, &recs);
+    let how = if crate::quick() {
+        "Quickly: every point on 65², without the rule's grids or the checks (the code path, not \
+         the results)"
+    } else {
+        "Every point on the grid and domain its rule gives it, each answer checked against half \
+         and a quarter of its points per side and a longer inlet"
+    };
     let intro = format!(
-        "`ehl sweep {name}`: {}\n\nEvery point on the grid and domain its rule gives it, each \
-         answer checked against half and a quarter of its points per side and a longer inlet, \
-         {} points on {} cores in {:.0} s. The table is the sweep's own summary; `results.csv`, \
-         `results.json` and the charts are in the sweep's folder.\n\n```\n{table}```\n",
+        "`ehl sweep {name}`: {}\n\n{how}, {} points on {} cores in {:.0} s. The table is the \
+         sweep's own summary; `results.csv`, `results.json` and the charts are in the sweep's \
+         folder.\n\n```\n{table}```\n",
         s.description,
         plan.points.len(),
         sweep::default_jobs(),
