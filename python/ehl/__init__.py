@@ -125,10 +125,23 @@ class Result:
     the limit, with the grid that would meet it; a film below zero; an error not estimated),
     empty when it is not; ``flagged``: whether it is. ``caveat``: the flags and any solver
     caveat in one line (a steady solve that settled on a cycle), else ``None``.
+    ``solid_contact``: where the solids touch, apart from the fluid, ``{"load_share": share,
+    "area_m2": m², "max_pressure_pa": Pa}`` (zeros where a film separates them everywhere),
+    or ``None`` for a model that does not say.
     """
 
     def __init__(self, raw: dict[str, Any]):
         self.summary: dict[str, Any] = json.loads(raw["summary"])
+        sc = self.summary.get("solid_contact")
+        self.solid_contact: dict[str, float] | None = (
+            {
+                "load_share": sc["load_share"],
+                "area_m2": sc["area"]["value"],
+                "max_pressure_pa": sc["max_pressure"]["value"],
+            }
+            if sc
+            else None
+        )
         self.report: str = raw["report"]
         self.fields: dict[str, np.ndarray] = dict(raw["fields"])
         self.film: np.ndarray = raw["film"]

@@ -123,6 +123,10 @@ def test_fields_are_si_arrays_of_the_grids_shape_on_its_axes():
     # The standard pair: the dry contact's film is its gap, 0 where the solids touch.
     assert np.array_equal(r.pressure, p) and r.film.shape == p.shape and r.film.min() == 0.0
     assert r.observables["central_film_m"][1] == "m"
+    # The dry contact's solids carry the whole load, over Hertz's circle (33² cells: 5 %).
+    c = r.solid_contact
+    assert c["load_share"] == 1.0 and c["max_pressure_pa"] == p.max()
+    assert abs(c["area_m2"] / (math.pi * a * a) - 1.0) < 0.05
 
 
 def test_an_answer_returned_unconverged_says_why():

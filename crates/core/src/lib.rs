@@ -38,7 +38,7 @@ pub use dry::{DryProblem, DryReport, DrySettings, DrySolver, Start};
 pub use features::{Dent, Hole, Passing, Supply};
 pub use grid::Grid;
 pub use kinematics::{Kinematics, KinematicsError};
-pub use observe::Observables;
+pub use observe::{Observables, SolidContact};
 pub use params::{Contact, HertzScales, Lubricant, Moes, SEED_CONTACT, SEED_LUBRICANT};
 
 /// A numerical failure, with enough context to find it: which quantity, where, when.

@@ -148,6 +148,44 @@ impl Observables {
     }
 }
 
+/// Where the solids touch in an answer (the film closed, the load carried by the solids
+/// there rather than by a fluid): the contact's own load, area and pressure, reported apart
+/// from the fluid's. Zero everywhere for a film that separates the surfaces everywhere.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SolidContact {
+    /// The share of the load the contact carries `∬_contact p / ∬ p` [-].
+    pub load_share: f64,
+    /// The area where the solids touch [m²].
+    pub area_m2: f64,
+    /// The largest contact pressure [Pa] (0 without contact).
+    pub max_pressure_pa: f64,
+}
+
+impl SolidContact {
+    /// From the pressure `P` [p_h] on `grid` and the points where the solids touch.
+    pub fn from_mask(
+        grid: &Grid,
+        scales: &HertzScales,
+        p: &Array2<f64>,
+        touching: &Array2<bool>,
+    ) -> Self {
+        let (mut on, mut n, mut peak) = (0.0, 0usize, 0.0f64);
+        for (&v, &t) in p.iter().zip(touching) {
+            if t {
+                on += v;
+                n += 1;
+                peak = peak.max(v);
+            }
+        }
+        let all = p.sum();
+        Self {
+            load_share: if all > 0.0 { on / all } else { 0.0 },
+            area_m2: n as f64 * grid.cell_area() * scales.a * scales.a,
+            max_pressure_pa: scales.p_si(peak),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

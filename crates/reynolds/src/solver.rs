@@ -324,6 +324,11 @@ impl ReynoldsSolver {
         (load / f.load().max(f64::MIN_POSITIVE), area)
     }
 
+    /// The points of the finest grid where the solids touch.
+    pub fn contact_points(&self) -> &Array2<bool> {
+        &self.levels[0].contact
+    }
+
     /// Whether the solver conserves mass (has a supply).
     pub fn mass_conserving(&self) -> bool {
         self.levels[0].mass_conserving()

@@ -190,6 +190,7 @@ impl Comparison {
                         "contact_extent_y_m": ob.contact_extent_y_m,
                         "load_error": ob.load_error, "wall_time_s": e.wall_time_s,
                         "errors": errors_json(Some(o.as_ref())),
+                        "solid_contact": o.solid_contact(),
                         "caveat": o.caveat(),
                     })
                 }
@@ -227,6 +228,7 @@ impl Comparison {
             .iter()
             .map(|e| {
                 let ob = e.outcome.as_ref().ok().map(|o| o.observables());
+                let contact = e.outcome.as_ref().ok().and_then(|o| o.solid_contact());
                 serde_json::json!({
                     "model": e.name(),
                     "converged": ob.is_some(),
@@ -237,6 +239,9 @@ impl Comparison {
                     "contact_extent_y_m": ob.map(|o| o.contact_extent_y_m),
                     "load_error": ob.map(|o| o.load_error),
                     "film_overlap_m": ob.map(|o| o.film_overlap_m),
+                    "contact_load_share": contact.map(|c| c.load_share),
+                    "contact_area_m2": contact.map(|c| c.area_m2),
+                    "contact_max_pressure_pa": contact.map(|c| c.max_pressure_pa),
                     "error": errors_json(e.outcome.as_ref().ok().map(|o| o.as_ref())),
                     "wall_time_s": e.wall_time_s,
                     "diagnosis": e.outcome.as_ref().err().map(|d| d.to_string()),
@@ -245,6 +250,38 @@ impl Comparison {
             })
             .collect();
         crate::output::csv(&rows)
+    }
+
+    /// The lines under the table, per model: how its error was estimated, where its solids
+    /// touch (a lubricated model), and its flag.
+    fn notes(&self) -> String {
+        let mut t = String::new();
+        for e in &self.entries {
+            let Ok(o) = e.outcome.as_ref() else { continue };
+            if let Some((est, limit)) = o.estimate() {
+                let within = est.worst().is_some_and(|w| w <= limit);
+                t += &format!(
+                    "  {}: error {}{}\n",
+                    e.name(),
+                    est.method,
+                    if within { format!("; within {:.1} %", 100.0 * limit) } else { String::new() }
+                );
+            }
+            // A lubricated model whose solids touch somewhere: the contact apart from the fluid.
+            if let Some(c) = o.solid_contact().filter(|c| o.lubricated() && c.area_m2 > 0.0) {
+                t += &format!(
+                    "  {}: the solids touch: {:.2e} of the load on {:.3e} m², contact pressure up to {:.4} GPa\n",
+                    e.name(),
+                    c.load_share,
+                    c.area_m2,
+                    c.max_pressure_pa * 1e-9
+                );
+            }
+            if let Some(c) = o.caveat() {
+                t += &format!("  {}: FLAGGED: {c}\n", e.name());
+            }
+        }
+        t
     }
 
     /// The side-by-side table for the terminal: each observable with its estimated error
@@ -336,21 +373,7 @@ impl Comparison {
             }
             t += "\n";
         }
-        for e in &self.entries {
-            let Ok(o) = e.outcome.as_ref() else { continue };
-            if let Some((est, limit)) = o.estimate() {
-                let within = est.worst().is_some_and(|w| w <= limit);
-                t += &format!(
-                    "  {}: error {}{}\n",
-                    e.name(),
-                    est.method,
-                    if within { format!("; within {:.1} %", 100.0 * limit) } else { String::new() }
-                );
-            }
-            if let Some(c) = o.caveat() {
-                t += &format!("  {}: FLAGGED: {c}\n", e.name());
-            }
-        }
+        t += &self.notes();
         t += &format!(
             "  all models: {:.2} s of wall, {} ({})\n",
             self.total_wall_time_s,

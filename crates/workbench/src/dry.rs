@@ -71,6 +71,11 @@ impl Outcome for DryOutcome {
     fn lubricated(&self) -> bool {
         false
     }
+    /// The whole load on the solids, over the points that carry pressure.
+    fn solid_contact(&self) -> Option<ehl_core::SolidContact> {
+        let touching = self.p.mapv(|v| v > 0.0);
+        Some(ehl_core::SolidContact::from_mask(&self.grid, &self.scales, &self.p, &touching))
+    }
     fn summary(&self) -> Value {
         dry_summary(self)
     }

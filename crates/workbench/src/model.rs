@@ -110,6 +110,12 @@ pub trait Outcome: AsAny + Send + Sync + 'static {
     fn caveat(&self) -> Option<String> {
         None
     }
+    /// Where the solids touch in the answer, with the contact's own share of the load, area
+    /// and pressure; `None` for a model that does not tell contact from a film (the layer
+    /// model, whose contact would be where its layer vanishes).
+    fn solid_contact(&self) -> Option<ehl_core::SolidContact> {
+        None
+    }
     /// The contact and the rolling speed [m/s] the model ran (the scene's; the Reynolds
     /// model's Moes input resolves them).
     fn conditions_used(&self) -> (ehl_core::Contact, f64) {

@@ -332,7 +332,7 @@ pub const SUMMARY_SCHEMA: &str = "ehl-summary/1";
 
 /// The keys of `summary.json` every model writes, in the same shape: what a reader can take
 /// from any model's summary without knowing which model wrote it.
-pub const SHARED_KEYS: [&str; 13] = [
+pub const SHARED_KEYS: [&str; 14] = [
     "schema",
     "scene",
     "model",
@@ -341,6 +341,7 @@ pub const SHARED_KEYS: [&str; 13] = [
     "scales",
     "grid",
     "observables",
+    "solid_contact",
     "accuracy",
     "indicators",
     "caveat",
@@ -414,6 +415,12 @@ pub fn summary(outcome: &dyn Outcome) -> Value {
             "dx": q(g.dx() * a, "m"), "dy": q(g.dy() * a, "m"),
         },
         "observables": serde_json::to_value(outcome.observables()).unwrap_or(Value::Null),
+        // Where the solids touch, apart from the fluid (`null`: the model does not say).
+        "solid_contact": outcome.solid_contact().map(|c| serde_json::json!({
+            "load_share": c.load_share,
+            "area": q(c.area_m2, "m^2"),
+            "max_pressure": q(c.max_pressure_pa, "Pa"),
+        })),
         "accuracy": accuracy(outcome),
         "indicators": indicators,
         // Why the answer needs a caveat: not converged, or flagged by its accuracy (`null`: none).

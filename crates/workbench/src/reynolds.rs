@@ -12,7 +12,7 @@ use ehl_core::{Grid, HertzScales, hertz};
 use ehl_reynolds::formulas::{hamrock_dowson_central, nvm_central};
 use ehl_reynolds::{ReynoldsParams, ReynoldsReport, ReynoldsSolver};
 use ehl_scene::{ReynoldsView, Scene, StartState};
-use ndarray::Array2;
+use ndarray::{Array2, Zip};
 use report::reynolds_report;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -34,6 +34,8 @@ pub struct ReynoldsOutcome {
     pub film: Array2<f64>,
     /// Film content `θ` (1 where the gap is full; all ones fully flooded).
     pub theta: Array2<f64>,
+    /// Where the solids touch (the film closed: `H = 0`, the pressure there the contact's).
+    pub contact: Array2<bool>,
     /// `H00` [a²/R].
     pub h00: f64,
     /// The steady solve's report.
@@ -246,6 +248,10 @@ fn nvm_film(scene: &Scene) -> Option<f64> {
 }
 
 impl Outcome for ReynoldsOutcome {
+    fn solid_contact(&self) -> Option<ehl_core::SolidContact> {
+        let s = &self.prm.scales;
+        Some(ehl_core::SolidContact::from_mask(&self.grid, s, &self.p, &self.contact))
+    }
     fn caveat(&self) -> Option<String> {
         let r = &self.report;
         let settled = r.settled.map(|st| {
@@ -273,7 +279,8 @@ impl Outcome for ReynoldsOutcome {
         let ob = self.observables();
         let rows = self.transient.as_ref().map(|t| t.rows.as_slice()).unwrap_or_default();
         let at_rest = rows.last().is_some_and(|r| r.speed_m_s == 0.0);
-        let touched = rows.iter().any(|r| r.contact_area_m2 > 0.0);
+        let touched =
+            rows.iter().any(|r| r.contact_area_m2 > 0.0) || self.contact.iter().any(|&c| c);
         let allowed = if touched { 1e-2 * ob.central_film_m.abs() } else { 0.0 };
         let negative = (ob.film_overlap_m > allowed).then(|| {
             let why = if at_rest {
@@ -307,7 +314,15 @@ impl Outcome for ReynoldsOutcome {
         &self.p
     }
     fn film(&self) -> Array2<f64> {
-        self.film.clone()
+        // Where the solids touch the gap's equation holds it at `H = 0` to the last digits: a
+        // closed gap, not an overlap.
+        let mut f = self.film.clone();
+        Zip::from(&mut f).and(&self.contact).for_each(|h, &c| {
+            if c {
+                *h = h.max(0.0)
+            }
+        });
+        f
     }
     fn indicators(&self) -> Vec<(String, Indicator)> {
         vec![
@@ -519,6 +534,7 @@ fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<Reynol
     };
     let (fp, ff) = (solver.pressure(), solver.film());
     let theta = solver.theta().clone();
+    let touching = solver.contact_points().clone();
     Ok(ReynoldsOutcome {
         scene: scene.clone(),
         view: view.clone(),
@@ -527,6 +543,7 @@ fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<Reynol
         p: fp.clone(),
         film: ff.clone(),
         theta,
+        contact: touching,
         h00: solver.h00,
         report,
         formulas,
@@ -592,6 +609,7 @@ impl ReynoldsOutcome {
                 "first_attempt": self.report.first_attempt,
                 "omega_gs": self.report.omega_gs,
                 "from_flooded": self.report.from_flooded,
+                "touched_from_cycle": self.report.touched_from,
                 "settled": self.report.settled,
                 "final_residual": last.residual,
                 "final_load_error": last.load_error,

@@ -250,9 +250,9 @@ impl Level {
             for q in 0..m {
                 let j = q + 1;
                 let e = [row_of(&eps, j - 1), row_of(&eps, j), row_of(&eps, j + 1)];
-                let (ee, ew, en, es) = self.half_points(e, i);
+                let (ee, ew, en, es) = self.half_points(e, j, i);
                 let rtj = |ii: usize| rt[[j, ii]];
-                let [w0, w1, w2] = self.upwind(row_of(&self.theta, j), i);
+                let [w0, w1, w2] = self.upwind(row_of(&self.theta, j), j, i);
                 let (r0, r1, r2) =
                     (w0 * rtj(i) / h, w1 * rtj(i - 1) / h, w2 * rtj(i.max(2) - 2) / h);
                 let mut row = [0.0; 5];
@@ -442,7 +442,7 @@ impl Level {
                     k[(c as i64 - 2).unsigned_abs() as usize]
                 })
             } else {
-                self.jacobian_row(eps, rho, &w.theta, q + lo, lo, &w.dist)
+                self.jacobian_row(eps, rho, &w.theta, (j, q + lo), lo, &w.dist)
             };
         }
         for q in (0..m).filter(|&q| w.partial[q]) {
@@ -463,7 +463,7 @@ impl Level {
                 if touching(row + lo) {
                     continue;
                 }
-                let weight = self.upwind(&w.theta, row + lo)[back];
+                let weight = self.upwind(&w.theta, j, row + lo)[back];
                 let own = if back == 0 { self.time_a0 * mass } else { 0.0 };
                 w.band[row][2 - back] = -self.speed * weight * mass / h - own;
             }

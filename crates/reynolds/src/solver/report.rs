@@ -94,6 +94,10 @@ pub struct ReynoldsReport {
     /// Mass conserving: the answer's cycles started from the flooded answer
     /// ([`ReynoldsSettings::flooded_start_fallback`]), not from a start of their own.
     pub from_flooded: bool,
+    /// A steady solve whose lubricated cycles stalled with the film closed: the cycle from
+    /// which the solids touched where it had closed ([`ReynoldsSettings::contact`]); the
+    /// contact's share of the load and its area are [`ReynoldsSolver::contact`]'s.
+    pub touched_from: Option<usize>,
 }
 
 /// How a stalled steady solve's answer settled over its last cycles ([`SETTLED_BOUND`]).

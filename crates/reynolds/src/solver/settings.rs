@@ -100,9 +100,12 @@ pub struct ReynoldsSettings {
     /// after a stop, squeezed shut, and the dry band they leave when rolling starts again. A
     /// rolling step decides its contact anew from its closed films (the set of the last step
     /// is let go, its points full: `θ = 1`, which carries no oil while `H = 0`; a set held from
-    /// step to step kept the first rolling steps after a stop from converging). Steady solves
-    /// never touch: a film that closes there is the grid's (the sweeps' grid rule), and contact
-    /// in the steady cycles turned a flooded contact dry (docs/decisions.md, "The solids
+    /// step to step kept the first rolling steps after a stop from converging). A steady solve
+    /// lets the solids touch only when its lubricated cycles stall with the film closed (a
+    /// supply thinner than the discrete dry gap's error at the contact's edge, a grid too
+    /// coarse for the film): from that state the closed points become contact and the cycles go
+    /// on ([`ReynoldsReport::touched_from`]). Touching from the first cycle, a start's passing
+    /// closures became a contact set the cycles never let go of (docs/decisions.md, "The solids
     /// touching in the steady cycles").
     pub contact: bool,
     /// Mass conserving, steady: the largest factor of a jump along the solve's slow mode when

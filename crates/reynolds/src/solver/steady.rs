@@ -116,8 +116,8 @@ impl ReynoldsSolver {
         converged(rep)
     }
 
-    /// Before a steady solve: no time history, the settings as given, and no contact
-    /// ([`ReynoldsSettings::contact`]: steady solves never touch).
+    /// Before a steady solve: no time history, the settings as given, and no contact until
+    /// the cycles stall with the film closed ([`ReynoldsSettings::contact`]).
     pub(super) fn steady_setup(&mut self) {
         self.active = ReynoldsSettings { contact: false, ..self.settings };
         for l in &mut self.levels {
@@ -292,7 +292,17 @@ impl ReynoldsSolver {
         }
         for lv in &mut self.levels {
             lv.touch = self.active.contact;
+            if !lv.touch {
+                lv.contact.fill(false);
+            }
         }
+        // A steady solve lets the solids touch only where its lubricated cycles stalled with the
+        // film closed ([`ReynoldsSettings::contact`]): an answer they reach is theirs, bit for
+        // bit, and a closure they cannot open becomes contact from the state they stalled in.
+        let may_touch = self.settings.contact && !self.active.contact;
+        let mut touched_at: Option<usize> = None;
+        // The stall is judged on the cycles since the solids were let touch.
+        let mut judged_from = 0;
         // The central film of the grid below, where the full-multigrid start left it.
         let coarse_hc = history.last().map(|c: &CycleLog| c.central_film);
         let mut prev_hc = start_hc;
@@ -318,6 +328,7 @@ impl ReynoldsSolver {
             let settled =
                 ((hc - prev_hc) / hc.abs().max(film_floor)).abs() < self.active.film_tolerance;
             let mass = rec.mass_defect <= self.active.mass_tolerance;
+            let closed = may_touch && touched_at.is_none() && rec.minimum_film < 0.0;
             let strict = settled && rec.load_error.abs() < self.active.load_tolerance && mass;
             let discretisation = match (self.active.stop, coarse_hc) {
                 (StopRule::Discretisation, Some(h2)) => {
@@ -329,24 +340,37 @@ impl ReynoldsSolver {
                 _ => false,
             };
             if strict || discretisation {
-                return Ok(self.attempt_report(None, cycle, history, t0, mode_jumps + jumps.jumps));
+                let jumps = mode_jumps + jumps.jumps;
+                return Ok(self.attempt_report(None, cycle, history, t0, jumps, touched_at));
             }
             prev_hc = hc;
             // A stall or a limit cycle: the residual not even halved over the last window.
-            let fine: Vec<f64> =
-                history.iter().filter(|c| c.points == rec.points).map(|c| c.residual).collect();
+            let fine: Vec<f64> = history[judged_from..]
+                .iter()
+                .filter(|c| c.points == rec.points)
+                .map(|c| c.residual)
+                .collect();
             let w = self.stall_window();
             if w > 0 && fine.len() > 2 * w {
                 let (before, last) = fine.split_at(fine.len() - w);
                 let best = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
                 if best(last) > 0.5 * best(before) {
+                    if closed && settled_round_closure(&history[history.len() - w..]) {
+                        // From here the solids touch where the film has closed, on every
+                        // grid; the stall is judged afresh.
+                        self.levels.iter_mut().for_each(|lv| lv.touch = true);
+                        (touched_at, judged_from) = (Some(cycle), history.len());
+                        prev_hc = f64::NAN;
+                        continue;
+                    }
                     stalled = true;
                     break;
                 }
             }
         }
         let diagnosis = Some(self.diagnose(&history, stalled));
-        Ok(self.attempt_report(diagnosis, cycle, history, t0, mode_jumps + jumps.jumps))
+        let jumps = mode_jumps + jumps.jumps;
+        Ok(self.attempt_report(diagnosis, cycle, history, t0, jumps, touched_at))
     }
 
     /// The report of an attempt's cycles: converged without a diagnosis, else with it.
@@ -357,6 +381,7 @@ impl ReynoldsSolver {
         history: Vec<CycleLog>,
         t0: Instant,
         mode_jumps: usize,
+        touched_from: Option<usize>,
     ) -> ReynoldsReport {
         ReynoldsReport {
             converged: diagnosis.is_none(),
@@ -370,6 +395,7 @@ impl ReynoldsSolver {
             settled: None,
             mode_jumps,
             from_flooded: false,
+            touched_from,
         }
     }
 }
@@ -438,4 +464,16 @@ pub(super) fn film_closed(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option
             .filter(|d| matches!(d.kind, FailureKind::FilmClosed))
             .map(|d| (d.text.clone(), r.cycles)),
     }
+}
+
+/// Whether a stalled answer has settled round its closed film: its central film and force
+/// balance within [`SETTLED_BOUND`] over the `window`'s cycles. A closure a still-moving answer
+/// passes through is not one the solids should touch at: touching there turned into a contact
+/// over the whole Hertz zone (the seed's contact fed 0.2 nm on 513²).
+fn settled_round_closure(window: &[CycleLog]) -> bool {
+    let (lo, hi) = window.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), c| {
+        (l.min(c.central_film), h.max(c.central_film))
+    });
+    let load = window.iter().fold(0.0f64, |m, c| m.max(c.load_error.abs()));
+    hi - lo < SETTLED_BOUND * hi.abs() && load < SETTLED_BOUND
 }

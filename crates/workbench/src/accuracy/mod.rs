@@ -384,6 +384,9 @@ impl Outcome for Checked {
     fn conditions_used(&self) -> (ehl_core::Contact, f64) {
         self.outcome.conditions_used()
     }
+    fn solid_contact(&self) -> Option<ehl_core::SolidContact> {
+        self.outcome.solid_contact()
+    }
     fn wall_time_s(&self) -> f64 {
         self.outcome.wall_time_s()
     }

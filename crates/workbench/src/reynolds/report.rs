@@ -68,6 +68,17 @@ pub(super) fn reynolds_report(o: &ReynoldsOutcome) -> String {
             last.contact_area_m2
         );
     }
+    // A steady answer whose lubricated cycles stalled with the film closed: the solids touch
+    // there.
+    if let (Some(k), Some(c)) = (o.report.touched_from, Outcome::solid_contact(o))
+        && o.transient.is_none()
+    {
+        let _ = writeln!(
+            out,
+            "  contact (the cycles stalled with the film closed; the solids touch there from cycle {k}): {:.2e} of the load on {:.3e} m², contact pressure up to {:.4e} Pa",
+            c.load_share, c.area_m2, c.max_pressure_pa
+        );
+    }
 
     out
 }
