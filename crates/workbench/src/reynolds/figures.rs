@@ -11,8 +11,20 @@ use std::path::{Path, PathBuf};
 impl ReynoldsOutcome {
     fn note(&self) -> String {
         let (c, u) = self.scene.reynolds_conditions();
+        // Where the solids touch at the end, the contact apart from the fluid.
+        let touching = crate::model::Outcome::solid_contact(self)
+            .filter(|c| c.area_m2 > 0.0)
+            .map(|c| {
+                format!(
+                    "; the solids touch: {:.2e} of the load on {:.3e} m², contact pressure up to {:.4} GPa",
+                    c.load_share,
+                    c.area_m2,
+                    c.max_pressure_pa * 1e-9
+                )
+            })
+            .unwrap_or_default();
         format!(
-            "{}: R = {} mm, F = {:.4} N, u1 = {:.4} m/s (M = {:.1}, L = {:.2}), {} viscosity, {} density; grid {}x{}",
+            "{}: R = {} mm, F = {:.4} N, u1 = {:.4} m/s (M = {:.1}, L = {:.2}), {} viscosity, {} density; grid {}x{}{touching}",
             self.scene.name,
             c.ball_radius * 1e3,
             c.load,
