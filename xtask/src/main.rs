@@ -6,6 +6,7 @@
 mod accuracy;
 mod bench;
 mod compare;
+mod contact;
 mod convergence;
 mod example;
 mod findings;
@@ -151,6 +152,12 @@ enum Command {
         #[arg(long, default_value = "out/seed-against-ours")]
         out: PathBuf,
     },
+    /// The solids touching in a steady Reynolds solve: the seed's contact fed 0.1–2 nm with
+    /// contact and without, on 129² and 257²; writes `docs/measured/steady-contact.md`.
+    Contact {
+        #[arg(long, default_value = "out/steady-contact")]
+        out: PathBuf,
+    },
     /// The seed's comparisons that move (a hole, a dent, a stop, a start) through every model:
     /// writes `docs/measured/findings.md`, and each comparison's outputs (histories, figures)
     /// into `--out`.
@@ -245,6 +252,7 @@ fn main() -> Result<()> {
         Command::SlurmCheck { keep } => slurm::check(keep),
         Command::Example { out } => example::run(&out),
         Command::Findings { out } => findings::run(&out),
+        Command::Contact { out } => contact::run(&out),
         Command::Sweep { name, out } => sweep_page::run(&name, &out),
         Command::Seed { points: n, out } => seed_page::run(points(n), &out),
         Command::Accuracy { out, points: n } => accuracy::run(&out, points(n)),

@@ -101,12 +101,14 @@ pub struct ReynoldsSettings {
     /// rolling step decides its contact anew from its closed films (the set of the last step
     /// is let go, its points full: `θ = 1`, which carries no oil while `H = 0`; a set held from
     /// step to step kept the first rolling steps after a stop from converging). A steady solve
-    /// lets the solids touch only when its lubricated cycles stall with the film closed (a
-    /// supply thinner than the discrete dry gap's error at the contact's edge, a grid too
-    /// coarse for the film): from that state the closed points become contact and the cycles go
-    /// on ([`ReynoldsReport::touched_from`]). Touching from the first cycle, a start's passing
-    /// closures became a contact set the cycles never let go of (docs/decisions.md, "The solids
-    /// touching in the steady cycles").
+    /// lets the solids touch only when its lubricated cycles end with the film closed (a supply
+    /// thinner than the discrete dry gap's error at the contact's edge, a grid too coarse for
+    /// the film): converged on the closure, or stalled in an answer settled round it. From that
+    /// state the closed points become contact and the cycles go on
+    /// ([`ReynoldsReport::touched_from`]); a converged lubricated answer whose touching cycles
+    /// fail is returned as it was. Touching from the first cycle, a start's passing closures
+    /// became a contact set the cycles never let go of (docs/decisions.md, "The solids touching
+    /// in the steady cycles").
     pub contact: bool,
     /// Mass conserving, steady: the largest factor of a jump along the solve's slow mode when
     /// one mode governs its cycles (the meniscus ring and the pressure inside it; the module

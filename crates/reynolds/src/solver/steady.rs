@@ -296,13 +296,12 @@ impl ReynoldsSolver {
                 lv.contact.fill(false);
             }
         }
-        // A steady solve lets the solids touch only where its lubricated cycles stalled with the
-        // film closed ([`ReynoldsSettings::contact`]): an answer they reach is theirs, bit for
-        // bit, and a closure they cannot open becomes contact from the state they stalled in.
+        // A steady solve lets the solids touch only where its lubricated cycles end with the
+        // film closed ([`ReynoldsSettings::contact`]): an answer they reach with the film open
+        // is theirs, bit for bit; a closure they converge on, or stall on in an answer settled
+        // round it, becomes contact from that state.
         let may_touch = self.settings.contact && !self.active.contact;
-        let mut touched_at: Option<usize> = None;
-        // The stall is judged on the cycles since the solids were let touch.
-        let mut judged_from = 0;
+        let mut touching = Touching::default();
         // The central film of the grid below, where the full-multigrid start left it.
         let coarse_hc = history.last().map(|c: &CycleLog| c.central_film);
         let mut prev_hc = start_hc;
@@ -311,7 +310,17 @@ impl ReynoldsSolver {
         let mut jumps = ModeExtrapolation::new(self.active.mode_extrapolation);
         for _ in 0..self.active.max_cycles {
             cycle += 1;
-            let rec = self.logged_cycle(0, cycle, t0)?;
+            let rec = match self.logged_cycle(0, cycle, t0) {
+                Ok(rec) => rec,
+                Err(e) if matches!(e, ReynoldsError::Cancelled(_)) => return Err(e),
+                Err(e) => match self.back_to_lubricated(&mut touching, &mut history) {
+                    Some(c) => {
+                        let jumps = mode_jumps + jumps.jumps;
+                        return Ok(self.attempt_report(None, c, history, t0, jumps, None));
+                    }
+                    None => return Err(e),
+                },
+            };
             let (h00, moved) = jumps.after_cycle(&mut self.levels[0], self.h00, rec.residual);
             self.h00 = h00;
             log(&rec);
@@ -328,7 +337,7 @@ impl ReynoldsSolver {
             let settled =
                 ((hc - prev_hc) / hc.abs().max(film_floor)).abs() < self.active.film_tolerance;
             let mass = rec.mass_defect <= self.active.mass_tolerance;
-            let closed = may_touch && touched_at.is_none() && rec.minimum_film < 0.0;
+            let closed = may_touch && touching.at.is_none() && rec.minimum_film < 0.0;
             let strict = settled && rec.load_error.abs() < self.active.load_tolerance && mass;
             let discretisation = match (self.active.stop, coarse_hc) {
                 (StopRule::Discretisation, Some(h2)) => {
@@ -339,38 +348,74 @@ impl ReynoldsSolver {
                 }
                 _ => false,
             };
+            if (strict || discretisation) && closed {
+                // Converged with the film closed: the solids touch from here, the lubricated
+                // answer kept to return to.
+                self.let_touch(&mut touching, cycle, history.len(), true);
+                prev_hc = f64::NAN;
+                continue;
+            }
             if strict || discretisation {
                 let jumps = mode_jumps + jumps.jumps;
-                return Ok(self.attempt_report(None, cycle, history, t0, jumps, touched_at));
+                return Ok(self.attempt_report(None, cycle, history, t0, jumps, touching.at));
             }
             prev_hc = hc;
-            // A stall or a limit cycle: the residual not even halved over the last window.
-            let fine: Vec<f64> = history[judged_from..]
-                .iter()
-                .filter(|c| c.points == rec.points)
-                .map(|c| c.residual)
-                .collect();
             let w = self.stall_window();
-            if w > 0 && fine.len() > 2 * w {
-                let (before, last) = fine.split_at(fine.len() - w);
-                let best = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
-                if best(last) > 0.5 * best(before) {
-                    if closed && settled_round_closure(&history[history.len() - w..]) {
-                        // From here the solids touch where the film has closed, on every
-                        // grid; the stall is judged afresh.
-                        self.levels.iter_mut().for_each(|lv| lv.touch = true);
-                        (touched_at, judged_from) = (Some(cycle), history.len());
-                        prev_hc = f64::NAN;
-                        continue;
-                    }
-                    stalled = true;
-                    break;
+            if stalled_over(&history[touching.judged_from..], rec.points, w) {
+                if closed && settled_round_closure(&history[history.len() - w..]) {
+                    self.let_touch(&mut touching, cycle, history.len(), false);
+                    prev_hc = f64::NAN;
+                    continue;
                 }
+                if let Some(c) = self.back_to_lubricated(&mut touching, &mut history) {
+                    let jumps = mode_jumps + jumps.jumps;
+                    return Ok(self.attempt_report(None, c, history, t0, jumps, None));
+                }
+                stalled = true;
+                break;
             }
+        }
+        if let Some(c) = self.back_to_lubricated(&mut touching, &mut history) {
+            let jumps = mode_jumps + jumps.jumps;
+            return Ok(self.attempt_report(None, c, history, t0, jumps, None));
         }
         let diagnosis = Some(self.diagnose(&history, stalled));
         let jumps = mode_jumps + jumps.jumps;
-        Ok(self.attempt_report(diagnosis, cycle, history, t0, jumps, touched_at))
+        Ok(self.attempt_report(diagnosis, cycle, history, t0, jumps, touching.at))
+    }
+
+    /// From cycle `cycle` on the solids touch where the film has closed, on every grid; the
+    /// stall is judged on the cycles from `history_len` on. `keep`: the state now is a
+    /// converged lubricated answer, kept to return to should the touching cycles not converge.
+    fn let_touch(&mut self, t: &mut Touching, cycle: usize, history_len: usize, keep: bool) {
+        if keep {
+            t.lubricated = Some((self.save(), history_len, cycle));
+        }
+        self.levels.iter_mut().for_each(|lv| lv.touch = true);
+        (t.at, t.judged_from) = (Some(cycle), history_len);
+    }
+
+    /// Back to the converged lubricated answer the solids were let touch from, when one was
+    /// kept: its state, its record, no contact; the cycle it converged at. A closure the
+    /// lubricated cycles converged on that touching does not resolve (low speed under high load
+    /// on a grid coarser than the grid rule's: the contact spread and diverged) keeps the
+    /// answer it had, flagged for its film below zero.
+    fn back_to_lubricated(
+        &mut self,
+        t: &mut Touching,
+        history: &mut Vec<CycleLog>,
+    ) -> Option<usize> {
+        let (state, len, cycle) = t.lubricated.take()?;
+        self.restore(state);
+        for lv in &mut self.levels {
+            lv.touch = false;
+            lv.contact.fill(false);
+        }
+        let h00 = self.h00;
+        self.levels[0].update_film(h00);
+        history.truncate(len);
+        *t = Touching::default();
+        Some(cycle)
     }
 
     /// The report of an attempt's cycles: converged without a diagnosis, else with it.
@@ -476,4 +521,27 @@ fn settled_round_closure(window: &[CycleLog]) -> bool {
     });
     let load = window.iter().fold(0.0f64, |m, c| m.max(c.load_error.abs()));
     hi - lo < SETTLED_BOUND * hi.abs() && load < SETTLED_BOUND
+}
+
+/// The solids' contact in a steady solve's cycles: the cycle from which they touch, the
+/// cycles the stall is judged on from, and the converged lubricated answer (its state, the
+/// length of its record, its cycle) to return to should touching not converge.
+#[derive(Default)]
+struct Touching {
+    at: Option<usize>,
+    judged_from: usize,
+    lubricated: Option<(SolverState, usize, usize)>,
+}
+
+/// Whether the finest-grid cycles of `history` on `points` have stalled: the residual not even
+/// halved over the last `window` against the best before it.
+fn stalled_over(history: &[CycleLog], points: usize, window: usize) -> bool {
+    let fine: Vec<f64> =
+        history.iter().filter(|c| c.points == points).map(|c| c.residual).collect();
+    if window == 0 || fine.len() <= 2 * window {
+        return false;
+    }
+    let (before, last) = fine.split_at(fine.len() - window);
+    let best = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
+    best(last) > 0.5 * best(before)
 }
