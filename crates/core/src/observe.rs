@@ -162,7 +162,9 @@ pub struct SolidContact {
 }
 
 impl SolidContact {
-    /// From the pressure `P` [p_h] on `grid` and the points where the solids touch.
+    /// From the pressure `P` [p_h] on `grid` and the points where the solids touch: those that
+    /// carry pressure (a point whose gap closed at `P = 0` is the contact's edge, carrying
+    /// nothing).
     pub fn from_mask(
         grid: &Grid,
         scales: &HertzScales,
@@ -171,7 +173,7 @@ impl SolidContact {
     ) -> Self {
         let (mut on, mut n, mut peak) = (0.0, 0usize, 0.0f64);
         for (&v, &t) in p.iter().zip(touching) {
-            if t {
+            if t && v > 0.0 {
                 on += v;
                 n += 1;
                 peak = peak.max(v);
