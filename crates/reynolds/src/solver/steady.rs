@@ -296,10 +296,8 @@ impl ReynoldsSolver {
                 lv.contact.fill(false);
             }
         }
-        // A steady solve lets the solids touch only where its lubricated cycles end with the
-        // film closed ([`ReynoldsSettings::contact`]): an answer they reach with the film open
-        // is theirs, bit for bit; a closure they converge on, or stall on in an answer settled
-        // round it, becomes contact from that state.
+        // The solids touch only where the lubricated cycles end with the film closed
+        // ([`ReynoldsSettings::contact`]).
         let may_touch = self.settings.contact && !self.active.contact;
         let mut touching = Touching::default();
         // The central film of the grid below, where the full-multigrid start left it.
@@ -313,13 +311,10 @@ impl ReynoldsSolver {
             let rec = match self.logged_cycle(0, cycle, t0) {
                 Ok(rec) => rec,
                 Err(e) if matches!(e, ReynoldsError::Cancelled(_)) => return Err(e),
-                Err(e) => match self.back_to_lubricated(&mut touching, &mut history) {
-                    Some(c) => {
-                        let jumps = mode_jumps + jumps.jumps;
-                        return Ok(self.attempt_report(None, c, history, t0, jumps, None));
-                    }
-                    None => return Err(e),
-                },
+                Err(e) => {
+                    let jumps = mode_jumps + jumps.jumps;
+                    return self.lubricated_report(&mut touching, &mut history, t0, jumps).ok_or(e);
+                }
             };
             let (h00, moved) = jumps.after_cycle(&mut self.levels[0], self.h00, rec.residual);
             self.h00 = h00;
@@ -349,8 +344,7 @@ impl ReynoldsSolver {
                 _ => false,
             };
             if (strict || discretisation) && closed {
-                // Converged with the film closed: the solids touch from here, the lubricated
-                // answer kept to return to.
+                // Converged with the film closed: touching from here, this answer kept.
                 self.let_touch(&mut touching, cycle, history.len(), true);
                 prev_hc = f64::NAN;
                 continue;
@@ -367,20 +361,15 @@ impl ReynoldsSolver {
                     prev_hc = f64::NAN;
                     continue;
                 }
-                if let Some(c) = self.back_to_lubricated(&mut touching, &mut history) {
-                    let jumps = mode_jumps + jumps.jumps;
-                    return Ok(self.attempt_report(None, c, history, t0, jumps, None));
-                }
                 stalled = true;
                 break;
             }
         }
-        if let Some(c) = self.back_to_lubricated(&mut touching, &mut history) {
-            let jumps = mode_jumps + jumps.jumps;
-            return Ok(self.attempt_report(None, c, history, t0, jumps, None));
+        let jumps = mode_jumps + jumps.jumps;
+        if let Some(r) = self.lubricated_report(&mut touching, &mut history, t0, jumps) {
+            return Ok(r);
         }
         let diagnosis = Some(self.diagnose(&history, stalled));
-        let jumps = mode_jumps + jumps.jumps;
         Ok(self.attempt_report(diagnosis, cycle, history, t0, jumps, touching.at))
     }
 
@@ -396,15 +385,17 @@ impl ReynoldsSolver {
     }
 
     /// Back to the converged lubricated answer the solids were let touch from, when one was
-    /// kept: its state, its record, no contact; the cycle it converged at. A closure the
-    /// lubricated cycles converged on that touching does not resolve (low speed under high load
-    /// on a grid coarser than the grid rule's: the contact spread and diverged) keeps the
-    /// answer it had, flagged for its film below zero.
-    fn back_to_lubricated(
+    /// kept: its state and record, no contact, and its report. A closure the lubricated cycles
+    /// converged on that touching does not resolve (low speed under high load on a grid coarser
+    /// than the grid rule's: the contact spread and diverged) keeps the answer it had, flagged
+    /// for its film below zero.
+    fn lubricated_report(
         &mut self,
         t: &mut Touching,
         history: &mut Vec<CycleLog>,
-    ) -> Option<usize> {
+        t0: Instant,
+        mode_jumps: usize,
+    ) -> Option<ReynoldsReport> {
         let (state, len, cycle) = t.lubricated.take()?;
         self.restore(state);
         for lv in &mut self.levels {
@@ -415,7 +406,7 @@ impl ReynoldsSolver {
         self.levels[0].update_film(h00);
         history.truncate(len);
         *t = Touching::default();
-        Some(cycle)
+        Some(self.attempt_report(None, cycle, std::mem::take(history), t0, mode_jumps, None))
     }
 
     /// The report of an attempt's cycles: converged without a diagnosis, else with it.
