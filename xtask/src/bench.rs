@@ -607,7 +607,7 @@ fn dent_passage(n: usize, prm: ehl_reynolds::ReynoldsParams) -> Result<crate::me
     use ehl_reynolds::{ReynoldsSettings, ReynoldsSolver};
     let grid = ehl_core::Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
     let scene = ehl_scene::builtin("dent-shallow-compare")?;
-    let dent = scene.dents()?[0];
+    let dent = scene.relief(prm.scales.a)?.dents[0];
     let supply = scene.supply.as_ref().context("dent-shallow-compare has a supply")?;
     let h_oil = supply.thickness_m / prm.scales.delta;
     // One march, its steady start solved with `steady` and its steps with `steps`: the central

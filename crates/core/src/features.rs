@@ -1,7 +1,9 @@
-//! What passes through the contact, shared by every model: dents (or bumps) in the ball's
-//! surface, and the oil supply with its holes. Both travel with the surfaces (pure rolling):
-//! a feature's centre at time `t` is `x_start + travel(t)/a` ([`crate::Kinematics::travel`]).
-//! Depths and thicknesses in m (SI, as the scene gives them), positions in units of `a`.
+//! What passes through the contact, shared by every model: the surfaces' relief (dents or
+//! bumps, harmonic waviness, random roughness: [`Relief`]) and the oil supply with its holes.
+//! All travel with the surfaces (pure rolling, both surfaces at one speed, so a pattern on the
+//! ball and one on the disc pass alike): a feature's centre at time `t` is `x_start + travel(t)/a`
+//! ([`crate::Kinematics::travel`]). Heights and thicknesses in m (SI, as the scene gives them),
+//! positions and lengths in units of `a`.
 
 use crate::grid::dent_profile;
 use serde::{Deserialize, Serialize};
@@ -33,6 +35,138 @@ impl Dent {
     /// Radius beyond which the dent is below 1e-6 of its depth [a].
     pub fn reach_a(&self) -> f64 {
         self.width_a * (0.6f64).sqrt()
+    }
+}
+
+/// Harmonic waviness: a gap added of `A cos(2π s / λ + φ)`, `s` the distance along the wave's
+/// direction on the moving surface. The direction is at `angle` from the rolling direction:
+/// 0 is transverse waviness (ridges across the track, passing through the contact), π/2
+/// longitudinal (ridges along the track, standing in the contact).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Waviness {
+    /// Amplitude `A` [m].
+    pub amplitude_m: f64,
+    /// Wavelength `λ` [a].
+    pub wavelength_a: f64,
+    /// Direction of the wave vector from the rolling direction [rad].
+    pub angle_rad: f64,
+    /// Phase `φ` at the origin at `t = 0` [rad].
+    pub phase_rad: f64,
+}
+
+impl Waviness {
+    /// Gap added at `(x, y)` [a] after the surfaces travelled `travel_a` [a], in units of
+    /// `delta` [m].
+    #[inline]
+    pub fn gap(&self, x: f64, y: f64, travel_a: f64, delta: f64) -> f64 {
+        let s = (x - travel_a) * self.angle_rad.cos() + y * self.angle_rad.sin();
+        self.amplitude_m / delta
+            * (std::f64::consts::TAU * s / self.wavelength_a + self.phase_rad).cos()
+    }
+}
+
+/// How many cosines make a random surface: enough for Gaussian heights (the sum's kurtosis is
+/// `3 − 3/(2N)`) and a smooth spectrum, few enough that evaluating it costs less than a solve.
+pub const ROUGHNESS_MODES: usize = 256;
+
+/// Random roughness: Gaussian heights of RMS `Rq` with the Gaussian autocorrelation
+/// `Rq² exp(−(Δx/β_x)² − (Δy/β_y)²)` (`β` the lengths over which it falls to `1/e`), made as a
+/// sum of [`ROUGHNESS_MODES`] cosines whose wave vectors are drawn from its spectrum and whose
+/// phases are uniform (the randomisation method, Shinozuka & Deodatis, Appl. Mech. Rev. 44
+/// (1991) 191–204). The surface is a function, not a grid: every grid samples the same surface,
+/// and a seed gives the same surface on every machine (ChaCha8's stream is specified).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Roughness {
+    /// RMS height `Rq` [m].
+    pub rq_m: f64,
+    /// Correlation lengths `(β_x, β_y)` [a].
+    pub correlation_a: (f64, f64),
+    /// The seed it was drawn from.
+    pub seed: u64,
+    /// `(k_x, k_y, φ)` of each cosine [1/a, 1/a, rad].
+    modes: Vec<[f64; 3]>,
+}
+
+impl Roughness {
+    /// The surface of RMS `rq_m` [m] and correlation lengths `(beta_x_a, beta_y_a)` [a] drawn
+    /// from `seed`.
+    pub fn new(rq_m: f64, beta_x_a: f64, beta_y_a: f64, seed: u64) -> Self {
+        use rand_chacha::rand_core::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        // Uniform in (0, 1) from the stream's top 53 bits.
+        let mut uniform = || ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+        // The spectrum of exp(−Δx²/β²) is a normal of variance 2/β² in k.
+        let (sx, sy) = (std::f64::consts::SQRT_2 / beta_x_a, std::f64::consts::SQRT_2 / beta_y_a);
+        let modes = (0..ROUGHNESS_MODES)
+            .map(|_| {
+                // Box–Muller: two standard normals from two uniforms.
+                let (r, t) = ((-2.0 * uniform().ln()).sqrt(), std::f64::consts::TAU * uniform());
+                [sx * r * t.cos(), sy * r * t.sin(), std::f64::consts::TAU * uniform()]
+            })
+            .collect();
+        Self { rq_m, correlation_a: (beta_x_a, beta_y_a), seed, modes }
+    }
+
+    /// Gap added at `(x, y)` [a] after the surfaces travelled `travel_a` [a], in units of
+    /// `delta` [m].
+    pub fn gap(&self, x: f64, y: f64, travel_a: f64, delta: f64) -> f64 {
+        let xs = x - travel_a;
+        let sum: f64 = self.modes.iter().map(|[kx, ky, ph]| (kx * xs + ky * y + ph).cos()).sum();
+        self.rq_m / delta * (2.0 / self.modes.len() as f64).sqrt() * sum
+    }
+}
+
+/// The surfaces' relief passing through the contact: every model adds [`Relief::gap`] to its
+/// rigid gap, each at its own grid points.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Relief {
+    /// Dents (or bumps) in the ball.
+    pub dents: Vec<Dent>,
+    /// Harmonic waviness.
+    pub waves: Vec<Waviness>,
+    /// Random roughness.
+    pub roughness: Vec<Roughness>,
+}
+
+impl Relief {
+    /// Smooth surfaces.
+    pub fn is_empty(&self) -> bool {
+        self.dents.is_empty() && self.waves.is_empty() && self.roughness.is_empty()
+    }
+    /// Gap added at `(x, y)` [a] after the surfaces travelled `travel_a` [a], in units of
+    /// `delta` [m] (the solvers' `a²/R`).
+    pub fn gap(&self, x: f64, y: f64, travel_a: f64, delta: f64) -> f64 {
+        let dents: f64 =
+            self.dents.iter().map(|d| d.gap(x, y, d.x_start_a + travel_a, delta)).sum();
+        let waves: f64 = self.waves.iter().map(|w| w.gap(x, y, travel_a, delta)).sum();
+        let rough: f64 = self.roughness.iter().map(|r| r.gap(x, y, travel_a, delta)).sum();
+        dents + waves + rough
+    }
+    /// The RMS height of the relief's patterns [m]: waves' `A/√2` and roughness' `Rq`, combined
+    /// as independent (`None`: no pattern, dents alone).
+    pub fn rms_m(&self) -> Option<f64> {
+        if self.waves.is_empty() && self.roughness.is_empty() {
+            return None;
+        }
+        let waves = self.waves.iter().map(|w| 0.5 * w.amplitude_m * w.amplitude_m);
+        let rough = self.roughness.iter().map(|r| r.rq_m * r.rq_m);
+        Some(waves.chain(rough).sum::<f64>().sqrt())
+    }
+
+    /// The travel after which the relief repeats [a], when it is periodic: waves alone, all
+    /// with one period along the rolling direction (longitudinal waves stand and repeat at
+    /// any travel). `None` with dents or roughness, or with no wave moving.
+    pub fn period_a(&self) -> Option<f64> {
+        if !(self.dents.is_empty() && self.roughness.is_empty()) {
+            return None;
+        }
+        let along = |w: &Waviness| {
+            let c = w.angle_rad.cos().abs();
+            (c > 1e-9).then(|| w.wavelength_a / c)
+        };
+        let mut periods = self.waves.iter().filter_map(along);
+        let p = periods.next()?;
+        periods.all(|q| (q / p - 1.0).abs() < 1e-9).then_some(p)
     }
 }
 
@@ -117,6 +251,83 @@ mod tests {
         let at_reach = d.gap(0.5 + d.reach_a(), 0.2, 0.5, 1e-9);
         assert!((at_reach / 20.0 - 1e-6).abs() < 1e-15, "{at_reach}");
         assert_eq!(Passing::from(&d), Passing { x_start_a: -1.0, reach_a: d.reach_a() });
+    }
+
+    #[test]
+    fn transverse_waviness_travels_with_the_surfaces_and_repeats_after_a_wavelength() {
+        let w = Waviness { amplitude_m: 1e-8, wavelength_a: 0.25, angle_rad: 0.0, phase_rad: 0.0 };
+        assert_eq!(w.gap(0.3, 0.7, 0.3, 1e-9), 10.0); // a crest carried to x = 0.3
+        assert!(w.gap(0.3 + 0.125, 0.0, 0.3, 1e-9) + 10.0 < 1e-12); // a trough half a wave on
+        for x in [-1.0, -0.37, 0.0, 0.81] {
+            let (a, b) = (w.gap(x, 0.2, 0.1, 1e-9), w.gap(x, 0.2, 0.1 + 0.25, 1e-9));
+            assert!((a - b).abs() < 1e-12, "moved by one wavelength: {a} vs {b}");
+        }
+        // Longitudinal: ridges along the track stand still as the surfaces roll.
+        let l = Waviness { angle_rad: std::f64::consts::FRAC_PI_2, ..w };
+        assert!((l.gap(0.1, 0.3, 0.0, 1e-9) - l.gap(0.1, 0.3, 0.77, 1e-9)).abs() < 1e-12);
+        assert!((l.gap(0.1, 0.125, 0.0, 1e-9) + 10.0).abs() < 1e-12);
+    }
+
+    /// The surface sampled on a square of `n²` points spaced `h` [a], in units of `Rq`.
+    fn sampled(r: &Roughness, n: usize, h: f64) -> Vec<f64> {
+        (0..n * n).map(|k| r.gap((k % n) as f64 * h, (k / n) as f64 * h, 0.0, r.rq_m)).collect()
+    }
+
+    #[test]
+    fn random_roughness_has_its_rms_and_falls_to_one_over_e_at_its_correlation_length() {
+        // Sampled over 60 × 30 correlation lengths (β_y = 2 β_x): the sample's
+        // RMS and correlation differ from the surface's by the spectrum's own sampling with
+        // 256 cosines (the correlation at lag β is a mean of 256 cosines, standard deviation
+        // about 0.03): 8 % on the RMS, 0.1 on the correlation are three of those.
+        let beta = 0.05;
+        let r = Roughness::new(2e-8, beta, 2.0 * beta, 7);
+        let (n, h) = (360, beta / 6.0);
+        let z = sampled(&r, n, h);
+        let mean = z.iter().sum::<f64>() / z.len() as f64;
+        let rms = (z.iter().map(|v| v * v).sum::<f64>() / z.len() as f64).sqrt();
+        assert!(mean.abs() < 0.05 && (rms - 1.0).abs() < 0.08, "mean {mean}, rms {rms} (Rq)");
+        let lag = 6; // one correlation length
+        let corr = |dx: usize, dy: usize| {
+            let (mut s, mut m) = (0.0, 0);
+            for j in 0..n - dy {
+                for i in 0..n - dx {
+                    s += z[j * n + i] * z[(j + dy) * n + i + dx];
+                    m += 1;
+                }
+            }
+            s / m as f64 / (rms * rms)
+        };
+        let e = (-1.0f64).exp();
+        for (cx, what) in [(corr(lag, 0), "along x"), (corr(0, 2 * lag), "along y")] {
+            assert!((cx - e).abs() < 0.1, "correlation at one length {what}: {cx} (1/e = {e:.3})");
+        }
+        let quarter = (-0.25f64).exp(); // half of β_y
+        assert!((corr(0, lag) - quarter).abs() < 0.1, "{} vs {quarter}", corr(0, lag));
+        assert!(corr(3 * lag, 0).abs() < 0.1, "three lengths apart: {}", corr(3 * lag, 0));
+    }
+
+    #[test]
+    fn a_roughness_seed_is_one_surface_on_every_grid_and_another_seed_another() {
+        let (a, b) = (Roughness::new(1e-8, 0.1, 0.3, 42), Roughness::new(1e-8, 0.1, 0.3, 42));
+        assert_eq!(a, b);
+        // The same point of the moving surface: at x on one grid, at x + s after travel s.
+        // (to the rounding of x − s, in a sum of 256 cosines of a few units each)
+        assert!((a.gap(0.1, 0.2, 0.0, 1e-9) - b.gap(0.1 + 0.5, 0.2, 0.5, 1e-9)).abs() < 1e-9);
+        let c = Roughness::new(1e-8, 0.1, 0.3, 43);
+        assert_ne!(a.gap(0.1, 0.2, 0.0, 1e-9), c.gap(0.1, 0.2, 0.0, 1e-9));
+    }
+
+    #[test]
+    fn smooth_surfaces_add_no_gap_and_a_relief_adds_its_parts() {
+        assert_eq!(Relief::default().gap(0.1, 0.2, 0.3, 1e-9), 0.0);
+        let d = Dent { depth_m: 2e-8, width_a: 0.1, x_start_a: -1.0, y_a: 0.0 };
+        let w = Waviness { amplitude_m: 1e-8, wavelength_a: 0.25, angle_rad: 0.3, phase_rad: 1.0 };
+        let r = Roughness::new(5e-9, 0.1, 0.1, 1);
+        let all = Relief { dents: vec![d], waves: vec![w], roughness: vec![r.clone()] };
+        let (x, y, s) = (-0.6, 0.1, 0.45);
+        let parts = d.gap(x, y, -1.0 + s, 1e-9) + w.gap(x, y, s, 1e-9) + r.gap(x, y, s, 1e-9);
+        assert!((all.gap(x, y, s, 1e-9) - parts).abs() < 1e-12);
+        assert!(!all.is_empty() && Relief::default().is_empty());
     }
 
     #[test]

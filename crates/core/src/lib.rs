@@ -20,6 +20,7 @@ pub mod kinematics;
 pub mod laws;
 pub mod observe;
 pub mod params;
+pub mod passage;
 
 /// The least work (values computed) worth a parallel task of its own: smaller loops run as
 /// one task on the calling thread. The coarse multigrid grids (17², 33²) otherwise paid more
@@ -35,11 +36,12 @@ pub fn par_min_len(work: usize) -> usize {
 pub use check::FieldError;
 pub use deformation::Deformation;
 pub use dry::{DryProblem, DryReport, DrySettings, DrySolver, Start};
-pub use features::{Dent, Hole, Passing, Supply};
+pub use features::{Dent, Hole, Passing, ROUGHNESS_MODES, Relief, Roughness, Supply, Waviness};
 pub use grid::Grid;
 pub use kinematics::{Kinematics, KinematicsError};
 pub use observe::{Observables, SolidContact};
 pub use params::{Contact, HertzScales, Lubricant, Moes, SEED_CONTACT, SEED_LUBRICANT};
+pub use passage::Passage;
 
 /// A numerical failure, with enough context to find it: which quantity, where, when.
 #[derive(Debug, Clone, thiserror::Error, PartialEq)]

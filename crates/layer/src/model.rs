@@ -9,7 +9,7 @@ use ehl_core::params::oedometric_modulus;
 use ehl_core::{
     Contact, DryProblem, DryReport, DrySettings, DrySolver, Grid, HertzScales, Kinematics,
     Lubricant, NumericError, Start,
-    features::{Dent, Hole, Supply},
+    features::{Hole, Relief, Supply},
 };
 use ndarray::{Array2, Zip};
 use serde::{Deserialize, Serialize};
@@ -195,8 +195,8 @@ pub struct LayerModel {
     /// How the surfaces move: the speed `u1(t)` [m/s] and the travel that carries the layer,
     /// its supply and the features.
     motion: Kinematics,
-    /// Dents in the ball passing (set with [`LayerModel::set_passing`]).
-    dents: Vec<Dent>,
+    /// The surfaces' relief passing (set with [`LayerModel::set_passing`]).
+    relief: Relief,
     /// The dry contact solver of the grid.
     pub solver: DrySolver,
     /// `(X² + Y²)/2`.
@@ -250,7 +250,7 @@ impl LayerModel {
             damper,
             spec: *spec,
             motion,
-            dents: vec![],
+            relief: Relief::default(),
             solver: DrySolver::new(grid, settings),
             shape: grid.paraboloid(),
             load: scales.load_dimensionless(),
@@ -259,15 +259,15 @@ impl LayerModel {
         })
     }
 
-    /// What passes from now on: dents in the ball and holes in the supply.
-    pub fn set_passing(&mut self, dents: Vec<Dent>, holes: Vec<Hole>) {
-        self.dents = dents;
+    /// What passes from now on: the surfaces' relief and holes in the supply.
+    pub fn set_passing(&mut self, relief: Relief, holes: Vec<Hole>) {
+        self.relief = relief;
         self.supply.holes = holes;
     }
 
-    /// Whether anything passes (a dent or a hole).
+    /// Whether anything passes (a relief or a hole).
     pub fn has_passing(&self) -> bool {
-        !(self.dents.is_empty() && self.supply.holes.is_empty())
+        !(self.relief.is_empty() && self.supply.holes.is_empty())
     }
 
     /// The same model on another grid (same laws, velocity, features and solver settings).
@@ -283,7 +283,7 @@ impl LayerModel {
             damper: self.damper,
             spec: self.spec,
             motion: self.motion.clone(),
-            dents: self.dents.clone(),
+            relief: self.relief.clone(),
             solver: DrySolver::new(grid, self.solver.settings),
             shape: grid.paraboloid(),
             load: self.load,
@@ -377,13 +377,13 @@ impl LayerModel {
     /// Rigid gap of the ball: `f + b(t)` [a²/R].
     pub fn ball(&self, t: f64) -> Array2<f64> {
         let mut g = self.shape.clone();
-        let (travel, delta) = (self.travel_a(t), self.scales.delta);
-        for d in &self.dents {
-            let xc = d.x_start_a + travel;
-            Zip::indexed(&mut g).par_for_each(|(j, i), v| {
-                *v += d.gap(self.grid.x(i), self.grid.y(j), xc, delta);
-            });
+        if self.relief.is_empty() {
+            return g;
         }
+        let (travel, delta) = (self.travel_a(t), self.scales.delta);
+        Zip::indexed(&mut g).par_for_each(|(j, i), v| {
+            *v += self.relief.gap(self.grid.x(i), self.grid.y(j), travel, delta);
+        });
         g
     }
 

@@ -150,7 +150,10 @@ fn a_solve_that_does_not_converge_says_where_and_when() {
     assert!(msg.contains("too few iterations to judge"), "{msg}");
     // Features are not steady: refused before any work.
     let mut m = model(33, 0.0);
-    m.set_passing(vec![], vec![ehl_core::Hole { radius_a: 0.2, x_start_a: -1.0, y_a: 0.0 }]);
+    m.set_passing(
+        ehl_core::Relief::default(),
+        vec![ehl_core::Hole { radius_a: 0.2, x_start_a: -1.0, y_a: 0.0 }],
+    );
     assert!(matches!(rolling_steady(&m, &SteadySettings::default()), Err(LayerError::Setup(_))));
     // Nor is standing still: a squeeze has its own steady solve.
     let still = table1(33, 0.0);

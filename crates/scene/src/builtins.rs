@@ -26,6 +26,7 @@ pub(crate) const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "stop-start-compare",
     "rolling-from-squeezed-compare",
     "startup-ramp-compare",
+    "waviness-compare",
     "reynolds-m20-l10",
     "reynolds-m20-l10-dent",
     "reynolds-seed"

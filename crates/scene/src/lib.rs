@@ -4,7 +4,8 @@
 //! Built-in scenes are the JSON files in `validation/scenes/`, compiled in by name.
 
 use ehl_core::{
-    Contact, Dent, DrySettings, Grid, Hole, Kinematics, KinematicsError, Lubricant, Passing, Supply,
+    Contact, Dent, DrySettings, Grid, Hole, Kinematics, KinematicsError, Lubricant, Passing,
+    Relief, Roughness, Supply, Waviness,
 };
 use ehl_layer::{LayerSpec, Scheme, SteadySettings};
 use ehl_reynolds::{DensityLaw, ReynoldsSettings, ViscosityLaw};
@@ -29,7 +30,8 @@ pub use sweep::{Axis, Parameter, Sweep, builtin_sweep_names, load_sweep};
 pub use tiers::{Tiered, Tiers};
 use validate::Check;
 pub use validate::{
-    MAX_A_OVER_R, MAX_DOMAIN_A, MAX_PLACE_A, MAX_SNAPSHOTS, MAX_SPEED_M_S, MAX_TIME_S, PLAUSIBLE,
+    MAX_A_OVER_R, MAX_DOMAIN_A, MAX_PLACE_A, MAX_SNAPSHOTS, MAX_SPEED_M_S, MAX_TIME_S,
+    MIN_CELLS_PER_WAVELENGTH, PLAUSIBLE,
 };
 pub use views::{LayerView, MarchCase, ReynoldsView};
 
@@ -277,20 +279,23 @@ impl Scene {
 }
 
 impl Scene {
-    /// The dents of the run in the ball, their depths in metres (an `amplitude` in units of the
-    /// supply's thickness resolved with it).
-    pub fn dents(&self) -> Result<Vec<Dent>, SceneError> {
-        let Some(r) = &self.run else { return Ok(vec![]) };
+    /// The surfaces' relief in the run, resolved for a contact of half-width `a_m` [m]: dents
+    /// with their depths in metres (an `amplitude` in units of the supply's thickness resolved
+    /// with it), waviness and roughness with their lengths in units of `a`.
+    pub fn relief(&self, a_m: f64) -> Result<Relief, SceneError> {
+        let Some(r) = &self.run else { return Ok(Relief::default()) };
         let l0 = self.supply.as_ref().map(|s| s.thickness_m);
-        let mut out = vec![];
+        let mut out = Relief::default();
         for (k, f) in r.features.iter().enumerate() {
             match f {
-                Feature::Dent(d) => out.push(d.resolved(l0).ok_or_else(|| SceneError::Range {
+                Feature::Dent(d) => out.dents.push(d.resolved(l0).ok_or_else(|| SceneError::Range {
                     origin: self.name.clone(),
                     field: format!("run.features[{k}].dent.amplitude"),
                     value: format!("{:?}", d.amplitude),
                     allowed: "a depth in units of supply.thickness_m needs a supply: give `supply`, or `depth_m`".into(),
                 })?),
+                Feature::Waviness(w) => out.waves.push(w.resolved(a_m)),
+                Feature::Roughness(r) => out.roughness.push(r.resolved(a_m)),
                 Feature::Hole(_) => {}
             }
         }
@@ -307,19 +312,23 @@ impl Scene {
     pub fn passing(&self) -> Vec<Passing> {
         let dents = self.run.iter().flat_map(|r| &r.features).filter_map(|f| match f {
             Feature::Dent(d) => Some(Passing { x_start_a: d.x_start_a, reach_a: d.reach_a() }),
-            Feature::Hole(_) => None,
+            Feature::Waviness(_) | Feature::Roughness(_) | Feature::Hole(_) => None,
         });
         dents.chain(self.holes().iter().map(Passing::from)).collect()
     }
 }
 
-/// A feature of the run. Only dents (in the ball's surface) belong here; a hole is in the oil
-/// supply (`supply.holes`) and is refused here with that said.
+/// A feature of the run: the surfaces' relief. A hole is in the oil supply (`supply.holes`) and
+/// is refused here with that said.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Feature {
     /// A dent (or bump) in the ball.
     Dent(DentSpec),
+    /// Harmonic waviness of the surfaces.
+    Waviness(WavinessSpec),
+    /// Random roughness of the surfaces.
+    Roughness(RoughnessSpec),
     /// Refused: holes are in `supply.holes`.
     Hole(Hole),
 }
@@ -358,6 +367,67 @@ impl DentSpec {
     /// Radius beyond which the dent is below 1e-6 of its depth [a].
     pub fn reach_a(&self) -> f64 {
         Dent { depth_m: 0.0, width_a: self.width_a, x_start_a: 0.0, y_a: 0.0 }.reach_a()
+    }
+}
+
+/// Harmonic waviness as a scene gives it (SI): a gap added of `A cos(2π s/λ + φ)`, `s` the
+/// distance along the wave's direction on the moving surfaces (pure rolling: a pattern on the
+/// ball and one on the disc pass alike).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WavinessSpec {
+    /// Amplitude `A` [m].
+    pub amplitude_m: f64,
+    /// Wavelength `λ` [m].
+    pub wavelength_m: f64,
+    /// Direction of the wave from the rolling direction [deg]: 0 transverse (ridges across the
+    /// track, passing through the contact), 90 longitudinal (ridges along it, standing).
+    #[serde(default)]
+    pub angle_deg: f64,
+    /// Phase `φ` at the origin at `t = 0` [deg].
+    #[serde(default)]
+    pub phase_deg: f64,
+}
+
+impl WavinessSpec {
+    /// The waviness on a contact of half-width `a_m` [m].
+    pub fn resolved(&self, a_m: f64) -> Waviness {
+        Waviness {
+            amplitude_m: self.amplitude_m,
+            wavelength_a: self.wavelength_m / a_m,
+            angle_rad: self.angle_deg.to_radians(),
+            phase_rad: self.phase_deg.to_radians(),
+        }
+    }
+}
+
+/// Random roughness as a scene gives it (SI): Gaussian heights of RMS `rq_m`, a Gaussian
+/// autocorrelation falling to `1/e` over the correlation lengths, drawn from `seed`
+/// ([`ehl_core::Roughness`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoughnessSpec {
+    /// RMS height `Rq` [m].
+    pub rq_m: f64,
+    /// Correlation length `β` along the rolling direction [m] (across it too, unless given).
+    pub correlation_length_m: f64,
+    /// Correlation length across the rolling direction [m] (absent: isotropic).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub correlation_length_y_m: Option<f64>,
+    /// The random stream's seed: one seed, one surface, on every grid and machine.
+    #[serde(default)]
+    pub seed: u64,
+}
+
+impl RoughnessSpec {
+    /// The surface on a contact of half-width `a_m` [m].
+    pub fn resolved(&self, a_m: f64) -> Roughness {
+        let beta_y = self.correlation_length_y_m.unwrap_or(self.correlation_length_m);
+        Roughness::new(self.rq_m, self.correlation_length_m / a_m, beta_y / a_m, self.seed)
+    }
+    /// The shortest correlation length [m].
+    pub fn shortest_m(&self) -> f64 {
+        self.correlation_length_m.min(self.correlation_length_y_m.unwrap_or(f64::INFINITY))
     }
 }
 
@@ -558,8 +628,9 @@ mod tests {
         assert!(s.is_comparison() && s.comparing(&[Model::Layer, Model::Layer]).is_err());
         let r = s.for_model(Model::Reynolds);
         let l = s.for_model(Model::Layer);
-        assert_eq!(r.dents().unwrap(), l.dents().unwrap());
-        assert_eq!(r.dents().unwrap()[0].depth_m, 1.25 * 2.5e-8);
+        let a = 1.3e-4;
+        assert_eq!(r.relief(a).unwrap(), l.relief(a).unwrap());
+        assert_eq!(r.relief(a).unwrap().dents[0].depth_m, 1.25 * 2.5e-8);
         assert!(r.layer.is_none() && r.supply == s.supply && l.run == s.run);
         assert!(s.for_model(Model::Dry).supply.is_none());
         // A hole in the ball is refused (it belongs to the supply); one in the supply passes a
@@ -789,5 +860,57 @@ mod tests {
         let s = builtin("hertz").unwrap();
         assert_eq!(s.with_points(65).unwrap().grid().nx, 65);
         assert!(s.with_points(3).is_err());
+    }
+
+    /// The wavy built-in with its first feature replaced by `feature` and `edit` applied.
+    fn wavy(feature: serde_json::Value, edit: impl Fn(&mut serde_json::Value)) -> String {
+        let mut v: serde_json::Value =
+            serde_json::from_str(&builtin("waviness-compare").unwrap().to_json()).unwrap();
+        v["run"]["features"][0] = feature;
+        edit(&mut v);
+        v.to_string()
+    }
+
+    #[test]
+    fn waviness_and_roughness_are_read_in_si_and_resolved_on_the_contact() {
+        let s = builtin("waviness-compare").unwrap();
+        let a = ehl_core::HertzScales::new(&s.conditions.contact()).a;
+        let relief = s.relief(a).unwrap();
+        let w = relief.waves[0];
+        assert_eq!((w.amplitude_m, w.wavelength_a * a), (5e-9, 3.4e-5));
+        assert_eq!(relief.period_a(), Some(w.wavelength_a));
+        assert!(s.passing().is_empty(), "a pattern covers the track: it never passes");
+        let rough = serde_json::json!({"roughness": {"rq_m": 2e-9, "correlation_length_m": 2e-5, "seed": 3}});
+        let t = Scene::from_json(&wavy(rough, |_| {}), "test").unwrap().relief(a).unwrap();
+        assert_eq!(t.roughness[0], ehl_core::Roughness::new(2e-9, 2e-5 / a, 2e-5 / a, 3));
+        assert_eq!(t.period_a(), None, "roughness never repeats");
+    }
+
+    #[test]
+    fn a_pattern_the_grid_cannot_carry_is_refused_with_its_cells_and_the_grid_that_would() {
+        use serde_json::json;
+        let wave = |amp: f64, len: f64, angle: f64| json!({"waviness": {"amplitude_m": amp, "wavelength_m": len, "angle_deg": angle}});
+        // 129² over 2.5 a: cells of 2.63 µm; an 8 µm wave spans about 3 of them.
+        let m = refused(&wavy(wave(5e-9, 8e-6, 0.0), |_| {}));
+        assert!(m.contains("features[0].waviness.wavelength_m"), "{m}");
+        assert!(
+            m.contains("3.04 cells") && m.contains("at least 4") && m.contains("170 points"),
+            "{m}"
+        );
+        let m = refused(&wavy(wave(-1e-9, 3.4e-5, 0.0), |_| {}));
+        assert!(m.contains("waviness.amplitude_m"), "{m}");
+        let m = refused(&wavy(wave(5e-9, 3.4e-5, 400.0), |_| {}));
+        assert!(m.contains("waviness.angle_deg"), "{m}");
+        let rough = json!({"roughness": {"rq_m": 2e-9, "correlation_length_m": 2e-5, "correlation_length_y_m": 4e-6}});
+        let m = refused(&wavy(rough, |_| {}));
+        assert!(m.contains("roughness.correlation_length_y_m") && m.contains("1.52 cells"), "{m}");
+        // A pattern passing is not steady.
+        let steady = |v: &mut serde_json::Value| {
+            v["run"]["method"] = "steady".into();
+            v["run"].as_object_mut().unwrap().remove("start");
+            v["run"].as_object_mut().unwrap().remove("snapshots_s");
+        };
+        let m = refused(&wavy(wave(5e-9, 3.4e-5, 0.0), steady));
+        assert!(m.contains("run.") && m.contains("not steady"), "{m}");
     }
 }

@@ -22,6 +22,10 @@ pub const PLAUSIBLE: &[(&str, f64, f64, &str, &str)] = &[
     ("supply.thickness_m", 1e-12, 1e-3, "m", "from a molecular layer to a millimetre of oil"),
 ];
 
+/// The fewest grid cells a wavelength of the surfaces' relief may span: a wave on fewer
+/// points is aliased (on two, a crest and a trough or nothing, as its phase falls).
+pub const MIN_CELLS_PER_WAVELENGTH: f64 = 4.0;
+
 /// The largest distance of any place in a scene from the contact's centre, in units of `a`:
 /// a feature or a hole further out never reaches a domain the checks allow.
 pub const MAX_PLACE_A: f64 = 1e4;
@@ -428,8 +432,8 @@ impl Scene {
             .map_err(|e| ck.err("run.motion", format!("{:?}", r.motion), &e.what))?;
         let a = ehl_core::HertzScales::new(&self.conditions.contact()).a;
         let passing = self.passing();
-        self.validate_features(ck, r)?;
-        Self::validate_method(ck, r, &kin, !passing.is_empty())?;
+        self.validate_features(ck, r, a)?;
+        Self::validate_method(ck, r, &kin, !(passing.is_empty() && r.features.is_empty()))?;
         Self::validate_steps(ck, r)?;
         Self::validate_stop(ck, r, &kin, a, passing.first())?;
         Self::validate_snapshots(ck, r, &kin, a, passing.first())
@@ -505,7 +509,7 @@ impl Scene {
                         anything_passes,
                         "run.features",
                         format!("{} dent(s) and the supply's holes", r.features.len()),
-                        "a dent or a hole passing is not steady: none allowed",
+                        "a feature or a hole passing is not steady: none allowed",
                     ),
                     (
                         !r.snapshots_s.is_empty(),
@@ -657,10 +661,59 @@ impl Scene {
     }
 
     /// Features: dents (depth in one unit, an amplitude with a supply to refer to), each with a
-    /// finite place; a hole is refused here (it is in the supply).
-    fn validate_features(&self, ck: &Check, r: &RunSpec) -> Result<(), SceneError> {
+    /// finite place; waviness and roughness with their heights and lengths, the lengths on at
+    /// least [`MIN_CELLS_PER_WAVELENGTH`] cells of the grid (on a contact of half-width `a`
+    /// [m]); a hole is refused here (it is in the supply).
+    fn validate_features(&self, ck: &Check, r: &RunSpec, a: f64) -> Result<(), SceneError> {
+        use ehl_core::check::{above, within};
+        let grid = self.grid();
+        let cell_m = grid.dx().max(grid.dy()) * a;
+        // A length the grid must resolve: refused with its cells and the grid that would.
+        let resolved = |field: &str, length_m: f64, need: f64, what: &str| {
+            let cells = length_m / cell_m;
+            if cells >= need {
+                return Ok(());
+            }
+            let n = ((grid.shape().1 - 1) as f64 * need / cells).ceil() as usize + 1;
+            Err(ck.err(
+                field,
+                num(length_m),
+                &format!(
+                    "{what} spans {cells:.2} cells of the grid ({cell_m:.3e} m each): at least {need} are needed to carry it; refine the grid to about {n} points per side, or lengthen it"
+                ),
+            ))
+        };
         for (k, f) in r.features.iter().enumerate() {
             match f {
+                Feature::Waviness(w) => {
+                    let f = |n: &str| format!("run.features[{k}].waviness.{n}");
+                    ck.own("", within(&f("amplitude_m"), w.amplitude_m, 0.0, 1e-3, "m"))?;
+                    ck.own("", above(&f("wavelength_m"), w.wavelength_m, 0.0, 1.0, "m"))?;
+                    let deg = "degrees";
+                    ck.own("", within(&f("angle_deg"), w.angle_deg, -360.0, 360.0, deg))?;
+                    ck.own("", within(&f("phase_deg"), w.phase_deg, -360.0, 360.0, deg))?;
+                    let need = MIN_CELLS_PER_WAVELENGTH;
+                    resolved(&f("wavelength_m"), w.wavelength_m, need, "a wavelength")?;
+                }
+                Feature::Roughness(g) => {
+                    let f = |n: &str| format!("run.features[{k}].roughness.{n}");
+                    ck.own("", within(&f("rq_m"), g.rq_m, 0.0, 1e-3, "m"))?;
+                    let (bx, by) = ("correlation_length_m", "correlation_length_y_m");
+                    ck.own("", above(&f(bx), g.correlation_length_m, 0.0, 1.0, "m"))?;
+                    if let Some(b) = g.correlation_length_y_m {
+                        ck.own("", above(&f(by), b, 0.0, 1.0, "m"))?;
+                    }
+                    // The Gaussian spectrum's shortest wavelengths (two standard deviations
+                    // out) are about 2.2 β: half the cells per β that a wave needs.
+                    let need = MIN_CELLS_PER_WAVELENGTH / 2.0;
+                    let field =
+                        if g.correlation_length_y_m.is_some_and(|b| b < g.correlation_length_m) {
+                            by
+                        } else {
+                            bx
+                        };
+                    resolved(&f(field), g.shortest_m(), need, "a correlation length")?;
+                }
                 Feature::Dent(d) => {
                     let f = |n: &str| format!("run.features[{k}].dent.{n}");
                     match (d.amplitude, d.depth_m) {

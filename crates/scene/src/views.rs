@@ -4,7 +4,7 @@
 //! block is refused naming the field.
 
 use crate::{Check, Model, ReynoldsSpec, RunSpec, Scene, SceneError};
-use ehl_core::{Contact, Dent, DrySettings, Grid, Kinematics, Lubricant, Passing, Supply};
+use ehl_core::{Contact, DrySettings, Grid, Kinematics, Lubricant, Passing, Relief, Supply};
 use ehl_layer::LayerSpec;
 
 /// A march resolved: its run block, the motion built, what passes through the contact.
@@ -17,13 +17,14 @@ pub struct MarchCase {
     /// What passes through the contact, in order: the dents, then the supply's holes
     /// ([`Scene::passing`]).
     pub passing: Vec<Passing>,
-    /// The dents in the ball, depths in metres.
-    pub dents: Vec<Dent>,
+    /// The surfaces' relief (dents' depths in metres, lengths in units of the model's `a`).
+    pub relief: Relief,
 }
 
 impl MarchCase {
-    /// The run's block and motion resolved on the reference speed `u_ref` [m/s].
-    fn of(scene: &Scene, run: &RunSpec, u_ref: f64) -> Result<MarchCase, SceneError> {
+    /// The run's block and motion resolved on the reference speed `u_ref` [m/s], its relief on
+    /// the model's contact half-width `a_m` [m].
+    fn of(scene: &Scene, run: &RunSpec, u_ref: f64, a_m: f64) -> Result<MarchCase, SceneError> {
         let motion = run.kinematics(u_ref).map_err(|e| {
             Check { origin: &scene.name }.err(
                 "run.motion",
@@ -31,12 +32,13 @@ impl MarchCase {
                 &e.to_string(),
             )
         })?;
-        Ok(MarchCase { run: run.clone(), motion, passing: scene.passing(), dents: scene.dents()? })
+        let relief = scene.relief(a_m)?;
+        Ok(MarchCase { run: run.clone(), motion, passing: scene.passing(), relief })
     }
 
     /// The rest a squeezed start takes before this march: the same contact, supply and steps,
     /// a sudden stop from the reference speed and rest under the load until steady by the
-    /// run's own rule or `max_time_s`; no dents (the supply's holes still pass).
+    /// run's own rule or `max_time_s`; smooth surfaces (the supply's holes still pass).
     pub fn at_rest(&self, max_time_s: f64) -> Result<MarchCase, SceneError> {
         let run = RunSpec {
             start: Some(crate::StartState::SteadyRolling),
@@ -59,8 +61,8 @@ impl MarchCase {
                 &e.to_string(),
             )
         })?;
-        let passing = self.passing[self.dents.len()..].to_vec();
-        Ok(MarchCase { run, motion, passing, dents: vec![] })
+        let passing = self.passing[self.relief.dents.len()..].to_vec();
+        Ok(MarchCase { run, motion, passing, relief: Relief::default() })
     }
 }
 
@@ -131,7 +133,12 @@ impl Scene {
             name: self.name.clone(),
             grid: self.grid(),
             dry: *self.solver,
-            march: MarchCase::of(self, &run, rolling_velocity_m_s)?,
+            march: MarchCase::of(
+                self,
+                &run,
+                rolling_velocity_m_s,
+                ehl_core::HertzScales::new(&self.conditions.contact()).a,
+            )?,
             contact: self.conditions.contact(),
             lubricant,
             supply,
@@ -147,7 +154,10 @@ impl Scene {
         let spec = self.reynolds.clone().ok_or_else(|| self.missing("reynolds", m))?;
         let (contact, sum_velocity_m_s) = self.reynolds_conditions();
         let march = match self.run.as_ref().filter(|r| r.method() == crate::Method::March) {
-            Some(r) => Some(MarchCase::of(self, r, 0.5 * sum_velocity_m_s)?),
+            Some(r) => {
+                let a = ehl_core::HertzScales::new(&contact).a;
+                Some(MarchCase::of(self, r, 0.5 * sum_velocity_m_s, a)?)
+            }
             None => None,
         };
         Ok(ReynoldsView {

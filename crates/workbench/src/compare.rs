@@ -191,6 +191,7 @@ impl Comparison {
                         "load_error": ob.load_error, "wall_time_s": e.wall_time_s,
                         "errors": errors_json(Some(o.as_ref())),
                         "solid_contact": o.solid_contact(),
+                        "passage": o.passage().map(crate::output::passage),
                         "caveat": o.caveat(),
                     })
                 }
@@ -229,6 +230,7 @@ impl Comparison {
             .map(|e| {
                 let ob = e.outcome.as_ref().ok().map(|o| o.observables());
                 let contact = e.outcome.as_ref().ok().and_then(|o| o.solid_contact());
+                let passage = e.outcome.as_ref().ok().and_then(|o| o.passage());
                 serde_json::json!({
                     "model": e.name(),
                     "converged": ob.is_some(),
@@ -242,6 +244,10 @@ impl Comparison {
                     "contact_load_share": contact.map(|c| c.load_share),
                     "contact_area_m2": contact.map(|c| c.area_m2),
                     "contact_max_pressure_pa": contact.map(|c| c.max_pressure_pa),
+                    "passage_central_film_mean_m": passage.map(|p| p.central_film_mean_m),
+                    "passage_minimum_film_m": passage.map(|p| p.minimum_film_m),
+                    "passage_lambda": passage.and_then(|p| p.lambda),
+                    "passage_amplitude_ratio": passage.and_then(|p| p.amplitude_ratio),
                     "error": errors_json(e.outcome.as_ref().ok().map(|o| o.as_ref())),
                     "wall_time_s": e.wall_time_s,
                     "diagnosis": e.outcome.as_ref().err().map(|d| d.to_string()),
@@ -275,6 +281,25 @@ impl Comparison {
                     c.load_share,
                     c.area_m2,
                     c.max_pressure_pa * 1e-9
+                );
+            }
+            // A march through a patterned relief: its last passage, the answer to compare.
+            if let Some(p) = o.passage() {
+                let lambda = p.lambda.map_or(String::new(), |l| format!(", λ {l:.2}"));
+                let amp = match (p.deformed_amplitude_m, p.amplitude_ratio) {
+                    (Some(d), Some(r)) => {
+                        format!(", wave at the centre {:.3} nm (A_d/A_i {r:.3})", d * 1e9)
+                    }
+                    _ => String::new(),
+                };
+                t += &format!(
+                    "  {}: last passage ({:.3} mm): h_c {:.3} nm mean ({:.3}–{:.3}), h_min {:.3} nm{lambda}{amp}\n",
+                    e.name(),
+                    p.travel_m * 1e3,
+                    p.central_film_mean_m * 1e9,
+                    p.central_film_min_m * 1e9,
+                    p.central_film_max_m * 1e9,
+                    p.minimum_film_m * 1e9,
                 );
             }
             if let Some(c) = o.caveat() {

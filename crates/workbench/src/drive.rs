@@ -267,17 +267,26 @@ pub fn drive<T: Transient>(
             if t < rule.min_time_s {
                 continue;
             }
-            // Against the last record at least one window back.
+            // Against the last record at least one window back (a periodic rule: the state
+            // exactly one window back, between the records around it).
             let now = &history.last().unwrap().1;
-            if let Some((_, old)) =
-                history.iter().rev().find(|(to, _)| *to <= t - rule.window_s + 1e-15)
-            {
-                let worst = now.iter().zip(old).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            let back = t - rule.window_s;
+            let k = history.iter().rposition(|(to, _)| *to <= back + 1e-15);
+            let old = k.map(|k| match history.get(k + 1) {
+                Some((t1, next)) if rule.periodic && *t1 > history[k].0 => {
+                    let w = (back - history[k].0) / (t1 - history[k].0);
+                    history[k].1.iter().zip(next).map(|(a, b)| a + w * (b - a)).collect()
+                }
+                _ => history[k].1.clone(),
+            });
+            if let Some(old) = old {
+                let worst = now.iter().zip(&old).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
                 if worst < rule.tolerance {
+                    let what = if rule.periodic { "periodic" } else { "steady" };
                     break (
                         true,
                         format!(
-                            "steady: largest change {worst:.2e} < {} over the last {}",
+                            "{what}: largest change {worst:.2e} < {} over the last {}",
                             rule.tolerance, rule.window_text
                         ),
                     );
@@ -407,6 +416,7 @@ mod tests {
             window_s: 0.5,
             min_time_s: 1.0,
             window_text: "0.5 s".into(),
+            periodic: false,
         };
         let p = Plan { steady: Some(rule), ..plan(Steps::Fixed { dt_s: 0.05 }) };
         let mut m = Relax::new(2.0);

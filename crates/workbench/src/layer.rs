@@ -254,7 +254,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
     };
     // The scene's own motion starts at t = 0.
     state.t = 0.0;
-    m.set_passing(view.march.dents.clone(), view.supply.holes.clone());
+    m.set_passing(view.march.relief.clone(), view.supply.holes.clone());
     let record = match (method, &r.motion) {
         (Method::Steady, _) | (_, Motion::None) => None,
         (Method::March, motion) => {
@@ -265,7 +265,8 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
             let controlled = Some((m.eta(0.0) / m.eo * 1e-2, order));
             let plan =
                 Plan::from_run(r, &view.march.passing, &grid, m.scales.a, m.motion(), controlled)
-                    .within(|| fail("run"))?;
+                    .within(|| fail("run"))?
+                    .per_passage(view.march.relief.period_a(), m.scales.a, m.motion());
             let mut march = LayerMarch { m: &m, state, stepper };
             let mut rec = drive::drive(&mut march, &plan, &mut |t| {
                 spin.set_message(format!("layer {label}: t = {t:.4} s"))

@@ -116,6 +116,12 @@ pub trait Outcome: AsAny + Send + Sync + 'static {
     fn solid_contact(&self) -> Option<ehl_core::SolidContact> {
         None
     }
+    /// Statistics over the last passage of a march rolling through a patterned relief
+    /// (waviness, roughness): the films over it, `λ`, a single wave's deformed amplitude at the
+    /// contact's centre ([`ehl_core::Passage`]); `None` for anything else.
+    fn passage(&self) -> Option<ehl_core::Passage> {
+        passage_of(self)
+    }
     /// The contact and the rolling speed [m/s] the model ran (the scene's; the Reynolds
     /// model's Moes input resolves them).
     fn conditions_used(&self) -> (ehl_core::Contact, f64) {
@@ -168,6 +174,46 @@ pub trait Outcome: AsAny + Send + Sync + 'static {
     /// `None` for a model's own outcome.
     fn inner(&self) -> Option<&dyn Outcome> {
         None
+    }
+}
+
+/// [`Outcome::passage`]: the passage a periodic pattern's period long (else the domain's
+/// length), at the rolling speed; the deformed amplitude fitted along the line through the
+/// centre the wave varies most along, over the whole wavelengths within `|s| ≤ a/2`.
+fn passage_of<O: Outcome + ?Sized>(o: &O) -> Option<ehl_core::Passage> {
+    let (scene, a, g) = (o.scene(), o.scales().a, *o.grid());
+    let run = scene.run.as_ref().filter(|r| r.motion == ehl_scene::Motion::Rolling)?;
+    let relief = scene.relief(a).ok()?;
+    let rms = relief.rms_m();
+    rms?;
+    let u = o.conditions_used().1;
+    let period_a = relief.period_a();
+    let travel_a = period_a.unwrap_or(g.x_max - g.x_min);
+    let p = ehl_core::Passage::over(o.history()?, travel_a * a / u, travel_a * a, rms)?;
+    let [w] = relief.waves.as_slice() else { return Some(p) };
+    if !relief.roughness.is_empty() || run.features.len() != 1 {
+        return Some(p);
+    }
+    let (c, s) = (w.angle_rad.cos().abs(), w.angle_rad.sin().abs());
+    let along_x = c >= s;
+    let line_period = w.wavelength_a / if along_x { c } else { s };
+    let whole = (1.0 / line_period).floor();
+    if whole < 1.0 {
+        return Some(p);
+    }
+    let (film, delta) = (o.film(), o.scales().delta);
+    let reach = 0.5 * whole * line_period + 1e-9;
+    let (xs, h): (Vec<f64>, Vec<f64>) = if along_x {
+        let j = g.row_nearest(0.0);
+        (0..g.nx).filter(|&i| g.x(i).abs() <= reach).map(|i| (g.x(i), film[[j, i]] * delta)).unzip()
+    } else {
+        let i = g.col_nearest(0.0);
+        (0..g.ny).filter(|&j| g.y(j).abs() <= reach).map(|j| (g.y(j), film[[j, i]] * delta)).unzip()
+    };
+    let k = std::f64::consts::TAU / line_period;
+    match ehl_core::passage::harmonic_amplitude(&xs, &h, k) {
+        Some(a_d) => Some(p.with_amplitude(a_d, w.amplitude_m)),
+        None => Some(p),
     }
 }
 

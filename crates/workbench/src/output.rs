@@ -332,7 +332,7 @@ pub const SUMMARY_SCHEMA: &str = "ehl-summary/1";
 
 /// The keys of `summary.json` every model writes, in the same shape: what a reader can take
 /// from any model's summary without knowing which model wrote it.
-pub const SHARED_KEYS: [&str; 14] = [
+pub const SHARED_KEYS: [&str; 15] = [
     "schema",
     "scene",
     "model",
@@ -342,6 +342,7 @@ pub const SHARED_KEYS: [&str; 14] = [
     "grid",
     "observables",
     "solid_contact",
+    "passage",
     "accuracy",
     "indicators",
     "caveat",
@@ -385,6 +386,24 @@ fn accuracy(outcome: &dyn Outcome) -> Value {
     })
 }
 
+/// `summary.json`'s `passage`: the last passage's statistics, units beside the numbers.
+pub fn passage(p: ehl_core::Passage) -> Value {
+    serde_json::json!({
+        "travel": q(p.travel_m, "m"),
+        "duration": q(p.duration_s, "s"),
+        "records": p.records,
+        "central_film": {
+            "mean": p.central_film_mean_m, "min": p.central_film_min_m,
+            "max": p.central_film_max_m, "unit": "m",
+        },
+        "minimum_film": q(p.minimum_film_m, "m"),
+        "max_pressure": q(p.max_pressure_pa, "Pa"),
+        "lambda": p.lambda,
+        "deformed_amplitude": p.deformed_amplitude_m.map(|v| q(v, "m")),
+        "amplitude_ratio": p.amplitude_ratio,
+    })
+}
+
 /// `summary.json`: the shared part (SI, units beside every number), then the model's own
 /// summary under `details`.
 pub fn summary(outcome: &dyn Outcome) -> Value {
@@ -421,6 +440,8 @@ pub fn summary(outcome: &dyn Outcome) -> Value {
             "area": q(c.area_m2, "m^2"),
             "max_pressure": q(c.max_pressure_pa, "Pa"),
         })),
+        // A march through a patterned relief: its last passage (`null`: none).
+        "passage": outcome.passage().map(passage),
         "accuracy": accuracy(outcome),
         "indicators": indicators,
         // Why the answer needs a caveat: not converged, or flagged by its accuracy (`null`: none).

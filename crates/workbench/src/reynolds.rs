@@ -2,7 +2,7 @@
 
 mod figures;
 mod march;
-use march::{march_plan, run_transient, set_dents, squeeze_start};
+use march::{march_plan, run_transient, set_relief, squeeze_start};
 pub mod flow;
 mod report;
 use crate::error::{Result, Within};
@@ -474,9 +474,9 @@ fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<Reynol
         // step stopped unconverged (docs/decisions.md, "The start of a march").
         solver.settings.coarse_film_content = false;
     }
-    // The march starts from the steady solution with the dents at their start.
-    if let Some(m) = run.filter(|m| !m.dents.is_empty()) {
-        set_dents(&mut solver, &m.dents, 0.0);
+    // The march starts from the steady solution with the relief at its start.
+    if let Some(m) = run.filter(|m| !m.relief.is_empty()) {
+        set_relief(&mut solver, &m.relief, 0.0);
     }
     // The supply: the layer arriving at the inflow boundary (holes there at the start left
     // out of the steady solve: a steady contact has none; they enter as the march carries them).

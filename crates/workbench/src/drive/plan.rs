@@ -38,6 +38,10 @@ pub struct SteadyRule {
     pub min_time_s: f64,
     /// The window as the scene states it, for the stop reason.
     pub window_text: String,
+    /// Compare with the state exactly one window back, interpolated between the records
+    /// around it: a periodic pattern's window is whole passages, and the nearest record's
+    /// phase would differ by up to a step.
+    pub periodic: bool,
 }
 
 /// The most fixed steps a feature's passage may plan: far beyond any scene (the hole's
@@ -215,10 +219,33 @@ impl Plan {
             // Rolling from any start: the domain's material must have been replaced once.
             let min_time_s =
                 settled + if u > 0.0 { (grid.x_max - grid.x_min) * a / u } else { window_s };
-            SteadyRule { tolerance: st.steady_tolerance, window_s, min_time_s, window_text }
+            SteadyRule {
+                tolerance: st.steady_tolerance,
+                window_s,
+                min_time_s,
+                window_text,
+                periodic: false,
+            }
         });
         let snapshot_times_s = run.snapshot_times(a, motion, passing.first());
         Ok(Plan { phases, end, steady, max_time_s: st.max_time_s, snapshot_times_s })
+    }
+
+    /// The steady rule of surfaces carrying a pattern that repeats every `period_a` [a] of
+    /// travel: a passage is periodic when the state repeats after whole passages, so the
+    /// window grows to the fewest whole passages that cover it (on a contact of half-width
+    /// `a` [m]). Without a period, or without a steady rule, the plan as it is.
+    pub fn per_passage(mut self, period_a: Option<f64>, a: f64, motion: &Kinematics) -> Self {
+        let u = motion.final_speed();
+        let (Some(p), Some(rule)) = (period_a, self.steady.as_mut()) else { return self };
+        if !(u > 0.0 && p > 0.0) {
+            return self;
+        }
+        let n = (rule.window_s * u / (p * a) - 1e-9).ceil().max(1.0);
+        rule.window_s = n * p * a / u;
+        rule.window_text = format!("{n} passages of the pattern ({:.4} a of travel)", n * p);
+        rule.periodic = true;
+        self
     }
 }
 

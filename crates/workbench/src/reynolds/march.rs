@@ -5,7 +5,7 @@ use super::{SqueezedRest, TransientRecord, TransientRow};
 use crate::drive::{self, Step, Transient};
 use crate::error::{Result, Within};
 use ehl_core::observe::Observables;
-use ehl_core::{Dent, Grid, Kinematics};
+use ehl_core::{Grid, Kinematics, Relief};
 use ehl_reynolds::{ReynoldsParams, ReynoldsSolver};
 use ehl_scene::{MarchCase, ReynoldsView};
 use ndarray::Array2;
@@ -37,27 +37,25 @@ pub(super) fn squeeze_start(
 /// 4.2, about 5 s).
 const SQUEEZE_START_MAX_S: f64 = 5.0;
 
-/// Puts the dents (depths in m) into the solver's rigid film with their centres moved by
-/// `travel` [a] from their start, in units of `a²/R`: the core's dent, the layer model's too.
-pub(super) fn set_dents(solver: &mut ReynoldsSolver, dents: &[Dent], travel: f64) {
+/// Puts the surfaces' relief into the solver's rigid film, moved by `travel` [a] from its
+/// start, in units of `a²/R`: the core's relief, the layer model's too.
+pub(super) fn set_relief(solver: &mut ReynoldsSolver, relief: &Relief, travel: f64) {
     let delta = solver.prm.scales.delta;
-    solver.set_extra_gap(move |x: f64, y: f64| {
-        dents.iter().map(|d| d.gap(x, y, d.x_start_a + travel, delta)).sum()
-    });
+    solver.set_extra_gap(move |x: f64, y: f64| relief.gap(x, y, travel, delta));
 }
 
-/// The Reynolds solver as the driver marches it: each step moves the dents by the travel of
+/// The Reynolds solver as the driver marches it: each step moves the relief by the travel of
 /// the surfaces, sets the wedge term's speed, and solves to the scene's tolerances from the
 /// last state.
 struct ReynoldsMarch<'a> {
     solver: &'a mut ReynoldsSolver,
-    dents: Vec<Dent>,
+    relief: Relief,
     /// The supply when it has holes: the inflow boundary's layer follows them.
     holes: Option<ehl_core::Supply>,
     /// Time since the motion started [s] and the time unit `a/u_ref` [s].
     t_s: f64,
     time_unit: f64,
-    /// How the surfaces move (the dents travel with the ball).
+    /// How the surfaces move (the relief travels with them).
     motion: Kinematics,
     /// Where the first dent starts [a] (0 without dents: the travel).
     x0: f64,
@@ -101,8 +99,8 @@ impl Transient for ReynoldsMarch<'_> {
     fn step(&mut self, dt: f64, estimate_error: bool) -> Result<Step> {
         let t_new = self.t_s + dt;
         let travel = self.motion.travel(t_new) / self.solver.prm.scales.a;
-        if !self.dents.is_empty() {
-            set_dents(self.solver, &self.dents, travel);
+        if !self.relief.is_empty() {
+            set_relief(self.solver, &self.relief, travel);
         }
         if let Some(sup) = &self.holes {
             let (x_in, delta) = (self.solver.grid().x(0), self.solver.prm.scales.delta);
@@ -110,9 +108,10 @@ impl Transient for ReynoldsMarch<'_> {
         }
         // The wedge term at the speed of the time solved for (the scales stay at u_ref).
         self.solver.set_speed(self.motion.speed(t_new) / self.motion.reference_speed());
-        let where_ = || match self.dents.is_empty() {
-            false => format!("dent at x = {:.3} a", self.x0 + travel),
-            true => format!("u = {:.4e} m/s", self.motion.speed(t_new)),
+        let where_ = || match (self.relief.dents.is_empty(), self.relief.is_empty()) {
+            (false, _) => format!("dent at x = {:.3} a", self.x0 + travel),
+            (true, false) => format!("surfaces moved {travel:.3} a"),
+            (true, true) => format!("u = {:.4e} m/s", self.motion.speed(t_new)),
         };
         let rep = self.solver.step(dt / self.time_unit, &mut |_| {}).within(where_)?;
         let now = self.watched_now();
@@ -190,8 +189,9 @@ pub(super) fn march_plan(
 ) -> Result<drive::Plan> {
     let (a, motion) = (prm.scales.a, &march.motion);
     let controlled = Some((g.dx() * a / motion.reference_speed(), 2.0));
-    drive::Plan::from_run(&march.run, &march.passing, g, a, motion, controlled)
-        .within(|| format!("scene `{name}`: run"))
+    let plan = drive::Plan::from_run(&march.run, &march.passing, g, a, motion, controlled)
+        .within(|| format!("scene `{name}`: run"))?;
+    Ok(plan.per_passage(march.relief.period_a(), a, motion))
 }
 
 /// Marches the scene's run from the steady solution on `plan` ([`march_plan`]: steps per cell,
@@ -205,7 +205,7 @@ pub(super) fn run_transient(
     solver: &mut ReynoldsSolver,
     supply: Option<ehl_core::Supply>,
 ) -> Result<TransientRecord> {
-    let (motion, dents) = (case.motion.clone(), case.dents.clone());
+    let (motion, relief) = (case.motion.clone(), case.relief.clone());
     let s = prm.scales;
     let g = solver.grid();
     // An error estimate below the solve's own algebraic error (the central film settles to
@@ -240,7 +240,7 @@ pub(super) fn run_transient(
     };
     let mut march = ReynoldsMarch {
         solver,
-        dents,
+        relief,
         holes,
         t_s: 0.0,
         time_unit,
