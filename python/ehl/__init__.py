@@ -127,7 +127,10 @@ class Result:
     caveat in one line (a steady solve that settled on a cycle), else ``None``.
     ``solid_contact``: where the solids touch, apart from the fluid, ``{"load_share": share,
     "area_m2": m², "max_pressure_pa": Pa}`` (zeros where a film separates them everywhere),
-    or ``None`` for a model that does not say.
+    or ``None`` for a model that does not say. ``passage``: a march through a patterned
+    relief (waviness, roughness): its last passage, ``{"central_film_mean_m", "central_film_min_m",
+    "central_film_max_m", "minimum_film_m", "max_pressure_pa", "lambda", "deformed_amplitude_m",
+    "amplitude_ratio"}`` (the last three ``None`` where they do not apply), else ``None``.
     """
 
     def __init__(self, raw: dict[str, Any]):
@@ -140,6 +143,21 @@ class Result:
                 "max_pressure_pa": sc["max_pressure"]["value"],
             }
             if sc
+            else None
+        )
+        ps = self.summary.get("passage")
+        self.passage: dict[str, float | None] | None = (
+            {
+                "central_film_mean_m": ps["central_film"]["mean"],
+                "central_film_min_m": ps["central_film"]["min"],
+                "central_film_max_m": ps["central_film"]["max"],
+                "minimum_film_m": ps["minimum_film"]["value"],
+                "max_pressure_pa": ps["max_pressure"]["value"],
+                "lambda": ps["lambda"],
+                "deformed_amplitude_m": (ps["deformed_amplitude"] or {}).get("value"),
+                "amplitude_ratio": ps["amplitude_ratio"],
+            }
+            if ps
             else None
         )
         self.report: str = raw["report"]

@@ -260,3 +260,15 @@ def test_ctrl_c_stops_the_solve_and_frees_the_cores():
     assert raised - t0 < 10.0, f"raised {raised - t0:.1f} s after the interrupt"
     # An idle second costs ~0 s of CPU; a solve left running costs ~2 (two cores).
     assert cpu < 0.3, f"{cpu:.2f} s of CPU in the second after the interrupt"
+
+
+def test_a_wave_rolled_through_the_contact_gives_its_last_passage():
+    # 65²: the wave of a/4 on 6.5 cells; the layer model answers and reports its last passage,
+    # λ its mean central film over the wave's RMS height A/√2.
+    c = ehl.compare("waviness-compare", grid=65)
+    p = c["layer"].passage
+    assert p is not None and p["central_film_min_m"] <= p["central_film_mean_m"]
+    assert p["lambda"] == pytest.approx(p["central_film_mean_m"] / (5e-9 / np.sqrt(2)), rel=1e-12)
+    assert 0.0 < p["amplitude_ratio"] < 1.0
+    assert c.comparison["models"][0]["passage"]["lambda"] == pytest.approx(p["lambda"], rel=1e-12)
+    assert ehl.compare("seed", grid=33)["layer"].passage is None

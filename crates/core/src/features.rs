@@ -153,6 +153,15 @@ impl Relief {
         Some(waves.chain(rough).sum::<f64>().sqrt())
     }
 
+    /// The shortest wave a grid must carry [a]: a waviness' wavelength, a roughness' `2 β`
+    /// (its Gaussian spectrum's shortest waves, two standard deviations out, are about
+    /// `2.2 β`); `None` without waviness or roughness.
+    pub fn shortest_wave_a(&self) -> Option<f64> {
+        let waves = self.waves.iter().map(|w| w.wavelength_a);
+        let rough = self.roughness.iter().map(|r| 2.0 * r.correlation_a.0.min(r.correlation_a.1));
+        waves.chain(rough).reduce(f64::min)
+    }
+
     /// The travel after which the relief repeats [a], when it is periodic: waves alone, all
     /// with one period along the rolling direction (longitudinal waves stand and repeat at
     /// any travel). `None` with dents or roughness, or with no wave moving.

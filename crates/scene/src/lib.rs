@@ -4,8 +4,8 @@
 //! Built-in scenes are the JSON files in `validation/scenes/`, compiled in by name.
 
 use ehl_core::{
-    Contact, Dent, DrySettings, Grid, Hole, Kinematics, KinematicsError, Lubricant, Passing,
-    Relief, Roughness, Supply, Waviness,
+    Contact, DrySettings, Grid, Hole, Kinematics, KinematicsError, Lubricant, Passing, Relief,
+    Supply,
 };
 use ehl_layer::{LayerSpec, Scheme, SteadySettings};
 use ehl_reynolds::{DensityLaw, ReynoldsSettings, ViscosityLaw};
@@ -14,6 +14,7 @@ use std::path::Path;
 
 mod builtins;
 mod error;
+mod relief;
 mod spec;
 pub mod sweep;
 mod tiers;
@@ -22,6 +23,7 @@ pub mod views;
 use builtins::parse;
 pub use builtins::{builtin, builtin_names, builtins, load};
 pub use error::SceneError;
+pub use relief::{DentSpec, Feature, RoughnessSpec, WavinessSpec};
 pub use spec::{
     Conditions, Domain, GridSpec, LubricantSpec, Method, Motion, Outputs, RunSpec, StartState,
     StopSettings, TimeSettings,
@@ -315,119 +317,6 @@ impl Scene {
             Feature::Waviness(_) | Feature::Roughness(_) | Feature::Hole(_) => None,
         });
         dents.chain(self.holes().iter().map(Passing::from)).collect()
-    }
-}
-
-/// A feature of the run: the surfaces' relief. A hole is in the oil supply (`supply.holes`) and
-/// is refused here with that said.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Feature {
-    /// A dent (or bump) in the ball.
-    Dent(DentSpec),
-    /// Harmonic waviness of the surfaces.
-    Waviness(WavinessSpec),
-    /// Random roughness of the surfaces.
-    Roughness(RoughnessSpec),
-    /// Refused: holes are in `supply.holes`.
-    Hole(Hole),
-}
-
-/// A dent as a scene gives it: the depth in metres, or as the seed's factor `A` in units of the
-/// supply's thickness (exactly one of the two).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct DentSpec {
-    /// Height factor `A` [-]: depth in units of `supply.thickness_m` …
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub amplitude: Option<f64>,
-    /// … or the depth at the centre [m].
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub depth_m: Option<f64>,
-    /// Width factor `W` [a].
-    pub width_a: f64,
-    /// Centre at `t = 0` [a].
-    pub x_start_a: f64,
-    /// Centre across the rolling direction [a].
-    #[serde(default)]
-    pub y_a: f64,
-}
-
-impl DentSpec {
-    /// The dent with its depth in metres, an amplitude resolved with the supply's thickness
-    /// `l0_m` [m]; `None` when an amplitude has no supply to refer to.
-    pub fn resolved(&self, l0_m: Option<f64>) -> Option<Dent> {
-        let depth_m = match (self.depth_m, self.amplitude, l0_m) {
-            (Some(d), _, _) => d,
-            (None, Some(a), Some(l0)) => a * l0,
-            _ => return None,
-        };
-        Some(Dent { depth_m, width_a: self.width_a, x_start_a: self.x_start_a, y_a: self.y_a })
-    }
-    /// Radius beyond which the dent is below 1e-6 of its depth [a].
-    pub fn reach_a(&self) -> f64 {
-        Dent { depth_m: 0.0, width_a: self.width_a, x_start_a: 0.0, y_a: 0.0 }.reach_a()
-    }
-}
-
-/// Harmonic waviness as a scene gives it (SI): a gap added of `A cos(2π s/λ + φ)`, `s` the
-/// distance along the wave's direction on the moving surfaces (pure rolling: a pattern on the
-/// ball and one on the disc pass alike).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct WavinessSpec {
-    /// Amplitude `A` [m].
-    pub amplitude_m: f64,
-    /// Wavelength `λ` [m].
-    pub wavelength_m: f64,
-    /// Direction of the wave from the rolling direction [deg]: 0 transverse (ridges across the
-    /// track, passing through the contact), 90 longitudinal (ridges along it, standing).
-    #[serde(default)]
-    pub angle_deg: f64,
-    /// Phase `φ` at the origin at `t = 0` [deg].
-    #[serde(default)]
-    pub phase_deg: f64,
-}
-
-impl WavinessSpec {
-    /// The waviness on a contact of half-width `a_m` [m].
-    pub fn resolved(&self, a_m: f64) -> Waviness {
-        Waviness {
-            amplitude_m: self.amplitude_m,
-            wavelength_a: self.wavelength_m / a_m,
-            angle_rad: self.angle_deg.to_radians(),
-            phase_rad: self.phase_deg.to_radians(),
-        }
-    }
-}
-
-/// Random roughness as a scene gives it (SI): Gaussian heights of RMS `rq_m`, a Gaussian
-/// autocorrelation falling to `1/e` over the correlation lengths, drawn from `seed`
-/// ([`ehl_core::Roughness`]).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RoughnessSpec {
-    /// RMS height `Rq` [m].
-    pub rq_m: f64,
-    /// Correlation length `β` along the rolling direction [m] (across it too, unless given).
-    pub correlation_length_m: f64,
-    /// Correlation length across the rolling direction [m] (absent: isotropic).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub correlation_length_y_m: Option<f64>,
-    /// The random stream's seed: one seed, one surface, on every grid and machine.
-    #[serde(default)]
-    pub seed: u64,
-}
-
-impl RoughnessSpec {
-    /// The surface on a contact of half-width `a_m` [m].
-    pub fn resolved(&self, a_m: f64) -> Roughness {
-        let beta_y = self.correlation_length_y_m.unwrap_or(self.correlation_length_m);
-        Roughness::new(self.rq_m, self.correlation_length_m / a_m, beta_y / a_m, self.seed)
-    }
-    /// The shortest correlation length [m].
-    pub fn shortest_m(&self) -> f64 {
-        self.correlation_length_m.min(self.correlation_length_y_m.unwrap_or(f64::INFINITY))
     }
 }
 

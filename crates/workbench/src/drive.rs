@@ -85,6 +85,19 @@ pub struct Record<R, S> {
     pub dt_range: (f64, f64),
 }
 
+/// The monitors at time `back` [s] from `history` (time, monitors; in time order): the last
+/// record at or before it, or, `periodic`, interpolated linearly between the records around it.
+fn monitors_back(history: &[(f64, Vec<f64>)], back: f64, periodic: bool) -> Option<Vec<f64>> {
+    let k = history.iter().rposition(|(to, _)| *to <= back + 1e-15)?;
+    Some(match history.get(k + 1) {
+        Some((t1, next)) if periodic && *t1 > history[k].0 => {
+            let w = (back - history[k].0) / (t1 - history[k].0);
+            history[k].1.iter().zip(next).map(|(a, b)| a + w * (b - a)).collect()
+        }
+        _ => history[k].1.clone(),
+    })
+}
+
 /// Marches `model` by `plan`, calling `progress(t)` after every step.
 pub fn drive<T: Transient>(
     model: &mut T,
@@ -270,16 +283,7 @@ pub fn drive<T: Transient>(
             // Against the last record at least one window back (a periodic rule: the state
             // exactly one window back, between the records around it).
             let now = &history.last().unwrap().1;
-            let back = t - rule.window_s;
-            let k = history.iter().rposition(|(to, _)| *to <= back + 1e-15);
-            let old = k.map(|k| match history.get(k + 1) {
-                Some((t1, next)) if rule.periodic && *t1 > history[k].0 => {
-                    let w = (back - history[k].0) / (t1 - history[k].0);
-                    history[k].1.iter().zip(next).map(|(a, b)| a + w * (b - a)).collect()
-                }
-                _ => history[k].1.clone(),
-            });
-            if let Some(old) = old {
+            if let Some(old) = monitors_back(&history, t - rule.window_s, rule.periodic) {
                 let worst = now.iter().zip(&old).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
                 if worst < rule.tolerance {
                     let what = if rule.periodic { "periodic" } else { "steady" };

@@ -365,11 +365,12 @@ impl Outcome for ReynoldsOutcome {
             (
                 "contact_load_share".into(),
                 Indicator::new(
-                    self.transient.as_ref().map_or(0.0, |t| {
-                        t.rows.iter().map(|r| r.contact_load_share).fold(0.0, f64::max)
-                    }),
+                    self.transient.as_ref().map_or_else(
+                        || Outcome::solid_contact(self).map_or(0.0, |c| c.load_share),
+                        |t| t.rows.iter().map(|r| r.contact_load_share).fold(0.0, f64::max),
+                    ),
                     "1",
-                    "the largest share of the load where the solids touched in a march (0: none; steady solves never touch)",
+                    "the largest share of the load the solids carried where they touched (a march: over its steps; a steady solve: its answer; 0: none)",
                     false,
                 ),
             ),

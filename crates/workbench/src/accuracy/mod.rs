@@ -181,6 +181,8 @@ fn coarser_answers(
         ((d.x_a[1] - d.x_a[0]) / (s.grid.nx - 1) as f64)
             .max((d.y_a[1] - d.y_a[0]) / (s.grid.ny - 1) as f64)
     };
+    // A coarser grid that cannot carry the surfaces' pattern answers for another surface.
+    let shortest = scene.relief(answer.scales().a).ok().and_then(|r| r.shortest_wave_a());
     let run = |s: &Option<Scene>| -> Option<Result<Observables, String>> {
         let s = s.as_ref()?;
         if cell(s) > exists_on * (1.0 + 1e-9) {
@@ -188,6 +190,14 @@ fn coarser_answers(
                 "cells of {:.4} a, wider than the {:.4} a its answer can exist on",
                 cell(s),
                 exists_on
+            )));
+        }
+        if let Some(w) = shortest.filter(|w| w / cell(s) < ehl_scene::MIN_CELLS_PER_WAVELENGTH) {
+            return Some(Err(format!(
+                "cells of {:.4} a carry the surfaces' shortest wave ({w:.4} a) on {:.1} of them, fewer than {}",
+                cell(s),
+                w / cell(s),
+                ehl_scene::MIN_CELLS_PER_WAVELENGTH
             )));
         }
         let o = match model {

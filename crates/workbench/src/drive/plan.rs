@@ -44,6 +44,13 @@ pub struct SteadyRule {
     pub periodic: bool,
 }
 
+impl SteadyRule {
+    /// A steady (not periodic) rule.
+    pub fn new(tolerance: f64, window_s: f64, min_time_s: f64, window_text: String) -> Self {
+        Self { tolerance, window_s, min_time_s, window_text, periodic: false }
+    }
+}
+
 /// The most fixed steps a feature's passage may plan: far beyond any scene (the hole's
 /// passage on 257² takes 2970), and a plan that asks for more is a mistaken input (a dent
 /// `1e20 a` wide never leaves the domain), not a run to start.
@@ -219,13 +226,7 @@ impl Plan {
             // Rolling from any start: the domain's material must have been replaced once.
             let min_time_s =
                 settled + if u > 0.0 { (grid.x_max - grid.x_min) * a / u } else { window_s };
-            SteadyRule {
-                tolerance: st.steady_tolerance,
-                window_s,
-                min_time_s,
-                window_text,
-                periodic: false,
-            }
+            SteadyRule::new(st.steady_tolerance, window_s, min_time_s, window_text)
         });
         let snapshot_times_s = run.snapshot_times(a, motion, passing.first());
         Ok(Plan { phases, end, steady, max_time_s: st.max_time_s, snapshot_times_s })
