@@ -6,8 +6,8 @@
 use ehl_scene::Model;
 use ehl_workbench::compare::{self, Comparison};
 
-/// `waviness-compare` with its wave's amplitude set to `amplitude_m` [m], run without figures,
-/// every model converged.
+/// `waviness-compare` with its wave's amplitude set to `amplitude_m` [m], run without figures
+/// with each answer's error estimated (as `ehl compare` runs it), every model converged.
 fn wave(amplitude_m: f64) -> Comparison {
     let mut scene = ehl_scene::builtin("waviness-compare").unwrap();
     scene.outputs.figures = false;
@@ -16,7 +16,7 @@ fn wave(amplitude_m: f64) -> Comparison {
         panic!("a wavy scene")
     };
     w.amplitude_m = amplitude_m;
-    let c = compare::run(&scene);
+    let c = compare::run_checked(&scene, compare::Schedule::one_at_a_time(false), true);
     assert!(c.all_converged(), "{}", c.table());
     c
 }
@@ -78,4 +78,28 @@ fn a_wave_through_the_seed_contact_is_flattened_by_the_reynolds_film_in_proporti
     // λ of the run: the passage's mean central film over the wave's RMS height A/√2.
     let rms = 5e-9 / 2f64.sqrt();
     assert!((r.lambda.unwrap() - r.central_film_mean_m / rms).abs() < 1e-12);
+}
+
+#[test]
+fn a_rough_surface_rolls_through_the_layer_model_and_reports_its_last_transit() {
+    // The layer model alone on 65² (the correlation length on 3.8 cells): a random surface
+    // never repeats, so the run ends at its time limit and its passage is the last transit of
+    // the domain, 2.5 a.
+    let scene = ehl_scene::builtin("roughness-compare").unwrap().for_model(Model::Layer);
+    let mut scene = scene.with_points(65).unwrap();
+    scene.outputs.figures = false;
+    let o = ehl_workbench::run_scene(&scene).unwrap();
+    let p = o.passage().expect("a march through a rough surface has a passage");
+    let a = o.scales().a;
+    assert!((p.travel_m / (2.5 * a) - 1.0).abs() < 1e-12, "{} m", p.travel_m);
+    // One step a cell: the transit's 64 steps, its first instant left out.
+    assert_eq!(p.records, 64);
+    assert!((p.lambda.unwrap() - p.central_film_mean_m / 3e-9).abs() < 1e-12);
+    assert!(
+        p.central_film_min_m < p.central_film_mean_m
+            && p.central_film_mean_m < p.central_film_max_m
+    );
+    assert_eq!(p.amplitude_ratio, None, "a random surface has no single wave");
+    let s = ehl_workbench::output::summary(o.as_ref()).to_string();
+    assert!(s.contains("time limit") || s.contains("max_time"), "{s}");
 }
