@@ -182,16 +182,15 @@ pub trait Outcome: AsAny + Send + Sync + 'static {
 /// centre the wave varies most along, over the whole wavelengths within `|s| ≤ a/2`.
 fn passage_of<O: Outcome + ?Sized>(o: &O) -> Option<ehl_core::Passage> {
     let (scene, a, g) = (o.scene(), o.scales().a, *o.grid());
-    let run = scene.run.as_ref().filter(|r| r.motion == ehl_scene::Motion::Rolling)?;
+    scene.run.as_ref().filter(|r| r.motion == ehl_scene::Motion::Rolling)?;
     let relief = scene.relief(a).ok()?;
-    let rms = relief.rms_m();
-    rms?;
+    // A pattern (waviness, roughness) has an RMS height; dents alone pass and are gone.
+    let rms = relief.rms_m()?;
     let u = o.conditions_used().1;
-    let period_a = relief.period_a();
-    let travel_a = period_a.unwrap_or(g.x_max - g.x_min);
-    let p = ehl_core::Passage::over(o.history()?, travel_a * a / u, travel_a * a, rms)?;
+    let travel_a = relief.period_a().unwrap_or(g.x_max - g.x_min);
+    let p = ehl_core::Passage::over(o.history()?, travel_a * a / u, travel_a * a, Some(rms))?;
     let [w] = relief.waves.as_slice() else { return Some(p) };
-    if !relief.roughness.is_empty() || run.features.len() != 1 {
+    if !(relief.dents.is_empty() && relief.roughness.is_empty()) {
         return Some(p);
     }
     let (c, s) = (w.angle_rad.cos().abs(), w.angle_rad.sin().abs());
