@@ -1,0 +1,95 @@
+//! Probe for a dent through the fed seed contact: `deepdent N STEPS_PER_CELL STEPS [A]` marches
+//! the seed's conditions (Table 1, 25 nm supplied, [-1.25, 1.25]² on N²) with a dent of
+//! `A l0` (default 1000: the seed's deep dent, `W` = 0.1 a) entering at −1.25 a, and prints each
+//! step's cycles and films; on a failure, the centre line round the dent and the largest
+//! residuals. Environment: FLOODED=1 no supply; LOG=1 every cycle; DUMP=1 the centre line round
+//! the dent after each step; COARSEST (points: 129 on 129² is relaxation alone), PRE, MAXC
+//! override the step's settings.
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use ehl_core::{Dent, Grid};
+use ehl_reynolds::*;
+
+fn main() {
+    let arg =
+        |k: usize, d: f64| std::env::args().nth(k).map_or(d, |s| s.parse().expect("a number"));
+    let (n, per_cell, steps, amplitude) =
+        (arg(1, 129.0) as usize, arg(2, 1.0), arg(3, 10.0) as usize, arg(4, 1000.0));
+    let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<usize>().ok());
+    let prm = common::seed();
+    let grid = Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
+    let delta = prm.scales.delta;
+    let mut settings = ReynoldsSettings::default();
+    settings.coarsest_points = env("COARSEST").unwrap_or(settings.coarsest_points);
+    settings.step_pre_sweeps = env("PRE").unwrap_or(settings.step_pre_sweeps);
+    settings.step_max_cycles = env("MAXC").unwrap_or(settings.step_max_cycles);
+    let mut s = ReynoldsSolver::new(grid, prm, settings);
+    if std::env::var("FLOODED").is_err() {
+        let h_oil = 25e-9 / delta;
+        s.set_supply(Some(&move |_y| h_oil));
+    }
+    let dent = Dent { depth_m: amplitude * 25e-9, width_a: 0.1, x_start_a: -1.25, y_a: 0.0 };
+    let r = s.solve(&mut |_| {});
+    println!("steady: {:?}, films {:?} a²/R", r.map(|r| r.cycles), s.films());
+    let (log, dump) = (std::env::var("LOG").is_ok(), std::env::var("DUMP").is_ok());
+    let dt = grid.dx() / per_cell;
+    let jc = grid.row_nearest(0.0);
+    let line = |s: &ReynoldsSolver, xc: f64, r: Option<&ndarray::Array2<f64>>| {
+        let (l, ic) = (s.finest(), grid.col_nearest(xc));
+        for i in ic.saturating_sub(8)..(ic + 8).min(n) {
+            let res = r.map_or(String::new(), |r| format!(" res {:+.2e}", r[[jc, i]]));
+            println!(
+                "  x {:.3} P {:.3e} θ {:.3e} H {:.3e}{res}",
+                grid.x(i),
+                l.p[[jc, i]],
+                l.theta[[jc, i]],
+                l.film[[jc, i]]
+            );
+        }
+    };
+    for k in 1..=steps {
+        let xc = -1.25 + k as f64 * dt;
+        s.set_extra_gap(move |x, y| dent.gap(x, y, xc, delta));
+        let t = std::time::Instant::now();
+        let r = s.step(dt, &mut |c| {
+            if log {
+                println!(
+                    "   {:>3} on {}²: residual {:.3e}, load {:+.3e}, h_c {:.6}, oil {:.2e}",
+                    c.cycle, c.points, c.residual, c.load_error, c.central_film, c.mass_defect
+                )
+            }
+        });
+        let (hc, hm) = s.films();
+        match r {
+            Ok(r) => {
+                println!(
+                    "step {k}, dent at {xc:.3} a: {} cycles, {:.2} s; h_c {:.3} nm, h_min {:.3} nm, P_max {:.3}",
+                    r.cycles,
+                    t.elapsed().as_secs_f64(),
+                    hc * delta * 1e9,
+                    hm * delta * 1e9,
+                    s.pressure().iter().cloned().fold(0.0, f64::max)
+                );
+                if dump {
+                    line(&s, xc, None);
+                }
+            }
+            Err(e) => {
+                println!("step {k}, dent at {xc:.3} a: {e}");
+                let r = s.finest().residual(&prm);
+                line(&s, xc, Some(&r));
+                let mut v: Vec<_> = r.indexed_iter().map(|(ix, v)| (ix, *v)).collect();
+                v.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+                for ((j, i), m) in v.iter().take(3) {
+                    println!(
+                        "  largest residual {m:+.2e} at x = {:.3} a, y = {:.3} a",
+                        grid.x(*i),
+                        grid.y(*j)
+                    );
+                }
+                break;
+            }
+        }
+    }
+}
