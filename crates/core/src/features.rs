@@ -5,7 +5,8 @@
 //! ([`crate::Kinematics::travel`]). Heights and thicknesses in m (SI, as the scene gives them),
 //! positions and lengths in units of `a`.
 
-use crate::grid::dent_profile;
+use crate::grid::{dent_profile, Grid};
+use ndarray::{Array2, Zip};
 use serde::{Deserialize, Serialize};
 
 /// A dent in the ball (seed Eq. 14, reconstructed): a gap added of
@@ -114,6 +115,27 @@ impl Roughness {
         let sum: f64 = self.modes.iter().map(|[kx, ky, ph]| (kx * xs + ky * y + ph).cos()).sum();
         self.rq_m / delta * (2.0 / self.modes.len() as f64).sqrt() * sum
     }
+
+    /// [`Self::gap`] at every point of `grid`, added to `out`: the same sum, factored by rows
+    /// and columns. Each cosine is the real part of `e^(i(k_x (x − s) + φ)) e^(i k_y y)`, so the
+    /// field is one real matrix product, `[cos k_y y, −sin k_y y] · [cos(k_x x' + φ);
+    /// sin(k_x x' + φ)]` (rows × 2 modes, 2 modes × columns): `M (n_x + n_y)` cosines instead
+    /// of `M n_x n_y`. On 257² with 256 modes the sum point by point took half a rough march's
+    /// time (the profile of a Reynolds march: 52 % in `cos`).
+    pub fn add_gap_on(&self, grid: &Grid, travel_a: f64, delta: f64, out: &mut Array2<f64>) {
+        let m = self.modes.len();
+        let scale = self.rq_m / delta * (2.0 / m as f64).sqrt();
+        let rows = Array2::from_shape_fn((grid.ny, 2 * m), |(j, q)| {
+            let ky_y = self.modes[q % m][1] * grid.y(j);
+            if q < m { ky_y.cos() } else { -ky_y.sin() }
+        });
+        let columns = Array2::from_shape_fn((2 * m, grid.nx), |(q, i)| {
+            let [kx, _, ph] = self.modes[q % m];
+            let arg = kx * (grid.x(i) - travel_a) + ph;
+            scale * if q < m { arg.cos() } else { arg.sin() }
+        });
+        ndarray::linalg::general_mat_mul(1.0, &rows, &columns, 1.0, out);
+    }
 }
 
 /// The surfaces' relief passing through the contact: every model adds [`Relief::gap`] to its
@@ -142,6 +164,25 @@ impl Relief {
         let rough: f64 = self.roughness.iter().map(|r| r.gap(x, y, travel_a, delta)).sum();
         dents + waves + rough
     }
+    /// [`Self::gap`] at every point of `grid` [units of `delta`]: what a model adds to its rigid
+    /// gap, the roughness summed by rows and columns ([`Roughness::add_gap_on`]).
+    pub fn gap_on(&self, grid: &Grid, travel_a: f64, delta: f64) -> Array2<f64> {
+        let mut g = grid.zeros();
+        if !(self.dents.is_empty() && self.waves.is_empty()) {
+            Zip::indexed(&mut g).par_for_each(|(j, i), v| {
+                let (x, y) = (grid.x(i), grid.y(j));
+                let dents: f64 =
+                    self.dents.iter().map(|d| d.gap(x, y, d.x_start_a + travel_a, delta)).sum();
+                let waves: f64 = self.waves.iter().map(|w| w.gap(x, y, travel_a, delta)).sum();
+                *v = dents + waves;
+            });
+        }
+        for r in &self.roughness {
+            r.add_gap_on(grid, travel_a, delta, &mut g);
+        }
+        g
+    }
+
     /// The RMS height of the relief's patterns [m]: waves' `A/√2` and roughness' `Rq`, combined
     /// as independent (`None`: no pattern, dents alone).
     pub fn rms_m(&self) -> Option<f64> {
@@ -337,6 +378,25 @@ mod tests {
         let parts = d.gap(x, y, -1.0 + s, 1e-9) + w.gap(x, y, s, 1e-9) + r.gap(x, y, s, 1e-9);
         assert!((all.gap(x, y, s, 1e-9) - parts).abs() < 1e-12);
         assert!(!all.is_empty() && Relief::default().is_empty());
+    }
+
+    #[test]
+    fn a_relief_on_a_grid_is_its_gap_at_every_point() {
+        let d = Dent { depth_m: 2e-8, width_a: 0.1, x_start_a: -1.0, y_a: 0.0 };
+        let w = Waviness { amplitude_m: 1e-8, wavelength_a: 0.25, angle_rad: 0.3, phase_rad: 1.0 };
+        let r = Roughness::new(5e-9, 0.1, 0.2, 7);
+        let all = Relief { dents: vec![d], waves: vec![w], roughness: vec![r] };
+        // A grid that is not square, so that rows and columns cannot be swapped unseen.
+        let g = Grid::new(33, 21, (-1.3, 1.1), (-0.8, 0.9));
+        let s = 0.37;
+        let field = all.gap_on(&g, s, 1e-9);
+        assert_eq!(field.dim(), (21, 33));
+        // The factored sum against the cosines one by one: the same terms in another order
+        // (256 cosines of heights of about 5 units: rounding of 1e-13, a wrong sign or a swapped
+        // axis of order one).
+        for ((j, i), v) in field.indexed_iter() {
+            assert!((v - all.gap(g.x(i), g.y(j), s, 1e-9)).abs() < 1e-11, "at {i}, {j}");
+        }
     }
 
     #[test]

@@ -376,15 +376,11 @@ impl LayerModel {
 
     /// Rigid gap of the ball: `f + b(t)` [a²/R].
     pub fn ball(&self, t: f64) -> Array2<f64> {
-        let mut g = self.shape.clone();
         if self.relief.is_empty() {
-            return g;
+            return self.shape.clone();
         }
         let (travel, delta) = (self.travel_a(t), self.scales.delta);
-        Zip::indexed(&mut g).par_for_each(|(j, i), v| {
-            *v += self.relief.gap(self.grid.x(i), self.grid.y(j), travel, delta);
-        });
-        g
+        &self.shape + &self.relief.gap_on(&self.grid, travel, delta)
     }
 
     /// Layer thickness `L = L0 (1 − ε)` [a²/R] at time `t`.

@@ -291,6 +291,11 @@ impl Level {
         self.shape = self.grid.field(|x, y| 0.5 * (x * x + y * y) + extra(x, y));
     }
 
+    /// Rigid film `X²/2 + Y²/2 + extra` [a²/R], the extra gap given on this level's points.
+    pub fn set_extra_gap_field(&mut self, extra: &Array2<f64>) {
+        self.shape = self.grid.paraboloid() + extra;
+    }
+
     /// `ρ̄θH` on the grid: the oil's mass per area (`θ = 1` without a supply).
     pub fn rho_film(&self, prm: &ReynoldsParams) -> Array2<f64> {
         Zip::from(&self.p)

@@ -221,6 +221,17 @@ impl ReynoldsSolver {
         self.levels[0].update_film(h00);
     }
 
+    /// Adds the field `extra(grid)` [a²/R] to the rigid film on every level, each level's
+    /// given on its own grid: for a relief summed over a whole grid at once
+    /// ([`ehl_core::Relief::gap_on`]).
+    pub fn set_extra_gap_on(&mut self, extra: impl Fn(&Grid) -> Array2<f64>) {
+        for l in &mut self.levels {
+            l.set_extra_gap_field(&extra(&l.grid));
+        }
+        let h00 = self.h00;
+        self.levels[0].update_film(h00);
+    }
+
     /// The oil supplied at the inflow boundary `X = x_min`, per `Y` [a²/R] (the layer `h_oil`
     /// at ambient density; 0 in a hole crossing the boundary): the solver becomes mass
     /// conserving (film content `θ`, [`Level`]). `None`: fully flooded, the clamp. Called again

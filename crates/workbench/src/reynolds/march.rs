@@ -41,7 +41,7 @@ const SQUEEZE_START_MAX_S: f64 = 5.0;
 /// start, in units of `a²/R`: the core's relief, the layer model's too.
 pub(super) fn set_relief(solver: &mut ReynoldsSolver, relief: &Relief, travel: f64) {
     let delta = solver.prm.scales.delta;
-    solver.set_extra_gap(move |x: f64, y: f64| relief.gap(x, y, travel, delta));
+    solver.set_extra_gap_on(|g| relief.gap_on(g, travel, delta));
 }
 
 /// The Reynolds solver as the driver marches it: each step moves the relief by the travel of
