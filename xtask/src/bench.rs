@@ -127,6 +127,9 @@ pub enum Part {
     /// Comparison scenes with their models at once and one at a time
     /// (`docs/measured/bench-compare.md`).
     Compare,
+    /// One transit of a random rough surface through the seed's contact, both models
+    /// (`docs/measured/bench-rough.md`).
+    Rough,
     /// The error estimate's cost against the solve alone, every model on the seed's 257²
     /// (`docs/measured/bench-estimate.md`).
     Estimate,
@@ -169,6 +172,9 @@ pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
     }
     if wanted(Part::Compare) {
         compare(if crate::quick() { 1 } else { 3 })?;
+    }
+    if wanted(Part::Rough) {
+        rough(crate::seed_grid(max), if crate::quick() { 1 } else { 3 })?;
     }
     if wanted(Part::Estimate) {
         estimate(crate::seed_grid(max), if crate::quick() { 1 } else { 3 })?;
@@ -589,6 +595,87 @@ fn compare(runs: usize) -> Result<std::path::PathBuf> {
              The target: dent-shallow-compare within 15 s on 2 cores."
         ),
         &[("Whole comparisons", &t)],
+    )
+}
+
+/// One transit of `roughness-compare`'s random surface through the seed's contact on `n`²
+/// (the surfaces travel the domain's length once, one step a cell, from the steady start),
+/// both models, `runs` times at once and one at a time, alternating. The target: within 60 s
+/// on 2 cores on 257².
+fn rough(n: usize, runs: usize) -> Result<std::path::PathBuf> {
+    use ehl_workbench::compare::{self, Schedule};
+    let mut scene = ehl_scene::builtin("roughness-compare")?.with_points(n)?;
+    scene.outputs.figures = false;
+    let g = scene.grid();
+    let a = ehl_core::HertzScales::new(&scene.conditions.contact()).a;
+    let u = scene.conditions.rolling_velocity_m_s.context("roughness-compare rolls")?;
+    let transit_s = (g.x_max - g.x_min) * a / u;
+    let run = scene.run.as_mut().context("roughness-compare marches")?;
+    run.stop.max_time_s = Some(transit_s);
+    run.snapshots_s = vec![transit_s];
+    // One step a cell: the transit's steps.
+    let steps = g.nx - 1;
+    let mut t = crate::measured::Table::new(&[
+        "grid",
+        "steps",
+        "at once: median [s]",
+        "one at a time: median [s]",
+        "each model alone [s]",
+        "per step, each model [ms]",
+    ]);
+    let (mut together, mut apart, mut own, mut per_step) =
+        (vec![], vec![], "—".to_string(), "—".to_string());
+    // Quickly, the models at once only (the default; CI's check that the bench runs).
+    let schedules: &[Schedule] = if crate::quick() {
+        &[Schedule::SideBySide]
+    } else {
+        &[Schedule::SideBySide, Schedule::OneAtATime]
+    };
+    for run in 0..runs {
+        for &schedule in schedules {
+            let c = compare::run_with(&scene, schedule);
+            if !c.all_converged() {
+                anyhow::bail!("roughness-compare on {n}²: not every model answered\n{}", c.table());
+            }
+            println!("rough {n}² run {run}, {}: {:.2} s", schedule.name(), c.total_wall_time_s);
+            match schedule {
+                Schedule::SideBySide => together.push(c.total_wall_time_s),
+                Schedule::OneAtATime => {
+                    apart.push(c.total_wall_time_s);
+                    let each = |f: &dyn Fn(&compare::Entry) -> String| {
+                        c.entries
+                            .iter()
+                            .map(|e| format!("{} {}", e.name(), f(e)))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    };
+                    own = each(&|e| format!("{:.2}", e.wall_time_s));
+                    per_step = each(&|e| format!("{:.0}", 1e3 * e.wall_time_s / steps as f64));
+                }
+            }
+        }
+    }
+    t.rows.push(vec![
+        format!("{n}²"),
+        steps.to_string(),
+        format!("{:.2}", median(&together)),
+        if apart.is_empty() { "—".into() } else { format!("{:.2}", median(&apart)) },
+        own,
+        per_step,
+    ]);
+    crate::measured::write(
+        "bench-rough",
+        "A rough surface through the contact",
+        &format!("cargo xtask bench --only rough --max-points {n}"),
+        &format!(
+            "`roughness-compare` (isotropic random roughness, Rq 3 nm, correlation length 20 µm, \
+             through the seed's contact fed 25 nm) on {n}², stopped after one transit of the \
+             domain ({:.4} s: the surfaces travel its 2.5 a once, one step a cell), no error \
+             estimate, no figures; {runs} runs with both models at once and one at a time, \
+             alternating; wall times on 2 cores, medians. The target: within 60 s on 257².",
+            transit_s
+        ),
+        &[("One transit", &t)],
     )
 }
 

@@ -5,7 +5,7 @@
 //! ([`crate::Kinematics::travel`]). Heights and thicknesses in m (SI, as the scene gives them),
 //! positions and lengths in units of `a`.
 
-use crate::grid::{dent_profile, Grid};
+use crate::grid::{Grid, dent_profile};
 use ndarray::{Array2, Zip};
 use serde::{Deserialize, Serialize};
 
