@@ -1,6 +1,7 @@
 //! `cargo xtask convergence <scene> [--grids 65,129,257,513]`: a grid study of any scene, one-model
 //! or comparison, through the same path as `ehl compare`: each model's observables per grid, the
-//! observed orders of its central and minimum film, a Richardson reference, and one
+//! observed orders of its central and minimum film (and of a wave's `A_d/A_i` where a pattern
+//! rolled), a Richardson reference, and one
 //! speed-against-accuracy chart with every model on the same axes (wall times on one thread).
 
 use anyhow::{Result, bail};
@@ -19,6 +20,8 @@ struct Point {
     central_film_nm: f64,
     minimum_film_nm: f64,
     max_pressure_gpa: f64,
+    /// The last passage of a pattern (its films, `λ`, a wave's `A_d/A_i`), when one rolled.
+    passage: Option<ehl_core::Passage>,
     wall_time_s: f64,
 }
 
@@ -62,6 +65,7 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
                     central_film_nm: ob.central_film_m * 1e9,
                     minimum_film_nm: ob.minimum_film_m * 1e9,
                     max_pressure_gpa: ob.max_pressure_pa * 1e-9,
+                    passage: m.passage,
                     wall_time_s: m.wall_time_s,
                 },
                 None => Point {
@@ -71,6 +75,7 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
                     central_film_nm: f64::NAN,
                     minimum_film_nm: f64::NAN,
                     max_pressure_gpa: f64::NAN,
+                    passage: None,
                     wall_time_s: m.wall_time_s,
                 },
             };
@@ -80,6 +85,16 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
                     name, p.central_film_nm, p.minimum_film_nm, p.max_pressure_gpa, p.wall_time_s
                 ),
                 Some(d) => println!("  {:<9} FAILED ({:.2} s): {d}", name, p.wall_time_s),
+            }
+            if let Some(q) = &p.passage {
+                println!(
+                    "  {:<9} last passage: h_c mean {:.4} nm ({:.4}–{:.4}){}",
+                    "",
+                    q.central_film_mean_m * 1e9,
+                    q.central_film_min_m * 1e9,
+                    q.central_film_max_m * 1e9,
+                    q.amplitude_ratio.map_or(String::new(), |r| format!(", A_d/A_i {r:.4}"))
+                );
             }
             by_model.entry(name).or_default().push(p);
         }
@@ -109,9 +124,29 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
                 "  {model}: observed order {}→{}→{}: h_c {oc:.2}, h_min {om:.2}",
                 w[0].n, w[1].n, w[2].n
             );
-            orders.push(
-                json!({"grids": [w[0].n, w[1].n, w[2].n], "central_film": oc, "minimum_film": om}),
-            );
+            // A wave's deformed amplitude, where each grid's passage has one: its order and
+            // the Richardson limit at that order (when it is sensible, 0.5 … 4).
+            let ratios: Vec<f64> =
+                w.iter().filter_map(|p| p.passage.and_then(|q| q.amplitude_ratio)).collect();
+            let amplitude = (ratios.len() == 3).then(|| {
+                let o = observed_order_of_three(ratios[0], ratios[1], ratios[2], 2.0);
+                let (b, c) = (ratios[1], ratios[2]);
+                let limit = (0.5..=4.0).contains(&o).then(|| c + (c - b) / (2f64.powf(o) - 1.0));
+                println!(
+                    "  {model}: A_d/A_i {:.4}, {:.4}, {:.4}: observed order {o:.2}, limit {}",
+                    ratios[0],
+                    ratios[1],
+                    ratios[2],
+                    limit.map_or("— (order off 0.5–4)".into(), |l| format!("{l:.4}"))
+                );
+                json!({"ratios": ratios, "order": o, "limit": limit})
+            });
+            orders.push(json!({
+                "grids": [w[0].n, w[1].n, w[2].n],
+                "central_film": oc,
+                "minimum_film": om,
+                "amplitude_ratio": amplitude,
+            }));
         }
         // Reference: Richardson from the finest three at their observed order when it is
         // sensible (0.5 … 4), else the finest grid's value.

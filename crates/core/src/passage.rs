@@ -3,10 +3,10 @@
 //! contact (the deformed amplitude `A_d` of Venner & Lubrecht's amplitude reduction).
 
 use crate::observe::Observables;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Statistics over the last passage of a march whose surfaces carry a relief (SI).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Passage {
     /// The passage's travel [m] (a periodic pattern's period, else the domain's length).
     pub travel_m: f64,

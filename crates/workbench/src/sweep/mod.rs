@@ -69,6 +69,10 @@ pub struct ModelRecord {
     /// The model's premise indicators ([`crate::model::Outcome::indicators`]).
     #[serde(default)]
     pub indicators: std::collections::BTreeMap<String, crate::model::Indicator>,
+    /// The statistics of the last passage of a pattern rolled through the contact
+    /// ([`crate::model::Outcome::passage`]: its films, `λ`, a wave's `A_d/A_i`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub passage: Option<ehl_core::Passage>,
     /// Wall time of the model's run at this point [s], single thread.
     pub wall_time_s: f64,
     /// The same point at half the points per side, when the sweep asks for it.
@@ -368,6 +372,7 @@ type Answer = (
     bool,
     std::collections::BTreeMap<String, crate::model::Indicator>,
     Option<String>,
+    Option<ehl_core::Passage>,
 );
 /// A model's failure: its diagnosis and the kind ([`crate::Error::class`]).
 type Failed = (String, &'static str);
@@ -378,7 +383,13 @@ fn run_model(scene: &Scene) -> (Result<Answer, Failed>, f64) {
     let t0 = Instant::now();
     let out = crate::run::run_scene(scene)
         .map(|o| {
-            (o.observables(), o.lubricated(), o.indicators().into_iter().collect(), o.caveat())
+            (
+                o.observables(),
+                o.lubricated(),
+                o.indicators().into_iter().collect(),
+                o.caveat(),
+                o.passage(),
+            )
         })
         .map_err(|e| (format!("{e:#}"), e.class()));
     (out, t0.elapsed().as_secs_f64())
@@ -437,6 +448,7 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                     diagnosis: main.as_ref().err().map(|e| e.0.clone()),
                     failure: main.as_ref().err().map(|e| e.1.to_string()),
                     indicators: main.as_ref().map(|r| r.2.clone()).unwrap_or_default(),
+                    passage: main.as_ref().ok().and_then(|r| r.4),
                     wall_time_s,
                     grid_check: None,
                     grid_check_quarter: None,
