@@ -3,8 +3,8 @@
 //! `A l0` (default 1000: the seed's deep dent, `W` = 0.1 a) entering at −1.25 a, and prints each
 //! step's cycles and films; on a failure, the centre line round the dent and the largest
 //! residuals. Environment: FLOODED=1 no supply; LOG=1 every cycle; DUMP=1 the centre line round
-//! the dent after each step; COARSEST (points: 129 on 129² is relaxation alone), PRE, MAXC
-//! override the step's settings.
+//! the dent after each step; COARSEST (points: 129 on 129² is relaxation alone), PRE, MAXC,
+//! GAMMA, OMEGA (Gauss–Seidel), THR and TTHR (the relaxation switch's thresholds), EXTRA=1 (the steps' extra passes) override the settings.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -24,6 +24,19 @@ fn main() {
     settings.coarsest_points = env("COARSEST").unwrap_or(settings.coarsest_points);
     settings.step_pre_sweeps = env("PRE").unwrap_or(settings.step_pre_sweeps);
     settings.step_max_cycles = env("MAXC").unwrap_or(settings.step_max_cycles);
+    settings.step_extra_passes = std::env::var("EXTRA").is_ok();
+    if let Some(w) = std::env::var("OMEGA").ok().and_then(|v| v.parse().ok()) {
+        settings.relax.omega_gs = w;
+    }
+    if let Some(t) = std::env::var("TTHR").ok().and_then(|v| v.parse().ok()) {
+        settings.relax.transient_threshold = t;
+    }
+    if let Some(t) = std::env::var("THR").ok().and_then(|v| v.parse().ok()) {
+        settings.relax.distributive_threshold = t;
+    }
+    if let Some(g) = env("GAMMA") {
+        settings.step_gamma = g;
+    }
     let mut s = ReynoldsSolver::new(grid, prm, settings);
     if std::env::var("FLOODED").is_err() {
         let h_oil = 25e-9 / delta;

@@ -49,7 +49,10 @@ pub struct RelaxSettings {
     /// … and the time term's part of that diagonal (its elastic self-coupling `a0 ρ̄ K(0, 0)`,
     /// zero in a steady solve) counts with this threshold instead: counted at the steady
     /// threshold, Gauss–Seidel steps where the time term rivals the Poiseuille one made the
-    /// V-cycle amplify the residual (docs/decisions.md, "The time term in the relaxation switch").
+    /// V-cycle amplify the residual. At 1 the seed's march diverges within five steps on 513²,
+    /// where 4 carries it; 4 fails the first rolling step after a squeezed rest on 129², so a
+    /// march on 513² sets it in its scene (docs/decisions.md, "The time term in the relaxation
+    /// switch").
     pub transient_threshold: f64,
     /// … and at rest (no wedge term: the time term's coupling is the whole of it) with this
     /// one. At rest the coupling falls as the step grows (`a0 = 1/ΔT`), and points where it is
