@@ -20,6 +20,7 @@ mod seed_page;
 mod slurm;
 mod starvation;
 mod sweep_page;
+mod waves;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -173,6 +174,14 @@ enum Command {
         #[arg(long, default_value = "out/sweeps")]
         out: PathBuf,
     },
+    /// The amplitude-reduction study: the sweep `waviness-reduction` (a wave through the seed's
+    /// contact over its wavelength at two speeds, both models), `A_d/A_i` against Venner's `∇`
+    /// and the collapse of the two speeds' curves; writes `docs/measured/waviness-reduction.md`
+    /// and the chart into `--out`.
+    Waves {
+        #[arg(long, default_value = "out/waves")]
+        out: PathBuf,
+    },
     /// The README's example (`ehl compare seed --accuracy 5%`): writes
     /// `docs/measured/example-compare.md` and the README's table from one run, and the
     /// comparison's outputs into `--out`, as the command does.
@@ -254,6 +263,7 @@ fn main() -> Result<()> {
         Command::Findings { out } => findings::run(&out),
         Command::Contact { out } => contact::run(&out),
         Command::Sweep { name, out } => sweep_page::run(&name, &out),
+        Command::Waves { out } => waves::run(&out),
         Command::Seed { points: n, out } => seed_page::run(points(n), &out),
         Command::Accuracy { out, points: n } => accuracy::run(&out, points(n)),
         Command::Mutants { file, shard, timeout, out } => {

@@ -27,6 +27,7 @@ pub(crate) const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "rolling-from-squeezed-compare",
     "startup-ramp-compare",
     "waviness-compare",
+    "waviness-flooded-compare",
     "roughness-compare",
     "reynolds-m20-l10",
     "reynolds-m20-l10-dent",

@@ -93,6 +93,9 @@ pub enum Parameter {
     /// Points per side (square grids).
     #[serde(rename = "grid.n")]
     GridPoints,
+    /// The wavelength of the scene's waviness [m] (every wave of it).
+    #[serde(rename = "run.features.waviness.wavelength_m")]
+    Wavelength,
 }
 
 impl Parameter {
@@ -105,7 +108,7 @@ impl Parameter {
         match self {
             Self::RollingVelocity => "m/s",
             Self::Load => "N",
-            Self::SupplyThickness => "m",
+            Self::SupplyThickness | Self::Wavelength => "m",
             Self::Eta0 => "Pa s",
             Self::Alpha => "1/Pa",
             Self::MoesM | Self::MoesL | Self::GridPoints => "1",
@@ -423,6 +426,23 @@ impl Scene {
                 let n = v as usize;
                 s.grid = GridSpec { nx: n, ny: n };
             }
+            Parameter::Wavelength => {
+                let features = s.run.as_mut().map(|r| r.features.iter_mut());
+                let waves: Vec<_> = features
+                    .into_iter()
+                    .flatten()
+                    .filter_map(|f| match f {
+                        crate::Feature::Waviness(w) => Some(w),
+                        _ => None,
+                    })
+                    .collect();
+                if waves.is_empty() {
+                    return Err("the scene has no waviness to vary".into());
+                }
+                for w in waves {
+                    w.wavelength_m = v;
+                }
+            }
         }
         Ok(s)
     }
@@ -434,8 +454,13 @@ macro_rules! builtin_sweeps {
     };
 }
 
-const SWEEPS: &[(&str, &str)] =
-    builtin_sweeps!("seed-speed", "seed-speed-load", "seed-supply", "reynolds-thin");
+const SWEEPS: &[(&str, &str)] = builtin_sweeps!(
+    "seed-speed",
+    "seed-speed-load",
+    "seed-supply",
+    "reynolds-thin",
+    "waviness-reduction"
+);
 
 /// Names of the built-in sweeps.
 pub fn builtin_sweep_names() -> Vec<&'static str> {
@@ -517,6 +542,40 @@ mod tests {
         assert_eq!(c[0], vec![10.0, 0.01]);
         assert_eq!(c[2], vec![10.0, 0.03]);
         assert_eq!(c[3], vec![20.0, 0.01]);
+    }
+
+    #[test]
+    fn a_sweep_over_the_wavelength_sets_the_waves_and_refuses_what_the_grid_cannot_carry() {
+        let base = crate::builtin("waviness-compare").unwrap();
+        let s = |values: &str| {
+            Sweep::from_json(
+                &format!(
+                    r#"{{"name": "w", "scene": "waviness-compare", "parameters": [{{"parameter": "run.features.waviness.wavelength_m", "values": {values}}}]}}"#
+                ),
+                "test",
+            )
+            .unwrap()
+        };
+        let pts = s("[2e-5, 6e-5]").points(&base).unwrap();
+        let wave = |sc: &Scene| match &sc.run.as_ref().unwrap().features[0] {
+            crate::Feature::Waviness(w) => w.wavelength_m,
+            _ => f64::NAN,
+        };
+        assert_eq!(pts.iter().map(|(_, sc)| wave(sc)).collect::<Vec<_>>(), vec![2e-5, 6e-5]);
+        // 5 µm on 129² over 2.5 a (cells of 2.6 µm): two cells a wave, refused by the scene's
+        // own check, naming the sweep's point.
+        let e = s("[5e-6]").points(&base).unwrap_err().to_string();
+        assert!(e.contains("point 0") && e.contains("wavelength"), "{e}");
+        // A scene without waviness has nothing to vary.
+        let e = sweep(r#"{"parameter": "run.features.waviness.wavelength_m", "values": [2e-5]}"#)
+            .unwrap()
+            .points(&crate::builtin("seed").unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("run.features.waviness.wavelength_m") && e.contains("no waviness"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -1,0 +1,168 @@
+//! `cargo xtask waves`: the amplitude-reduction study. Runs the built-in sweep
+//! `waviness-reduction` (a transverse wave through the seed's contact, flooded, over its
+//! wavelength at two speeds, both models), sets each point's deformed amplitude `A_d/A_i`
+//! against Venner's parameter `∇ = (λ/a) M^(3/4) / L^(1/2)` (reference/amplitude-reduction.json),
+//! checks the collapse (the two speeds' curves at the same `∇`), charts it and writes
+//! `docs/measured/waviness-reduction.md`.
+
+use crate::measured::{self, Table};
+use anyhow::{Context, Result};
+use ehl_workbench::plot::{self, Mark, Panel, Series};
+use ehl_workbench::{compare, sweep};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// One model's answer at one point: speed [m/s], `λ/a`, `M`, `L`, `∇`, `A_d/A_i`.
+#[derive(Clone, Copy)]
+struct Row {
+    speed: f64,
+    wave_a: f64,
+    m: f64,
+    l: f64,
+    nabla: f64,
+    ratio: Option<f64>,
+}
+
+/// The ratio of the curve `curve` (points `(∇, A_d/A_i)` of one speed, sorted by `∇`) at `x`,
+/// linear in `log ∇` and `log A_d/A_i` between its points; `None` outside it.
+fn on_curve(curve: &[(f64, f64)], x: f64) -> Option<f64> {
+    curve.windows(2).find(|w| w[0].0 <= x && x <= w[1].0).map(|w| {
+        let t = (x.ln() - w[0].0.ln()) / (w[1].0.ln() - w[0].0.ln());
+        (w[0].1.ln() + t * (w[1].1.ln() - w[0].1.ln())).exp()
+    })
+}
+
+pub fn run(out: &Path) -> Result<()> {
+    let (mut s, dir_of) = ehl_scene::load_sweep("waviness-reduction")?;
+    if crate::quick() {
+        // The code path on 65²: the waves its cells carry (4 a wave at least), both speeds.
+        s.parameters[1].values = Some(vec![3.0e-5, 4.4e-5, 6.7e-5]);
+    }
+    let dir = out.join(&s.name);
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir).with_context(|| format!("clearing {}", dir.display()))?;
+    }
+    let mut plan = sweep::Plan::new(&s, dir_of.as_deref())?;
+    if crate::quick() {
+        for p in &mut plan.points {
+            p.scene = p.scene.with_points(65)?;
+        }
+    }
+    plan.write(&dir)?;
+    let ran = sweep::run(&dir, sweep::Shard::all(), sweep::default_jobs())?;
+    sweep::merge::merge(&dir)?;
+    let recs = sweep::records(&dir, &plan)?;
+    let mut rows: BTreeMap<String, Vec<Row>> = BTreeMap::new();
+    for (p, r) in plan.points.iter().zip(&recs) {
+        let sc = &p.scene;
+        let u = sc.conditions.rolling_velocity_m_s.context("the sweep's scene rolls")?;
+        let lub = sc.lubricant.context("the sweep's scene has a lubricant")?.lubricant();
+        let contact = sc.conditions.contact();
+        let moes = ehl_core::Moes::from_si(&contact, &lub, 2.0 * u);
+        let a = ehl_core::HertzScales::new(&contact).a;
+        let wave_m = r.values[1];
+        let wave_a = wave_m / a;
+        let nabla = wave_a * moes.m.powf(0.75) / moes.l.sqrt();
+        for m in &r.models {
+            let ratio = m.passage.and_then(|q| q.amplitude_ratio);
+            let row = Row { speed: u, wave_a, m: moes.m, l: moes.l, nabla, ratio };
+            rows.entry(compare::model_name(m.model)).or_default().push(row);
+        }
+    }
+    let mut t = Table::new(&["model", "u [m/s]", "λ / a", "M", "L", "∇", "A_d / A_i"]);
+    let mut collapse = Table::new(&[
+        "model",
+        "u [m/s]",
+        "λ / a",
+        "∇",
+        "A_d / A_i",
+        "the other speed's curve at this ∇",
+        "difference",
+    ]);
+    let mut series = vec![];
+    for (model, rs) in &rows {
+        for r in rs {
+            t.rows.push(vec![
+                model.clone(),
+                format!("{}", r.speed),
+                format!("{:.3}", r.wave_a),
+                format!("{:.0}", r.m),
+                format!("{:.2}", r.l),
+                format!("{:.2}", r.nabla),
+                r.ratio.map_or("—".into(), |v| format!("{v:.4}")),
+            ]);
+        }
+        let mut speeds: Vec<f64> = rs.iter().map(|r| r.speed).collect();
+        speeds.dedup();
+        let curve = |u: f64| {
+            let mut c: Vec<(f64, f64)> = rs
+                .iter()
+                .filter(|r| r.speed == u)
+                .filter_map(|r| r.ratio.map(|v| (r.nabla, v)))
+                .collect();
+            c.sort_by(|x, y| x.0.total_cmp(&y.0));
+            c
+        };
+        for &u in &speeds {
+            series.push(Series::new(format!("{model}, {u} m/s"), curve(u), Mark::LinePoints));
+        }
+        // The collapse: each point of one speed against the other speed's curve where it
+        // reaches the same ∇.
+        for &u in &speeds {
+            for &v in speeds.iter().filter(|&&v| v != u) {
+                let other = curve(v);
+                for r in rs.iter().filter(|r| r.speed == u) {
+                    let (Some(here), Some(there)) = (r.ratio, on_curve(&other, r.nabla)) else {
+                        continue;
+                    };
+                    collapse.rows.push(vec![
+                        model.clone(),
+                        format!("{u}"),
+                        format!("{:.3}", r.wave_a),
+                        format!("{:.2}", r.nabla),
+                        format!("{here:.4}"),
+                        format!("{there:.4} ({v} m/s)"),
+                        format!("{:+.0} %", 100.0 * (here / there - 1.0)),
+                    ]);
+                }
+            }
+        }
+    }
+    std::fs::create_dir_all(out)?;
+    let png = out.join("waviness-reduction.png");
+    plot::charts(
+        &png,
+        &[Panel::new(
+            "A wave's deformed amplitude at the contact's centre",
+            "∇ = (λ/a) M^(3/4) / L^(1/2)",
+            "A_d / A_i",
+            series,
+        )
+        .log_log()],
+        "the sweep waviness-reduction: the seed's contact flooded (Reynolds) or fed 25 nm (layer)",
+    )?;
+    println!("wrote {}", png.display());
+    let g = plan.points[0].scene.grid();
+    measured::write(
+        "waviness-reduction",
+        "The amplitude reduction of a wave through the contact",
+        "cargo xtask waves",
+        &format!(
+            "`ehl sweep waviness-reduction`: {}\n\n{} points on {}² in {:.0} s on {} cores. \
+             `A_d/A_i`: the film's harmonic at the wave's wavenumber along the line through the \
+             centre over the whole wavelengths within |x| ≤ a/2, over a quartic trend, at the end \
+             of the run (a passage that repeats, or the time limit), per the surfaces' amplitude; \
+             `∇` with the point's Moes `M` and `L` and the Hertz radius `a`. The collapse table \
+             sets each point against the other speed's curve at the same `∇` (interpolated in \
+             `log ∇`, `log A_d/A_i`); the principle says the difference is nil. The chart: \
+             `waviness-reduction.png` in the study's folder (`--out`).",
+            s.description,
+            plan.points.len(),
+            g.nx,
+            ran.wall_time_s,
+            sweep::default_jobs(),
+        ),
+        &[("Every point", &t), ("The collapse", &collapse)],
+    )?;
+    Ok(())
+}
