@@ -13,21 +13,7 @@ pub fn run(name: &str, out: &Path) -> Result<()> {
         s.resolve = false;
         s.checks = false;
     }
-    let dir = out.join(&s.name);
-    if dir.exists() {
-        // Every point measured afresh: a page says what one run measured.
-        std::fs::remove_dir_all(&dir).with_context(|| format!("clearing {}", dir.display()))?;
-    }
-    let mut plan = sweep::Plan::new(&s, dir_of.as_deref())?;
-    if crate::quick() {
-        for p in &mut plan.points {
-            p.scene = p.scene.with_points(65)?;
-        }
-    }
-    plan.write(&dir)?;
-    let run = sweep::run(&dir, sweep::Shard::all(), sweep::default_jobs())?;
-    sweep::merge::merge(&dir)?;
-    let recs = sweep::records(&dir, &plan)?;
+    let (plan, run, recs) = run_afresh(&s, dir_of.as_deref(), out)?;
     let table = sweep::merge::table(&plan, &recs);
     let how = if crate::quick() {
         "Quickly: every point on 65², without the rule's grids or the checks (the code path, not \
@@ -53,4 +39,29 @@ pub fn run(name: &str, out: &Path) -> Result<()> {
         &[],
     )?;
     Ok(())
+}
+
+/// Runs sweep `s` (its scene found from `dir_of`) afresh into `out/NAME` (a page says what one
+/// run measured: an earlier run's points are cleared), quickly with every point on 65², and
+/// merges it: its plan, the run's summary and the points' records.
+pub fn run_afresh(
+    s: &ehl_scene::Sweep,
+    dir_of: Option<&Path>,
+    out: &Path,
+) -> Result<(sweep::Plan, sweep::RunSummary, Vec<sweep::PointRecord>)> {
+    let dir = out.join(&s.name);
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir).with_context(|| format!("clearing {}", dir.display()))?;
+    }
+    let mut plan = sweep::Plan::new(s, dir_of)?;
+    if crate::quick() {
+        for p in &mut plan.points {
+            p.scene = p.scene.with_points(65)?;
+        }
+    }
+    plan.write(&dir)?;
+    let run = sweep::run(&dir, sweep::Shard::all(), sweep::default_jobs())?;
+    sweep::merge::merge(&dir)?;
+    let recs = sweep::records(&dir, &plan)?;
+    Ok((plan, run, recs))
 }

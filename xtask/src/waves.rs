@@ -38,20 +38,7 @@ pub fn run(out: &Path) -> Result<()> {
         // The code path on 65²: the waves its cells carry (4 a wave at least), both speeds.
         s.parameters[1].values = Some(vec![3.0e-5, 4.4e-5, 6.7e-5]);
     }
-    let dir = out.join(&s.name);
-    if dir.exists() {
-        std::fs::remove_dir_all(&dir).with_context(|| format!("clearing {}", dir.display()))?;
-    }
-    let mut plan = sweep::Plan::new(&s, dir_of.as_deref())?;
-    if crate::quick() {
-        for p in &mut plan.points {
-            p.scene = p.scene.with_points(65)?;
-        }
-    }
-    plan.write(&dir)?;
-    let ran = sweep::run(&dir, sweep::Shard::all(), sweep::default_jobs())?;
-    sweep::merge::merge(&dir)?;
-    let recs = sweep::records(&dir, &plan)?;
+    let (plan, ran, recs) = crate::sweep_page::run_afresh(&s, dir_of.as_deref(), out)?;
     let mut rows: BTreeMap<String, Vec<Row>> = BTreeMap::new();
     for (p, r) in plan.points.iter().zip(&recs) {
         let sc = &p.scene;
