@@ -52,6 +52,14 @@ pub fn run(out: &Path) -> Result<()> {
         let nabla = wave_a * moes.m.powf(0.75) / moes.l.sqrt();
         for m in &r.models {
             let ratio = m.passage.and_then(|q| q.amplitude_ratio);
+            // An answer without its wave's amplitude is a broken study, not a point to skip.
+            if m.observables.is_some() && ratio.is_none() {
+                anyhow::bail!(
+                    "{} at point {}: answered without a deformed amplitude",
+                    compare::model_name(m.model),
+                    r.index
+                );
+            }
             let row = Row { speed: u, wave_a, m: moes.m, l: moes.l, nabla, ratio };
             rows.entry(compare::model_name(m.model)).or_default().push(row);
         }

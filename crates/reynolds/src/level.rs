@@ -291,7 +291,7 @@ impl Level {
 
     /// Rigid film `X²/2 + Y²/2 + extra(X, Y)` [a²/R]: a dent, a bump, or nothing.
     pub fn set_extra_gap(&mut self, extra: impl Fn(f64, f64) -> f64) {
-        self.shape = self.grid.field(|x, y| 0.5 * (x * x + y * y) + extra(x, y));
+        self.set_extra_gap_field(&self.grid.field(extra));
     }
 
     /// Rigid film `X²/2 + Y²/2 + extra` [a²/R], the extra gap given on this level's points.

@@ -214,11 +214,7 @@ impl ReynoldsSolver {
 
     /// Adds `extra(X, Y)` [a²/R] to the rigid film on every level (a dent where positive).
     pub fn set_extra_gap(&mut self, extra: impl Fn(f64, f64) -> f64 + Copy) {
-        for l in &mut self.levels {
-            l.set_extra_gap(extra);
-        }
-        let h00 = self.h00;
-        self.levels[0].update_film(h00);
+        self.set_extra_gap_on(|g| g.field(extra));
     }
 
     /// Adds the field `extra(grid)` [a²/R] to the rigid film on every level, each level's
