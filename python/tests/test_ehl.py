@@ -264,8 +264,9 @@ def test_ctrl_c_stops_the_solve_and_frees_the_cores():
 
 def test_a_wave_rolled_through_the_contact_gives_its_last_passage():
     # 65²: the wave of a/4 on 6.5 cells; the layer model answers and reports its last passage,
-    # λ its mean central film over the wave's RMS height A/√2, and the wave it carries (1.29 of
-    # the surfaces' here, 0.47 on 129², 0.27 on 257²: far from grid-converged on 65²).
+    # λ its mean central film over the wave's RMS height A/√2, and the wave it carries (above
+    # the surfaces' own on this coarse grid: its grid convergence is in docs/findings.md, "A
+    # wave through the contact", so only its sign and its SI form are held here).
     c = ehl.compare("waviness-compare", grid=65)
     p = c["layer"].passage
     assert p is not None and p["central_film_min_m"] <= p["central_film_mean_m"]

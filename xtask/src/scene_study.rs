@@ -129,9 +129,7 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
             let ratios: Vec<f64> =
                 w.iter().filter_map(|p| p.passage.and_then(|q| q.amplitude_ratio)).collect();
             let amplitude = (ratios.len() == 3).then(|| {
-                let o = observed_order_of_three(ratios[0], ratios[1], ratios[2], 2.0);
-                let (b, c) = (ratios[1], ratios[2]);
-                let limit = (0.5..=4.0).contains(&o).then(|| c + (c - b) / (2f64.powf(o) - 1.0));
+                let (o, limit) = richardson(ratios[0], ratios[1], ratios[2]);
                 println!(
                     "  {model}: A_d/A_i {:.4}, {:.4}, {:.4}: observed order {o:.2}, limit {}",
                     ratios[0],
@@ -152,13 +150,8 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
         // sensible (0.5 … 4), else the finest grid's value.
         let reference = match ok.len() {
             k if k >= 3 => {
-                let (a, b, c) = (
-                    ok[k - 3].central_film_nm,
-                    ok[k - 2].central_film_nm,
-                    ok[k - 1].central_film_nm,
-                );
-                let o = observed_order_of_three(a, b, c, 2.0);
-                if (0.5..=4.0).contains(&o) { c + (c - b) / (2f64.powf(o) - 1.0) } else { c }
+                let c = ok[k - 1].central_film_nm;
+                richardson(ok[k - 3].central_film_nm, ok[k - 2].central_film_nm, c).1.unwrap_or(c)
             }
             k if k >= 1 => ok[k - 1].central_film_nm,
             _ => f64::NAN,
@@ -199,4 +192,11 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
     )?;
     println!("wrote {} and {}", png.display(), js.display());
     Ok(vec![png, js])
+}
+
+/// The observed order of three values on grids refined by 2 (coarsest first), and the
+/// Richardson limit at that order when the order is sensible (0.5 … 4).
+fn richardson(coarse: f64, medium: f64, fine: f64) -> (f64, Option<f64>) {
+    let o = observed_order_of_three(coarse, medium, fine, 2.0);
+    (o, (0.5..=4.0).contains(&o).then(|| fine + (fine - medium) / (2f64.powf(o) - 1.0)))
 }

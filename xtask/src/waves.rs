@@ -88,6 +88,7 @@ pub fn run(out: &Path) -> Result<()> {
             ]);
         }
         let mut speeds: Vec<f64> = rs.iter().map(|r| r.speed).collect();
+        speeds.sort_by(f64::total_cmp);
         speeds.dedup();
         let curve = |u: f64| {
             let mut c: Vec<(f64, f64)> = rs

@@ -289,12 +289,8 @@ impl Level {
         self.k_line = [0.0; 5];
     }
 
-    /// Rigid film `X²/2 + Y²/2 + extra(X, Y)` [a²/R]: a dent, a bump, or nothing.
-    pub fn set_extra_gap(&mut self, extra: impl Fn(f64, f64) -> f64) {
-        self.set_extra_gap_field(&self.grid.field(extra));
-    }
-
-    /// Rigid film `X²/2 + Y²/2 + extra` [a²/R], the extra gap given on this level's points.
+    /// Rigid film `X²/2 + Y²/2 + extra` [a²/R] (a dent, a bump, a relief, or nothing), the
+    /// extra gap given on this level's points.
     pub fn set_extra_gap_field(&mut self, extra: &Array2<f64>) {
         self.shape = self.grid.paraboloid() + extra;
     }

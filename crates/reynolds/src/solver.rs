@@ -213,8 +213,8 @@ impl ReynoldsSolver {
     }
 
     /// Adds `extra(X, Y)` [a²/R] to the rigid film on every level (a dent where positive).
-    pub fn set_extra_gap(&mut self, extra: impl Fn(f64, f64) -> f64 + Copy) {
-        self.set_extra_gap_on(|g| g.field(extra));
+    pub fn set_extra_gap(&mut self, extra: impl Fn(f64, f64) -> f64) {
+        self.set_extra_gap_on(|g| g.field(&extra));
     }
 
     /// Adds the field `extra(grid)` [a²/R] to the rigid film on every level, each level's

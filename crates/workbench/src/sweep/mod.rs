@@ -363,17 +363,18 @@ fn point_line(sweep: &Sweep, r: &PointRecord) -> String {
     format!("point {} ({}; {}x{}): {}", r.index, vals.join(", "), r.nx, r.ny, models.join("; "))
 }
 
-/// What a point keeps of a model's answer: its observables, whether it is lubricated, its
-/// indicators.
-/// A model's answer: its observables, whether it is lubricated, its indicators, and its caveat
-/// ([`crate::model::Outcome::caveat`]).
-type Answer = (
-    Observables,
-    bool,
-    std::collections::BTreeMap<String, crate::model::Indicator>,
-    Option<String>,
-    Option<ehl_core::Passage>,
-);
+/// What a point keeps of a model's answer.
+#[derive(Clone)]
+struct Answer {
+    observables: Observables,
+    /// Whether a film separates the surfaces.
+    lubricated: bool,
+    indicators: std::collections::BTreeMap<String, crate::model::Indicator>,
+    /// [`crate::model::Outcome::caveat`].
+    caveat: Option<String>,
+    /// [`crate::model::Outcome::passage`].
+    passage: Option<ehl_core::Passage>,
+}
 /// A model's failure: its diagnosis and the kind ([`crate::Error::class`]).
 type Failed = (String, &'static str);
 
@@ -382,14 +383,12 @@ type Failed = (String, &'static str);
 fn run_model(scene: &Scene) -> (Result<Answer, Failed>, f64) {
     let t0 = Instant::now();
     let out = crate::run::run_scene(scene)
-        .map(|o| {
-            (
-                o.observables(),
-                o.lubricated(),
-                o.indicators().into_iter().collect(),
-                o.caveat(),
-                o.passage(),
-            )
+        .map(|o| Answer {
+            observables: o.observables(),
+            lubricated: o.lubricated(),
+            indicators: o.indicators().into_iter().collect(),
+            caveat: o.caveat(),
+            passage: o.passage(),
         })
         .map_err(|e| (format!("{e:#}"), e.class()));
     (out, t0.elapsed().as_secs_f64())
@@ -422,7 +421,7 @@ fn check_record(scene: &Scene, run: &Result<Answer, Failed>) -> CheckRecord {
         ny: scene.grid.ny,
         x_a: scene.domain.x_a,
         y_a: scene.domain.y_a,
-        observables: run.as_ref().ok().map(|r| r.0),
+        observables: run.as_ref().ok().map(|r| r.observables),
         diagnosis: run.as_ref().err().map(|e| e.0.clone()),
         change: None,
     }
@@ -443,12 +442,12 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                 let (main, wall_time_s) = run_model(&one);
                 let mut rec = ModelRecord {
                     model: m,
-                    lubricated: main.as_ref().is_ok_and(|r| r.1),
-                    observables: main.as_ref().ok().map(|r| r.0),
+                    lubricated: main.as_ref().is_ok_and(|r| r.lubricated),
+                    observables: main.as_ref().ok().map(|r| r.observables),
                     diagnosis: main.as_ref().err().map(|e| e.0.clone()),
                     failure: main.as_ref().err().map(|e| e.1.to_string()),
-                    indicators: main.as_ref().map(|r| r.2.clone()).unwrap_or_default(),
-                    passage: main.as_ref().ok().and_then(|r| r.4),
+                    indicators: main.as_ref().map(|r| r.indicators.clone()).unwrap_or_default(),
+                    passage: main.as_ref().ok().and_then(|r| r.passage),
                     wall_time_s,
                     grid_check: None,
                     grid_check_quarter: None,
@@ -457,8 +456,8 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                     check_wall_time_s: 0.0,
                     flag: None,
                 };
-                let caveat = main.as_ref().ok().and_then(|r| r.3.clone());
-                if let Ok((ob, lub, ..)) = &main
+                let caveat = main.as_ref().ok().and_then(|r| r.caveat.clone());
+                if let Ok(Answer { observables: ob, lubricated: lub, .. }) = &main
                     && sweep.checks
                 {
                     let (gs, ds) = (adapt::grid_check(&one), adapt::domain_check(&one));
@@ -471,17 +470,17 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                     let mut gc = check_record(&gs, &g);
                     let mut qc = check_record(&qs, &q);
                     let mut dc = check_record(&ds, &d);
-                    gc.change = g.as_ref().ok().map(|(c, ..)| changes(ob, c, *lub));
-                    if let (Ok((c, ..)), Ok((big, ..))) = (&g, &d) {
-                        dc.change = Some(changes(big, c, *lub));
+                    let ob_of = |r: &Result<Answer, Failed>| r.as_ref().ok().map(|a| a.observables);
+                    let (half, quarter, big) = (ob_of(&g), ob_of(&q), ob_of(&d));
+                    gc.change = half.map(|c| changes(ob, &c, *lub));
+                    if let (Some(c), Some(big)) = (half, big) {
+                        dc.change = Some(changes(&big, &c, *lub));
                     }
-                    if let (Ok((half, ..)), Ok((quarter, ..))) = (&g, &q) {
-                        qc.change = Some(changes(half, quarter, *lub));
+                    if let (Some(half), Some(quarter)) = (half, quarter) {
+                        qc.change = Some(changes(&half, &quarter, *lub));
                     }
-                    rec.grid_error = g.as_ref().ok().map(|(half, ..)| {
-                        let quarter = q.as_ref().ok().map(|r| &r.0);
-                        grid_errors(ob, half, quarter, *lub)
-                    });
+                    rec.grid_error =
+                        half.map(|half| grid_errors(ob, &half, quarter.as_ref(), *lub));
                     rec.flag = flag(sweep.flag_change_above, &gc, rec.grid_error.as_ref(), &dc);
                     rec.grid_check = Some(gc);
                     rec.grid_check_quarter = Some(qc);
