@@ -171,6 +171,15 @@ enum Command {
     Sweep {
         /// The built-in sweep (`ehl sweep --list`).
         name: String,
+        /// The map alone: every point on the grid its inlet rule grows it to, without the grid
+        /// rule's refinement and the checks (minutes where the full sweep takes hours); writes
+        /// `docs/measured/sweep-NAME-map.md`.
+        #[arg(long)]
+        map: bool,
+        /// Write the page from the sweep already run and merged in this folder (as on a
+        /// cluster: `ehl sweep plan`, the array, `ehl sweep merge`) instead of running it.
+        #[arg(long)]
+        from: Option<PathBuf>,
         #[arg(long, default_value = "out/sweeps")]
         out: PathBuf,
     },
@@ -262,7 +271,9 @@ fn main() -> Result<()> {
         Command::Example { out } => example::run(&out),
         Command::Findings { out } => findings::run(&out),
         Command::Contact { out } => contact::run(&out),
-        Command::Sweep { name, out } => sweep_page::run(&name, &out),
+        Command::Sweep { name, map, from, out } => {
+            sweep_page::run(&name, map, from.as_deref(), &out)
+        }
         Command::Waves { out } => waves::run(&out),
         Command::Seed { points: n, out } => seed_page::run(points(n), &out),
         Command::Accuracy { out, points: n } => accuracy::run(&out, points(n)),

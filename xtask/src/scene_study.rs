@@ -29,6 +29,16 @@ struct Point {
 /// check), run in parallel through `ehl_workbench::sweep`, one thread per grid; its folder
 /// (`<out>/<scene>-grids`) holds the sweep's own results too.
 pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
+    // What the study prints is also its page's body (for a built-in scene).
+    let mut log = String::new();
+    macro_rules! say {
+        ($($t:tt)*) => {{
+            let line = format!($($t)*);
+            println!("{line}");
+            log += &line;
+            log.push('\n');
+        }};
+    }
     if grids.len() < 2 {
         bail!("--grids: at least two grids (three for observed orders)");
     }
@@ -54,7 +64,7 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
     let mut by_model: BTreeMap<String, Vec<Point>> = BTreeMap::new();
     for r in &recs {
         let n = r.nx;
-        println!("{} on {n}²:", base.name);
+        say!("{} on {n}²:", base.name);
         for m in &r.models {
             let name = compare::model_name(m.model);
             let p = match &m.observables {
@@ -80,20 +90,29 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
                 },
             };
             match &p.diagnosis {
-                None => println!(
+                None => say!(
                     "  {:<9} h_c {:>10.4} nm  h_min {:>9.4} nm  p_max {:.5} GPa  {:>7.2} s",
-                    name, p.central_film_nm, p.minimum_film_nm, p.max_pressure_gpa, p.wall_time_s
+                    name,
+                    p.central_film_nm,
+                    p.minimum_film_nm,
+                    p.max_pressure_gpa,
+                    p.wall_time_s
                 ),
-                Some(d) => println!("  {:<9} FAILED ({:.2} s): {d}", name, p.wall_time_s),
+                Some(d) => say!("  {:<9} FAILED ({:.2} s): {d}", name, p.wall_time_s),
             }
             if let Some(q) = &p.passage {
-                println!(
+                say!(
                     "  {:<9} last passage: h_c mean {:.4} nm ({:.4}–{:.4}){}",
                     "",
                     q.central_film_mean_m * 1e9,
                     q.central_film_min_m * 1e9,
                     q.central_film_max_m * 1e9,
                     q.amplitude_ratio.map_or(String::new(), |r| format!(", A_d/A_i {r:.4}"))
+                        + &q.contact_load_share_mean.map_or(String::new(), |c| format!(
+                            ", the solids' share {:.3} % (mean; {:.3} % at most)",
+                            100.0 * c,
+                            100.0 * q.contact_load_share_max.unwrap_or(c)
+                        ))
                 );
             }
             by_model.entry(name).or_default().push(p);
@@ -120,9 +139,11 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
                 w[2].minimum_film_nm,
                 2.0,
             );
-            println!(
+            say!(
                 "  {model}: observed order {}→{}→{}: h_c {oc:.2}, h_min {om:.2}",
-                w[0].n, w[1].n, w[2].n
+                w[0].n,
+                w[1].n,
+                w[2].n
             );
             // A wave's deformed amplitude, where each grid's passage has one: its order and
             // the Richardson limit at that order (when it is sensible, 0.5 … 4).
@@ -130,7 +151,7 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
                 w.iter().filter_map(|p| p.passage.and_then(|q| q.amplitude_ratio)).collect();
             let amplitude = (ratios.len() == 3).then(|| {
                 let (o, limit) = richardson(ratios[0], ratios[1], ratios[2]);
-                println!(
+                say!(
                     "  {model}: A_d/A_i {:.4}, {:.4}, {:.4}: observed order {o:.2}, limit {}",
                     ratios[0],
                     ratios[1],
@@ -139,7 +160,24 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
                 );
                 json!({"ratios": ratios, "order": o, "limit": limit})
             });
+            // The solids' mean share of the load over the passage, where they touched.
+            let shares: Vec<f64> = w
+                .iter()
+                .filter_map(|p| p.passage.and_then(|q| q.contact_load_share_mean))
+                .collect();
+            let share = (shares.len() == 3 && shares.iter().any(|&c| c > 0.0)).then(|| {
+                let (o, limit) = richardson(shares[0], shares[1], shares[2]);
+                say!(
+                    "  {model}: the solids' share {:.4}, {:.4}, {:.4}: observed order {o:.2}, limit {}",
+                    shares[0],
+                    shares[1],
+                    shares[2],
+                    limit.map_or("— (order off 0.5–4)".into(), |l| format!("{l:.4}"))
+                );
+                json!({"shares": shares, "order": o, "limit": limit})
+            });
             orders.push(json!({
+                "contact_load_share": share,
                 "grids": [w[0].n, w[1].n, w[2].n],
                 "central_film": oc,
                 "minimum_film": om,
@@ -191,7 +229,25 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
             + "\n",
     )?;
     println!("wrote {} and {}", png.display(), js.display());
-    Ok(vec![png, js])
+    let mut files = vec![png, js];
+    if ehl_scene::builtin_names().contains(&scene) {
+        let list: Vec<String> = grids.iter().map(|n| n.to_string()).collect();
+        let intro = format!(
+            "The grid study of the built-in scene `{scene}`: every model on {} points per side \
+             (the scene's domain, no adaptation, no checks), run in parallel, one thread per \
+             grid; observed orders from grids refined by 2, and a wave's `A_d/A_i` with its \
+             order and Richardson limit where a pattern rolled.\n\n```\n{log}```\n",
+            list.join(", ")
+        );
+        files.push(crate::measured::write(
+            &format!("convergence-{stem}"),
+            &format!("Grid convergence of `{scene}`"),
+            &format!("cargo xtask convergence {scene} --grids {}", list.join(",")),
+            &intro,
+            &[],
+        )?);
+    }
+    Ok(files)
 }
 
 /// The observed order of three values on grids refined by 2 (coarsest first), and the

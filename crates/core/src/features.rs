@@ -86,6 +86,10 @@ pub struct Roughness {
     pub seed: u64,
     /// `(k_x, k_y, φ)` of each cosine [1/a, 1/a, rad].
     modes: Vec<[f64; 3]>,
+    /// Where the rough surface ends downstream at the start [a] (`None`: rough everywhere): a
+    /// rough patch rolling in over a smooth surface, so that a march can start from the smooth
+    /// contact's steady state ([`Self::entering_at`]).
+    pub edge_a: Option<f64>,
 }
 
 impl Roughness {
@@ -105,7 +109,21 @@ impl Roughness {
                 [sx * r * t.cos(), sy * r * t.sin(), std::f64::consts::TAU * uniform()]
             })
             .collect();
-        Self { rq_m, correlation_a: (beta_x_a, beta_y_a), seed, modes }
+        Self { rq_m, correlation_a: (beta_x_a, beta_y_a), seed, modes, edge_a: None }
+    }
+
+    /// The same surface rough only upstream of `x_a` [a] at the start, the edge moving with the
+    /// surfaces and blended over the correlation length (`½ (1 − tanh((x' − x_a)/β_x))` of the
+    /// heights, `x'` on the moving surface): a step as sharp as a cell would be a wall the film
+    /// has to climb, which no rough surface has.
+    pub fn entering_at(self, x_a: f64) -> Self {
+        Self { edge_a: Some(x_a), ..self }
+    }
+
+    /// The share of the heights kept at `x'` [a] on the moving surface (1 without an edge).
+    #[inline]
+    fn taper(&self, xs: f64) -> f64 {
+        self.edge_a.map_or(1.0, |e| 0.5 * (1.0 - ((xs - e) / self.correlation_a.0).tanh()))
     }
 
     /// Gap added at `(x, y)` [a] after the surfaces travelled `travel_a` [a], in units of
@@ -113,7 +131,7 @@ impl Roughness {
     pub fn gap(&self, x: f64, y: f64, travel_a: f64, delta: f64) -> f64 {
         let xs = x - travel_a;
         let sum: f64 = self.modes.iter().map(|[kx, ky, ph]| (kx * xs + ky * y + ph).cos()).sum();
-        self.rq_m / delta * (2.0 / self.modes.len() as f64).sqrt() * sum
+        self.rq_m / delta * (2.0 / self.modes.len() as f64).sqrt() * sum * self.taper(xs)
     }
 
     /// [`Self::gap`] at every point of `grid`, added to `out`: the same sum, factored by rows
@@ -131,8 +149,9 @@ impl Roughness {
         });
         let columns = Array2::from_shape_fn((2 * m, grid.nx), |(q, i)| {
             let [kx, _, ph] = self.modes[q % m];
-            let arg = kx * (grid.x(i) - travel_a) + ph;
-            scale * if q < m { arg.cos() } else { arg.sin() }
+            let xs = grid.x(i) - travel_a;
+            let arg = kx * xs + ph;
+            scale * self.taper(xs) * if q < m { arg.cos() } else { arg.sin() }
         });
         ndarray::linalg::general_mat_mul(1.0, &rows, &columns, 1.0, out);
     }
@@ -385,7 +404,8 @@ mod tests {
         let d = Dent { depth_m: 2e-8, width_a: 0.1, x_start_a: -1.0, y_a: 0.0 };
         let w = Waviness { amplitude_m: 1e-8, wavelength_a: 0.25, angle_rad: 0.3, phase_rad: 1.0 };
         let r = Roughness::new(5e-9, 0.1, 0.2, 7);
-        let all = Relief { dents: vec![d], waves: vec![w], roughness: vec![r] };
+        let entering = Roughness::new(3e-9, 0.15, 0.15, 2).entering_at(-0.4);
+        let all = Relief { dents: vec![d], waves: vec![w], roughness: vec![r, entering] };
         // A grid that is not square, so that rows and columns cannot be swapped unseen.
         let g = Grid::new(33, 21, (-1.3, 1.1), (-0.8, 0.9));
         let s = 0.37;
@@ -397,6 +417,25 @@ mod tests {
         for ((j, i), v) in field.indexed_iter() {
             assert!((v - all.gap(g.x(i), g.y(j), s, 1e-9)).abs() < 1e-11, "at {i}, {j}");
         }
+    }
+
+    #[test]
+    fn a_rough_patch_rolls_in_over_a_smooth_surface_with_its_edge() {
+        let whole = Roughness::new(4e-9, 0.1, 0.1, 5);
+        let patch = whole.clone().entering_at(-1.0);
+        // Upstream of the edge the patch is the whole surface (to tanh's 1e-17 at 40 β); far
+        // downstream it is smooth; at the edge half of it. Travel carries the edge: after 0.6 a
+        // it is at -0.4 a.
+        for &(x, y) in &[(-5.0, 0.3), (-3.0, -0.2)] {
+            assert!((patch.gap(x, y, 0.0, 1e-9) - whole.gap(x, y, 0.0, 1e-9)).abs() < 1e-12);
+        }
+        assert!(patch.gap(0.5, 0.1, 0.0, 1e-9).abs() < 1e-12);
+        assert!(
+            (patch.gap(-1.0, 0.1, 0.0, 1e-9) - 0.5 * whole.gap(-1.0, 0.1, 0.0, 1e-9)).abs() < 1e-12
+        );
+        assert!(
+            (patch.gap(-0.4, 0.1, 0.6, 1e-9) - 0.5 * whole.gap(-0.4, 0.1, 0.6, 1e-9)).abs() < 1e-12
+        );
     }
 
     #[test]

@@ -27,6 +27,16 @@ pub struct Passage {
     /// `λ`: the mean central film over the relief's RMS height (`None`: a relief without one,
     /// dents alone).
     pub lambda: Option<f64>,
+    /// The share of the load the solids carry, over the passage: mean … (`None`: a model
+    /// that does not tell contact from a film)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_load_share_mean: Option<f64>,
+    /// … and largest [-].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_load_share_max: Option<f64>,
+    /// The area where the solids touch, mean over the passage [m²].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_area_mean_m2: Option<f64>,
     /// A single wave's amplitude in the final film at the contact's centre [m] (`None`: not a
     /// single wave, or one longer than the centre holds).
     pub deformed_amplitude_m: Option<f64>,
@@ -52,7 +62,7 @@ impl Passage {
         // instant's twin in a periodic state, and counting both would weigh that phase twice.
         let last: Vec<&Observables> = history
             .iter()
-            .filter(|(t, _)| *t > t_end - duration_s * (1.0 - 1e-9))
+            .filter(|(t, _)| in_passage(*t, t_end, duration_s))
             .map(|(_, o)| o)
             .collect();
         let n = last.len() as f64;
@@ -70,9 +80,43 @@ impl Passage {
             minimum_film_m: fold(|o| o.minimum_film_m, f64::min, f64::INFINITY),
             max_pressure_pa: fold(|o| o.max_pressure_pa, f64::max, 0.0),
             lambda: rms_m.filter(|r| *r > 0.0).map(|r| mean / r),
+            contact_load_share_mean: None,
+            contact_load_share_max: None,
+            contact_area_mean_m2: None,
             deformed_amplitude_m: None,
             amplitude_ratio: None,
         })
+    }
+
+    /// With the solids' contact over the same records: `contact` holds the load share and the
+    /// area [m²] of each record of `history` (the history [`Passage::over`] read); unchanged
+    /// when the two do not line up.
+    pub fn with_contact(
+        self,
+        history: &[(f64, Observables)],
+        contact: &[(f64, f64)],
+        duration_s: f64,
+    ) -> Self {
+        let Some(t_end) = history.last().map(|h| h.0) else { return self };
+        if contact.len() != history.len() {
+            return self;
+        }
+        let last: Vec<(f64, f64)> = history
+            .iter()
+            .zip(contact)
+            .filter(|((t, _), _)| in_passage(*t, t_end, duration_s))
+            .map(|(_, c)| *c)
+            .collect();
+        if last.is_empty() {
+            return self;
+        }
+        let n = last.len() as f64;
+        Self {
+            contact_load_share_mean: Some(last.iter().map(|c| c.0).sum::<f64>() / n),
+            contact_load_share_max: Some(last.iter().map(|c| c.0).fold(0.0, f64::max)),
+            contact_area_mean_m2: Some(last.iter().map(|c| c.1).sum::<f64>() / n),
+            ..self
+        }
     }
 
     /// With a wave's deformed amplitude `a_d` [m] against its own `a_i` [m].
@@ -83,6 +127,12 @@ impl Passage {
             ..self
         }
     }
+}
+
+/// Whether a record at `t` [s] is in the passage of `duration_s` [s] that ends at `t_end`: its
+/// first instant left out, the twin of its last in a periodic state.
+fn in_passage(t: f64, t_end: f64, duration_s: f64) -> bool {
+    t > t_end - duration_s * (1.0 - 1e-9)
 }
 
 /// Terms of the smooth trend fitted beside the harmonic: a quartic, which holds a contact's
@@ -191,6 +241,18 @@ mod tests {
         assert!(Passage::over(&h[..5], 1.0, 2e-5, None).is_none(), "half a passage is none");
         let p = p.with_amplitude(2e-9, 5e-9);
         assert!((p.amplitude_ratio.unwrap() - 0.4).abs() < 1e-15);
+        // The solids' share over the same eight records: 0 before the last period, then k/100
+        // at its k-th record (k = 1 … 8): mean 4.5 %, largest 8 %, and the first instant (the
+        // twin of the last) left out as the films' is. Off by a record, the mean is 4 or 5 %.
+        let contact: Vec<(f64, f64)> = (0..=24)
+            .map(|k| if k > 16 { ((k - 16) as f64 / 100.0, 1e-10) } else { (0.5, 1.0) })
+            .collect();
+        let q = p.with_contact(&h, &contact, 1.0);
+        assert!((q.contact_load_share_mean.unwrap() - 0.045).abs() < 1e-15, "{q:?}");
+        assert_eq!(q.contact_load_share_max, Some(0.08));
+        assert!((q.contact_area_mean_m2.unwrap() - 1e-10).abs() < 1e-24);
+        // A contact history that does not line up with the films' is not read.
+        assert_eq!(p.with_contact(&h, &contact[1..], 1.0).contact_load_share_mean, None);
     }
 
     #[test]

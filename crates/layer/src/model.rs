@@ -390,6 +390,12 @@ impl LayerModel {
         l
     }
 
+    /// Where the solids touch in state `s`: the loaded points with no layer left between them
+    /// (thinner than a millionth of the supply), the load they carry, their area and pressure.
+    pub fn solid_contact(&self, s: &LayerState) -> ehl_core::SolidContact {
+        solid_contact(&self.grid, &self.scales, &s.p, &s.thickness(self), self.l0)
+    }
+
     /// Solves the contact for a rigid gap `g0` and optional compliance (Hertz units).
     pub fn contact(
         &self,
@@ -555,6 +561,22 @@ pub struct LayerState {
     pub h0: f64,
 }
 
+/// "No layer left": a layer thinner than this share of the supply, where the solids touch.
+pub const NO_LAYER_LEFT: f64 = 1e-6;
+
+/// Where the solids touch under pressure `p` [p_h] with layer thickness `l` [a²/R] on `grid`
+/// (a supply `l0` [a²/R]): the loaded points with no layer left ([`NO_LAYER_LEFT`]).
+pub fn solid_contact(
+    grid: &ehl_core::Grid,
+    scales: &ehl_core::HertzScales,
+    p: &Array2<f64>,
+    l: &Array2<f64>,
+    l0: f64,
+) -> ehl_core::SolidContact {
+    let touching = l.mapv(|v| v <= NO_LAYER_LEFT * l0);
+    ehl_core::SolidContact::from_mask(grid, scales, p, &touching)
+}
+
 impl LayerState {
     /// Layer thickness `L` [a²/R].
     pub fn thickness(&self, model: &LayerModel) -> Array2<f64> {
@@ -585,6 +607,14 @@ pub struct Monitor {
     /// Extent of the loaded zone with no layer left along `y = 0` [m].
     #[serde(rename = "dry_diameter_m")]
     pub dry_diameter: f64,
+    /// The share of the load the solids carry where no layer is left between them (the
+    /// layer model's mixed lubrication: [`ehl_core::SolidContact`] over the loaded points
+    /// with no layer) [-] …
+    #[serde(rename = "contact_load_share")]
+    pub contact_load_share: f64,
+    /// … and their area [m²].
+    #[serde(rename = "contact_area_m2")]
+    pub contact_area: f64,
     /// Mutual approach `−h0` [m].
     #[serde(rename = "approach_m")]
     pub approach: f64,
@@ -645,8 +675,8 @@ impl Monitor {
         }
         let prow = s.p.row(j0);
         let lrow = l.row(j0);
-        // "No layer left": below 1e-6 of the supply.
-        let dry_tol = 1e-6 * model.l0;
+        let dry_tol = NO_LAYER_LEFT * model.l0;
+        let contact = model.solid_contact(s);
         Self {
             t: s.t,
             central_thickness: sc.h_si(l[[j0, i0]]),
@@ -655,6 +685,8 @@ impl Monitor {
                 prow.iter().zip(lrow.iter()).map(|(&p, &l)| p > 0.0 && l <= dry_tol),
                 g.dx(),
             )),
+            contact_load_share: contact.load_share,
+            contact_area: contact.area_m2,
             approach: sc.h_si(-s.h0),
             central_pressure: sc.p_si(s.p[[j0, i0]]),
             lateral_wiggle: sc.p_si(lateral_wiggle(&s.p)),

@@ -437,3 +437,36 @@ fn bdf2_carries_each_past_level_by_its_own_travel_when_the_speed_changes() {
     let constant = carried_bump_error(rolling(0.02), 40, t_end);
     assert!(ramp < 4e-3 && constant < 4e-3, "ramp {ramp:.3e}, constant {constant:.3e}");
 }
+
+#[test]
+fn the_solids_carry_the_load_where_no_layer_is_left_and_nowhere_else() {
+    let m = model(33, 0.01);
+    let mut s = uniform_state(&m).unwrap();
+    // A whole layer everywhere: no contact.
+    let c = m.solid_contact(&s);
+    assert_eq!((c.load_share, c.area_m2, c.max_pressure_pa), (0.0, 0.0, 0.0));
+    // The layer gone (strain 1) at x > 0: the solids there carry that part of the pressure's
+    // integral, on that many loaded cells. A strain short of 1 by more than a millionth keeps
+    // a layer: the threshold is the dry zone's (`NO_LAYER_LEFT`), not "thin".
+    let g = m.grid;
+    let (mut on, mut cells) = (0.0, 0usize);
+    for ((j, i), e) in s.eps.indexed_iter_mut() {
+        if g.x(i) > 0.0 {
+            *e = 1.0;
+            if s.p[[j, i]] > 0.0 {
+                on += s.p[[j, i]];
+                cells += 1;
+            }
+        } else if g.x(i) > -0.3 {
+            *e = 1.0 - 1e-5;
+        }
+    }
+    assert!(cells > 0);
+    let c = m.solid_contact(&s);
+    assert!((c.load_share - on / s.p.sum()).abs() < 1e-14, "{c:?}");
+    let a = m.scales.a;
+    assert!((c.area_m2 - cells as f64 * g.cell_area() * a * a).abs() < 1e-24, "{c:?}");
+    // The monitor a march records reads the same contact.
+    let mon = Monitor::of(&m, &s, 0);
+    assert_eq!((mon.contact_load_share, mon.contact_area), (c.load_share, c.area_m2));
+}

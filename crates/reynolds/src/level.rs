@@ -361,8 +361,8 @@ impl Level {
     /// second-order upwind stencil has the face flux `1.5 q_i − 0.5 q_(i−1)`; at the first
     /// point the flooded scheme's weight 1 makes the inflow face's flux `(q_0 + q_1)/2`, half
     /// of it the first cell's own content: harmless when the gap is full there, but with a
-    /// thin supply (`q_0 = H_oil ≪ q_1`) a source of oil (the seed's contact with 5 nm
-    /// supplied carried 7× the supply through the contact). Mass conserving, the inflow face
+    /// thin supply (`q_0 = H_oil ≪ q_1`) a source of oil, several times the supply carried
+    /// through a starved contact. Mass conserving, the inflow face
     /// carries exactly the supply (`q_0`, the layer as it arrives: weight 1.5); the flooded
     /// clamp keeps its weight and its digits.
     #[inline]
@@ -378,25 +378,13 @@ impl Level {
     /// first-order `q_i`. The finest grid's equations, the answer's, are the same everywhere.
     ///
     /// Why first order there: `θ` where the gap is partly filled is carried by the surfaces,
-    /// and the second-order flux over a jump in `θ` (the edges of the side bands behind the
-    /// contact, a meniscus) over- and undershoots, so that the relaxation clamps `θ` at 0 and 1
-    /// in turn. On a coarse grid that solves for `θ`
-    /// ([`crate::ReynoldsSettings::coarse_film_content`]) its corrections then wrecked the fine
-    /// film: the seed's 10 nm supply closed its film at the outlet within a few cycles (257²),
-    /// and converges in 14 cycles with these faces. On every grid, first order where either
-    /// point is partly filled moved the seed's central films by up to 0.4 % (10 nm, 257²) and
-    /// dried less of a passing hole (`hole-starved-compare`: the contact's share of the load
-    /// 5.5 % → 0.06 %, the hole's edges smeared): not the answer's discretisation. Faces that
-    /// go first order only where both points are partly filled, or only where the upwind point
-    /// is, stalled or closed the film with every supply of the seed's contact tried (5–100 nm).
-    ///
-    /// A limited flux on every grid was measured against these faces and set aside (first order
-    /// at the menisci): `docs/decisions.md`, "Limited Couette faces".
-    ///
-    /// A face that reads a point where the solids touch is first order on every grid: the shut
-    /// gap passes no oil, and the second-order face behind it (`−q/2` of the point before)
-    /// drew oil out of it into the film downstream (the seed's contact fed 0.2 nm on 129²:
-    /// 3.9 % more oil left the domain than was supplied).
+    /// and the second-order flux over a jump in `θ` (a meniscus, the edges of the side bands)
+    /// over- and undershoots, so that the relaxation clamps `θ` at 0 and 1 in turn and a coarse
+    /// grid's corrections wreck the fine film. A face that reads a point where the solids touch
+    /// is first order on every grid: the shut gap passes no oil, and the second-order face
+    /// behind it (`−q/2` of the point before) would draw oil out of it. What each choice
+    /// measured, and the faces set aside: `docs/decisions.md`, "First-order faces on the finest
+    /// grid", "Limited Couette faces" and "Passes around the menisci".
     #[inline]
     fn upwind(&self, theta: &[f64], j: usize, i: usize) -> [f64; 3] {
         if i < 2 {

@@ -152,12 +152,9 @@ impl ReynoldsSolver {
     }
 
     /// The grid a solve starts on: the coarsest for a full-multigrid start, the finest without.
-    /// Mass conserving, the coarsest with at least [`STARVED_FMG_POINTS`] per side: on coarser
-    /// grids the seed's films are thinner than the grid resolves (negative central films on
-    /// 17² and 33², 65² wandering with 5 nm supplied), and the meniscus they gave led the finer
-    /// grids into a flooded-like state the supply could not sustain, drained one sweep at a
-    /// time (5 nm on 257² from 17²: the central film 2.5× too thick after 150 cycles; started
-    /// on 129² it converges in 13).
+    /// Mass conserving, the coarsest with at least [`STARVED_FMG_POINTS`] per side: coarser
+    /// grids do not resolve a starved film, and the meniscus they give leads the finer grids
+    /// into a flooded-like state the supply cannot sustain, drained one sweep at a time.
     fn fmg_top(&self) -> usize {
         if self.active.fmg_cycles == 0 {
             return 0;
@@ -202,9 +199,8 @@ impl ReynoldsSolver {
     /// The central film to start from [a²/R]: the flooded estimate `hc` without a supply; with
     /// one, `hc · R(r)` by the starvation curve's form (Chevalier et al. 1998) with `γ = 2`,
     /// `r = H_oil / (ρ̄(p_h) hc)` (the thinnest row's supply): a start that holds about the oil
-    /// supplied. Starting from the flooded film instead, the relaxation drained the excess oil
-    /// as slowly as time would (seed conditions, 5 nm on 257²: the central film still 2.5×
-    /// too thick after 150 cycles).
+    /// supplied. From the flooded film instead, the relaxation drains the excess oil as slowly
+    /// as time would (hundreds of cycles on the seed's contact fed 5 nm).
     fn starved_film_estimate(&self, hc: f64) -> f64 {
         let Some(s) = self.levels[0].supply() else { return hc };
         let h_oil = s.iter().cloned().fold(f64::INFINITY, f64::min);

@@ -29,6 +29,7 @@ pub(crate) const BUILTINS: &[(&str, &str)] = builtin_scenes!(
     "waviness-compare",
     "waviness-flooded-compare",
     "roughness-compare",
+    "roughness-mixed-compare",
     "reynolds-m20-l10",
     "reynolds-m20-l10-dent",
     "reynolds-seed"

@@ -103,13 +103,24 @@ pub struct RoughnessSpec {
     /// The random stream's seed: one seed, one surface, on every grid and machine.
     #[serde(default)]
     pub seed: u64,
+    /// Where the rough surface ends downstream at the start, `x` [m] (absent: rough
+    /// everywhere): a rough patch rolling in over a smooth surface, its edge blended over the
+    /// correlation length, so that a march starts from the smooth contact's steady state
+    /// (a film that closes over the roughness needs the time steps' contact, which a steady
+    /// solve does not have).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub enters_at_x_m: Option<f64>,
 }
 
 impl RoughnessSpec {
     /// The surface on a contact of half-width `a_m` [m].
     pub fn resolved(&self, a_m: f64) -> Roughness {
         let beta_y = self.correlation_length_y_m.unwrap_or(self.correlation_length_m);
-        Roughness::new(self.rq_m, self.correlation_length_m / a_m, beta_y / a_m, self.seed)
+        let r = Roughness::new(self.rq_m, self.correlation_length_m / a_m, beta_y / a_m, self.seed);
+        match self.enters_at_x_m {
+            Some(x) => r.entering_at(x / a_m),
+            None => r,
+        }
     }
     /// The shortest correlation length [m].
     pub fn shortest_m(&self) -> f64 {

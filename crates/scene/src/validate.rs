@@ -703,6 +703,9 @@ impl Scene {
                     if let Some(b) = g.correlation_length_y_m {
                         ck.own("", above(&f(by), b, 0.0, 1.0, "m"))?;
                     }
+                    if let Some(x) = g.enters_at_x_m {
+                        ck.own("", within(&f("enters_at_x_m"), x, -1.0, 1.0, "m"))?;
+                    }
                     // The Gaussian spectrum's shortest wavelengths (two standard deviations
                     // out) are about 2.2 β: half the cells per β that a wave needs.
                     let need = MIN_CELLS_PER_WAVELENGTH / 2.0;

@@ -51,13 +51,11 @@ pub struct Comparison {
 /// How a comparison's models share the cores.
 ///
 /// Why at once by default: neither model keeps two cores busy on its own. Its line relaxation
-/// (Reynolds) and its march's bookkeeping and transport (layer) are serial; measured on
-/// `dent-shallow-compare` (257², 2 cores) the layer's march keeps about 1.4 cores busy and the
-/// Reynolds march about 1.5. The models are independent work, so the one that waits fills the
-/// other's idle core. Every number each model returns is the same either way: bit for bit on
-/// every field and history file of `dent-shallow-compare` (compared with `cmp`), and the suite
-/// holds each model's observables in a comparison to its run alone
-/// (`validation/tests/compare.rs`).
+/// (Reynolds) and its march's bookkeeping and transport (layer) are serial, so each keeps
+/// well under two cores busy. The models are independent work, so the one that waits fills the
+/// other's idle core (`cargo xtask bench --only compare`: docs/measured/bench-compare.md). Every
+/// number each model returns is the same either way: the suite holds each model's observables
+/// in a comparison to its run alone (`validation/tests/compare.rs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Schedule {
     /// Every model at once, each a task on the one rayon pool with its parallel parts in it:
@@ -138,11 +136,9 @@ fn run_models(
     let models = scene.models();
     let entries = match schedule {
         Schedule::OneAtATime => models.into_iter().map(one).collect(),
-        // The models are tasks on the one rayon pool, their own parallel parts nested in them.
-        // Measured on `dent-shallow-compare` (257², 2 cores, one run after the other): 14.2 s
-        // against 17.7 s one at a time. Each model on its own plain thread, entering the pool
-        // from outside for every parallel part, took 18.1 s: the hand-over at every line
-        // relaxation's join costs more than the idle core gives.
+        // The models are tasks on the one rayon pool, their own parallel parts nested in them:
+        // a model on its own plain thread would enter the pool from outside at every line
+        // relaxation's join, a hand-over that costs more than the idle core gives.
         Schedule::SideBySide => {
             use rayon::prelude::*;
             models.into_par_iter().map(one).collect()
@@ -248,6 +244,9 @@ impl Comparison {
                     "passage_minimum_film_m": passage.map(|p| p.minimum_film_m),
                     "passage_lambda": passage.and_then(|p| p.lambda),
                     "passage_amplitude_ratio": passage.and_then(|p| p.amplitude_ratio),
+                    "passage_contact_load_share_mean": passage.and_then(|p| p.contact_load_share_mean),
+                    "passage_contact_load_share_max": passage.and_then(|p| p.contact_load_share_max),
+                    "passage_contact_area_mean_m2": passage.and_then(|p| p.contact_area_mean_m2),
                     "error": errors_json(e.outcome.as_ref().ok().map(|o| o.as_ref())),
                     "wall_time_s": e.wall_time_s,
                     "diagnosis": e.outcome.as_ref().err().map(|d| d.to_string()),
@@ -292,8 +291,17 @@ impl Comparison {
                     }
                     _ => String::new(),
                 };
+                let solids = match (p.contact_load_share_mean, p.contact_area_mean_m2) {
+                    (Some(s), Some(a)) => format!(
+                        ", the solids carry {:.2} % of the load (mean; {:.2} % at most) on {:.3e} m²",
+                        100.0 * s,
+                        100.0 * p.contact_load_share_max.unwrap_or(s),
+                        a
+                    ),
+                    _ => String::new(),
+                };
                 t += &format!(
-                    "  {}: last passage ({:.3} mm): h_c {:.3} nm mean ({:.3}–{:.3}), h_min {:.3} nm{lambda}{amp}\n",
+                    "  {}: last passage ({:.3} mm): h_c {:.3} nm mean ({:.3}–{:.3}), h_min {:.3} nm{lambda}{amp}{solids}\n",
                     e.name(),
                     p.travel_m * 1e3,
                     p.central_film_mean_m * 1e9,

@@ -196,8 +196,8 @@ pub fn drive<T: Transient>(
                         model.restore(saved);
                         dt_next = dt * 0.25;
                         // And no step as long for a while: the cap grows 10 % a step taken.
-                        // Without it the seed's stop on 129² doubled back into the failing
-                        // step every third step, each failure a stalled solve of 81 cycles.
+                        // Without it a march doubles back into the failing step every few
+                        // steps, each failure a stalled solve (the test below counts them).
                         dt_cap = 0.5 * dt;
                         continue;
                     }
@@ -214,8 +214,7 @@ pub fn drive<T: Transient>(
                     // Steps held so short that the phase's end (or the time limit) is out of
                     // reach: once error control has had CONTROLLED_TRIAL steps to grow them,
                     // a phase that would need more than MAX_STEPS more is stopped with what
-                    // holds it. (4097 m/s on 17²: at rest its steps failed at their cycle
-                    // limit and stayed near 1e-7 s, 5 s away from its end.)
+                    // holds it, rather than marching on at steps that never grow.
                     let end = ph.t1_s.min(plan.max_time_s.unwrap_or(f64::INFINITY));
                     let left = (end - t - dt) / dt_next;
                     if phase_steps >= CONTROLLED_TRIAL && end.is_finite() && left > MAX_STEPS {
@@ -242,8 +241,8 @@ pub fn drive<T: Transient>(
         phase_steps += 1;
         // Into the next phase once this one's end is reached: fixed steps within half the step
         // just taken (a sum of a million equal steps misses the end by more than a relative
-        // 1e-12, never by half a step); controlled steps land on it. (Half a controlled step
-        // short counted as reached too, and a rest of 50 ms ended 1–3 ms early.)
+        // 1e-12, never by half a step); controlled steps land on it, or a rest would end short
+        // by up to half its last step.
         let t_now = elapsed(model);
         let reached = |end: f64| t_now >= end - 0.5 * (t_now - t);
         let landed = |end: f64| t_now >= end - 1e-12 * end.abs().max(1e-300);

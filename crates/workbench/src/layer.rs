@@ -188,6 +188,19 @@ impl Outcome for LayerOutcome {
     fn history(&self) -> Option<&[(f64, Observables)]> {
         self.record.as_ref().map(|r| r.observed.as_slice())
     }
+    fn contact_history(&self) -> Option<Vec<(f64, f64)>> {
+        let r = self.record.as_ref()?;
+        Some(
+            r.rows
+                .iter()
+                .map(|row| (row.layer.contact_load_share, row.layer.contact_area))
+                .collect(),
+        )
+    }
+    fn solid_contact(&self) -> Option<ehl_core::SolidContact> {
+        let p = &self.final_state.p;
+        Some(ehl_layer::model::solid_contact(&self.grid, &self.scales, p, &self.l, self.l0))
+    }
     fn approach_history(&self) -> Option<Vec<(f64, f64)>> {
         self.record.as_ref().map(|r| r.rows.iter().map(|row| (row.t, row.layer.approach)).collect())
     }

@@ -111,8 +111,8 @@ pub trait Outcome: AsAny + Send + Sync + 'static {
         None
     }
     /// Where the solids touch in the answer, with the contact's own share of the load, area
-    /// and pressure; `None` for a model that does not tell contact from a film (the layer
-    /// model, whose contact would be where its layer vanishes).
+    /// and pressure (the layer model's: where its layer vanished); `None` for a model that
+    /// does not tell contact from a film.
     fn solid_contact(&self) -> Option<ehl_core::SolidContact> {
         None
     }
@@ -146,6 +146,12 @@ pub trait Outcome: AsAny + Send + Sync + 'static {
     /// The standard observables after every step of a run in time (time [s] from the start of
     /// the motion), as the driver recorded them: what a comparison overlays.
     fn history(&self) -> Option<&[(f64, Observables)]> {
+        None
+    }
+    /// The share of the load the solids carry and their area [m²] after every step, on the
+    /// times of [`Outcome::history`] (one entry a record); `None` for a model that does not
+    /// march or does not tell contact from a film.
+    fn contact_history(&self) -> Option<Vec<(f64, f64)>> {
         None
     }
     /// The solids' mutual approach [m] after every step of a run in time, on the times of
@@ -188,7 +194,12 @@ fn passage_of<O: Outcome + ?Sized>(o: &O) -> Option<ehl_core::Passage> {
     let rms = relief.rms_m()?;
     let u = o.conditions_used().1;
     let travel_a = relief.period_a().unwrap_or(g.x_max - g.x_min);
-    let p = ehl_core::Passage::over(o.history()?, travel_a * a / u, travel_a * a, Some(rms))?;
+    let duration = travel_a * a / u;
+    let p = ehl_core::Passage::over(o.history()?, duration, travel_a * a, Some(rms))?;
+    let p = match o.contact_history() {
+        Some(c) => p.with_contact(o.history()?, &c, duration),
+        None => p,
+    };
     let [w] = relief.waves.as_slice() else { return Some(p) };
     if !(relief.dents.is_empty() && relief.roughness.is_empty()) {
         return Some(p);

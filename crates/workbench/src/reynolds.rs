@@ -169,8 +169,8 @@ impl ContactModel for Reynolds {
         Ok(Box::new(run_reynolds_from(coarse, FinerStart::new(coarse, finer).as_ref())?))
     }
     /// Beyond Hamrock–Dowson's starvation boundary `m*` for the NVM central film: at `m*` itself
-    /// the film is still ~3 % short (measured: the sweep's domain check moved `h_c` by +3.0 % at
-    /// every speed of `seed-speed`), so `1 + 2 (m* − 1)` (0.5 % short at 1 + 1.8 (m* − 1), 0.2 m/s).
+    /// the film is still a few per cent short, so `1 + 2 (m* − 1)` (docs/decisions.md, "The
+    /// accuracy rule's constants").
     fn inlet_distance(&self, scene: &Scene) -> f64 {
         nvm_film(scene)
             .map_or(0.0, |h| 1.0 + 2.0 * (ehl_reynolds::formulas::starvation_boundary(h) - 1.0))
@@ -268,14 +268,11 @@ impl Outcome for ReynoldsOutcome {
             )
         });
         // A converged answer whose film went below zero somewhere (the solids overlap there):
-        // the grid does not resolve the thinnest film (2 mm/s, 80 N on 513²: -0.14 nm at the
-        // side lobe; +0.50 nm on the 1025² the grid rule asks for).
-        // A march whose steps had contact (`reynolds.solver.contact`, on by default) holds a
-        // closed film at `H = 0` where the solids touch; the points beside the contact, decided
-        // before each sweep, can end a hundredth of the central film below 0 (`stop-compare`,
-        // 129²: -0.009 nm beside the closed lobes against 9.65 nm central), the contact edge's
-        // discretisation, not a missing contact: below that it counts. Without contact the
-        // film closes at rest where the solids would touch (-2.8 nm in `stop-compare`).
+        // the grid does not resolve the thinnest film. A march whose steps had contact
+        // (`reynolds.solver.contact`, on by default) holds a closed film at `H = 0` where the
+        // solids touch; the points beside the contact, decided before each sweep, can end
+        // up to a hundredth of the central film below 0, the contact edge's discretisation,
+        // not a missing contact: only below that it counts.
         let ob = self.observables();
         let rows = self.transient.as_ref().map(|t| t.rows.as_slice()).unwrap_or_default();
         let at_rest = rows.last().is_some_and(|r| r.speed_m_s == 0.0);
@@ -398,6 +395,10 @@ impl Outcome for ReynoldsOutcome {
     }
     fn history(&self) -> Option<&[(f64, Observables)]> {
         self.transient.as_ref().map(|t| t.observed.as_slice())
+    }
+    fn contact_history(&self) -> Option<Vec<(f64, f64)>> {
+        let t = self.transient.as_ref()?;
+        Some(t.rows.iter().map(|r| (r.contact_load_share, r.contact_area_m2)).collect())
     }
     fn approach_history(&self) -> Option<Vec<(f64, f64)>> {
         self.transient.as_ref().map(|t| t.rows.iter().map(|r| (r.t_s, -r.h00_m)).collect())

@@ -161,10 +161,8 @@ impl Level {
     /// values [`Self::eps_rho`] gives, bit for bit; `held`: lagged laws, not re-evaluated), at
     /// the points `reach` of the row; NaN elsewhere (the film content: the whole row).
     ///
-    /// Why a reach: a meniscus window relaxes a few cells of a row, and each window computed
-    /// three whole rows of coefficients, serially. Over the reach only, the seed's contact fed
-    /// 25 nm (257², the whole `ehl compare` of the fed model, medians of 5 alternated runs)
-    /// took 3.00 s of wall against 3.17 s (CPU 3.77 against 3.82 s), the same answer bit for bit.
+    /// Why a reach: a meniscus window relaxes a few cells of a row, and computing three whole
+    /// rows of coefficients for each window, serially, cost a few per cent of a fed solve.
     pub(super) fn line_coefficients(
         prm: &ReynoldsParams,
         held: bool,

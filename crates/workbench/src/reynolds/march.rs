@@ -71,12 +71,8 @@ impl ReynoldsMarch<'_> {
     /// What error control watches: the central film, the minimum film and `H00`. Where the
     /// solids touch the minimum film is the contact's 0 (its step from the last open film to
     /// 0 counts, as the closing it is), not the contact edge's hundredths of a nanometre from
-    /// step to step, which are no error of the time step. On `stop-compare` (129², lobes closed
-    /// from 10 ms after the stop): 240 steps and 13 s (measured), against 543 steps and 35 s
-    /// watching the edge (as measured when it was found). (At one step a cell the
-    /// restart after a stop moved with this watch's variants, `stop-start-compare`'s dip at
-    /// 0.62–0.98 transits: the rolling steps' own error at Courant 1; at two steps a cell and
-    /// finer it is 0.96–0.97 whatever the steps at rest, docs/decisions.md, "Steps at rest".)
+    /// step to step, which are no error of the time step and would double the steps of a
+    /// squeeze (docs/decisions.md, "Steps at rest").
     fn watched_now(&self) -> [f64; 3] {
         let (hc, hmin) = self.solver.films();
         let touching = self.solver.contact().1 > 0.0;
@@ -210,8 +206,8 @@ pub(super) fn run_transient(
     let g = solver.grid();
     // An error estimate below the solve's own algebraic error (the central film settles to
     // `film_tolerance` per cycle) is that error's noise: error control asks no less than ten
-    // times it. At the scene's 1e-4 against a film tolerance of 1e-4 the seed's stop on 129²
-    // rejected a third of its steps (202 of 621) and never took a step past 0.011 s.
+    // times it: asked as tightly as the solve converges, a squeeze rejects its steps on the
+    // solve's noise and never grows them.
     let floor = 10.0 * solver.settings.film_tolerance;
     for ph in &mut plan.phases {
         if let drive::Steps::Controlled { tolerance, .. } = &mut ph.steps {
