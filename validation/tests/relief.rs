@@ -104,3 +104,37 @@ fn a_rough_surface_rolls_through_the_layer_model_and_reports_its_last_transit() 
     // Ended by its time limit (`max_time_s` is in every summary's settings: the stop reason).
     assert!(s.contains("not finished by the time limit"), "{s}");
 }
+
+#[test]
+fn a_rough_patch_rolls_in_and_the_layer_model_reports_the_load_its_solids_carry() {
+    // roughness-mixed-compare's layer side on 65² (the correlation length doubled to 20 µm to
+    // sit on 3.8 cells): the 200 nm layer pressed into 20 nm roughness leaves no layer on some
+    // crests, and the solids there carry a share of the load; with the roughness at 0 no crest
+    // does. The passage's mean is the records' mean of the same share (the monitor's column),
+    // over the last transit's 128 steps (two a cell).
+    let run = |rq: f64| {
+        let mut scene =
+            ehl_scene::builtin("roughness-mixed-compare").unwrap().for_model(Model::Layer);
+        scene.outputs.figures = false;
+        if let Some(ehl_scene::Feature::Roughness(r)) =
+            scene.run.as_mut().map(|r| &mut r.features[0])
+        {
+            r.correlation_length_m = 2e-5;
+            r.rq_m = rq;
+        }
+        ehl_workbench::run_scene(&scene.with_points(65).unwrap()).unwrap()
+    };
+    let o = run(2e-8);
+    let p = o.passage().expect("a march through a rough surface has a passage");
+    assert_eq!(p.records, 128);
+    let (mean, max) = (p.contact_load_share_mean.unwrap(), p.contact_load_share_max.unwrap());
+    assert!(mean > 0.0 && max >= mean && max < 1.0, "{p:?}");
+    assert!(p.contact_area_mean_m2.unwrap() > 0.0);
+    let shares = o.contact_history().unwrap();
+    let last: Vec<f64> = shares.iter().rev().take(128).map(|c| c.0).collect();
+    let records_mean = last.iter().sum::<f64>() / 128.0;
+    assert!((mean - records_mean).abs() < 1e-15, "{mean} against {records_mean}");
+    // Smooth: a layer everywhere, nothing touches (exactly 0: the mask is empty).
+    let p = run(0.0).passage().expect("a roughness of 0 still has its passage");
+    assert_eq!(p.contact_load_share_max, Some(0.0), "{p:?}");
+}

@@ -378,6 +378,17 @@ impl Scene {
                 if s.reynolds.as_ref().is_some_and(|r| r.moes.is_some()) {
                     return Err("the scene gives Moes M and L (they set the velocity): vary moes.m or moes.l".into());
                 }
+                // A march rolling at the scene's speed rolls the same travel at every point: its
+                // time limit and snapshot times scale with the time the surfaces take over it.
+                let before = s.conditions.rolling_velocity_m_s.filter(|&u| u > 0.0);
+                if let (Some(u0), Some(run)) = (before, s.run.as_mut())
+                    && run.motion == crate::Motion::Rolling
+                    && v > 0.0
+                {
+                    let k = u0 / v;
+                    run.stop.max_time_s = run.stop.max_time_s.map(|t| t * k);
+                    run.snapshots_s.iter_mut().for_each(|t| *t *= k);
+                }
                 s.conditions.rolling_velocity_m_s = Some(v);
             }
             Parameter::Load => {
@@ -542,6 +553,25 @@ mod tests {
         assert_eq!(c[0], vec![10.0, 0.01]);
         assert_eq!(c[2], vec![10.0, 0.03]);
         assert_eq!(c[3], vec![20.0, 0.01]);
+    }
+
+    #[test]
+    fn a_march_swept_over_speed_rolls_the_same_travel_at_every_point() {
+        // roughness-compare rolls two transits at 0.01 m/s in 0.067 s: at 0.1 m/s the same
+        // travel takes a tenth of the time, its snapshots too.
+        let base = crate::builtin("roughness-compare").unwrap();
+        let run = |sc: &Scene| sc.run.clone().unwrap();
+        let (t0, snaps0) = (run(&base).stop.max_time_s.unwrap(), run(&base).snapshots_s);
+        let fast = base.with_parameter(Parameter::RollingVelocity, 0.1).unwrap();
+        assert!((run(&fast).stop.max_time_s.unwrap() - 0.1 * t0).abs() < 1e-15);
+        for (a, b) in run(&fast).snapshots_s.iter().zip(&snaps0) {
+            assert!((a - 0.1 * b).abs() < 1e-15, "{a} against {b}");
+        }
+        // A march to a steady state: its time limit is a travel too (10 s at 0.01 m/s).
+        let seed = crate::builtin("seed").unwrap();
+        let s2 = seed.with_parameter(Parameter::RollingVelocity, 0.1).unwrap();
+        let limit = s2.run.and_then(|r| r.stop.max_time_s).unwrap();
+        assert!((limit - 1.0).abs() < 1e-12, "{limit}");
     }
 
     #[test]

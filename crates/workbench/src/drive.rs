@@ -165,7 +165,7 @@ pub fn drive<T: Transient>(
         let step = match ph.steps {
             Steps::Fixed { dt_s } => {
                 dt_range = (dt_range.0.min(dt_s), dt_range.1.max(dt_s));
-                model.step(dt_s, false).within(|| when(steps + 1, t))?
+                fixed_step(model, dt_s, &mut rejected).within(|| when(steps + 1, t))?
             }
             Steps::Controlled { tolerance, order, .. } => loop {
                 // Land on the next snapshot time and on the phase's end rather than pass them.
@@ -312,6 +312,43 @@ pub fn drive<T: Transient>(
     })
 }
 
+/// The most sub-steps a failed fixed step is taken again in.
+const FIXED_SUBSTEPS_MAX: usize = 16;
+
+/// A fixed step of `dt` [s]. One whose solve fails is taken again from the state before it as
+/// 2, 4, … [`FIXED_SUBSTEPS_MAX`] equal sub-steps, each attempt counted in `rejected` (the
+/// plan's times are kept: the record has one row a step): a film closing over a rough surface
+/// or a meniscus crossing a dent can need a shorter step for a moment where the plan's is right
+/// everywhere else. A model that cannot return to its last state, or a failure at the finest
+/// sub-steps, is reported as the first failure came.
+fn fixed_step<M: Transient>(model: &mut M, dt: f64, rejected: &mut usize) -> Result<Step> {
+    let Some(mut saved) = model.save() else { return model.step(dt, false) };
+    let first = match model.step(dt, false) {
+        Ok(s) => return Ok(s),
+        Err(e) => e,
+    };
+    let mut k = 2;
+    while k <= FIXED_SUBSTEPS_MAX {
+        *rejected += 1;
+        model.restore(saved);
+        let Some(again) = model.save() else { return Err(first) };
+        saved = again;
+        let mut all = Step { solves: 0, iterations: 0, error_estimate: None };
+        let done = (0..k).try_for_each(|_| {
+            let s = model.step(dt / k as f64, false)?;
+            all.solves += s.solves;
+            all.iterations += s.iterations;
+            Ok::<(), Error>(())
+        });
+        if done.is_ok() {
+            return Ok(all);
+        }
+        k *= 2;
+    }
+    model.restore(saved);
+    Err(first)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -410,6 +447,28 @@ mod tests {
         // Snapshot values are the state at that step: implicit Euler, (1 + dt)^−n from 1.
         assert!((r.snapshots[1].1 - (1.0 - 1.1f64.powi(-3))).abs() < 1e-12);
         assert_eq!((r.rows.len(), r.observed.len()), (11, 11));
+    }
+
+    #[test]
+    fn a_fixed_step_that_fails_is_taken_again_in_halves_and_keeps_its_row() {
+        // Steps of 0.1 to 1.0 that fail above 0.03: each is taken again as 2 (0.05, failing)
+        // and then 4 sub-steps (0.025): two attempts rejected a step, one row a step, and the
+        // state is 40 implicit Euler steps of 0.025, not a NaN left by a failed attempt.
+        let p = Plan { end: Some((1.0, "the end".into())), ..plan(Steps::Fixed { dt_s: 0.1 }) };
+        let mut m = Relax { fails_above: Some(0.03), ..Relax::new(1.0) };
+        let r = drive(&mut m, &p, &mut |_| {}).unwrap();
+        assert_eq!((r.steps, r.rejected_steps, r.rows.len()), (10, 20, 11));
+        assert!((m.y - (1.0 - 1.025f64.powi(-40))).abs() < 1e-12, "{}", m.y);
+        assert!((m.t - 1.0).abs() < 1e-12);
+        // A failure that 16 sub-steps do not cure is reported as the step first failed, from
+        // the state before it.
+        let mut m = Relax { fails_above: Some(0.001), ..Relax::new(1.0) };
+        let e = drive(&mut m, &p, &mut |_| {}).unwrap_err().to_string();
+        assert!(e.contains("step 0.1 did not converge") && e.contains("time step 1"), "{e}");
+        assert_eq!((m.t, m.y), (0.0, 0.0));
+        // A model that cannot return to its state is not retried.
+        let mut m = Relax { fails_above: Some(0.03), can_save: false, ..Relax::new(1.0) };
+        assert!(drive(&mut m, &p, &mut |_| {}).is_err());
     }
 
     #[test]

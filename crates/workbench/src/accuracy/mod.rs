@@ -418,6 +418,9 @@ impl Outcome for Checked {
     fn approach_history(&self) -> Option<Vec<(f64, f64)>> {
         self.outcome.approach_history()
     }
+    fn contact_history(&self) -> Option<Vec<(f64, f64)>> {
+        self.outcome.contact_history()
+    }
     fn snapshots(&self) -> Vec<(f64, &ndarray::Array2<f64>, ndarray::Array2<f64>)> {
         self.outcome.snapshots()
     }
