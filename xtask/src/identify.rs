@@ -938,6 +938,8 @@ mod tests {
             central_thickness: 0.0,
             minimum_thickness: 0.0,
             dry_diameter: 0.0,
+            contact_load_share: 0.0,
+            contact_area: 0.0,
             approach: 0.0,
             central_pressure: 0.0,
             lateral_wiggle: 0.0,

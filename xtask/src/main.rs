@@ -13,6 +13,7 @@ mod findings;
 mod identify;
 mod layer;
 mod measured;
+mod mixed;
 mod mutants;
 mod reynolds;
 mod scene_study;
@@ -183,6 +184,14 @@ enum Command {
         #[arg(long, default_value = "out/sweeps")]
         out: PathBuf,
     },
+    /// The mixed-lubrication map: the sweep `mixed-lubrication` (a rough surface rolling in over
+    /// the seed's contact, over speed, both models), the share of the load the solids carry and
+    /// their area against `λ`; writes `docs/measured/mixed-lubrication.md` and the chart into
+    /// `--out`.
+    Mixed {
+        #[arg(long, default_value = "out/mixed")]
+        out: PathBuf,
+    },
     /// The amplitude-reduction study: the sweep `waviness-reduction` (a wave through the seed's
     /// contact over its wavelength at two speeds, both models), `A_d/A_i` against Venner's `∇`
     /// and the collapse of the two speeds' curves; writes `docs/measured/waviness-reduction.md`
@@ -275,6 +284,7 @@ fn main() -> Result<()> {
             sweep_page::run(&name, map, from.as_deref(), &out)
         }
         Command::Waves { out } => waves::run(&out),
+        Command::Mixed { out } => mixed::run(&out),
         Command::Seed { points: n, out } => seed_page::run(points(n), &out),
         Command::Accuracy { out, points: n } => accuracy::run(&out, points(n)),
         Command::Mutants { file, shard, timeout, out } => {

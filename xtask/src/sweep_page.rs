@@ -147,15 +147,24 @@ pub fn run_afresh(
     dir_of: Option<&Path>,
     out: &Path,
 ) -> Result<(sweep::Plan, sweep::RunSummary, Vec<sweep::PointRecord>)> {
-    let dir = out.join(&s.name);
-    if dir.exists() {
-        std::fs::remove_dir_all(&dir).with_context(|| format!("clearing {}", dir.display()))?;
-    }
     let mut plan = sweep::Plan::new(s, dir_of)?;
     if crate::quick() {
         for p in &mut plan.points {
             p.scene = p.scene.with_points(65)?;
         }
+    }
+    run_plan(plan, out)
+}
+
+/// Runs `plan` afresh into `out/NAME` and merges it (a study that changed its points' scenes
+/// after planning: [`run_afresh`] otherwise).
+pub fn run_plan(
+    plan: sweep::Plan,
+    out: &Path,
+) -> Result<(sweep::Plan, sweep::RunSummary, Vec<sweep::PointRecord>)> {
+    let dir = out.join(&plan.sweep.name);
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir).with_context(|| format!("clearing {}", dir.display()))?;
     }
     plan.write(&dir)?;
     let run = sweep::run(&dir, sweep::Shard::all(), sweep::default_jobs())?;

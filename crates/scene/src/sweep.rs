@@ -470,7 +470,8 @@ const SWEEPS: &[(&str, &str)] = builtin_sweeps!(
     "seed-speed-load",
     "seed-supply",
     "reynolds-thin",
-    "waviness-reduction"
+    "waviness-reduction",
+    "mixed-lubrication"
 );
 
 /// Names of the built-in sweeps.

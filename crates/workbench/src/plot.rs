@@ -120,6 +120,11 @@ impl Panel {
         self.log_y = true;
         self
     }
+    /// The same panel with a logarithmic `x` axis.
+    pub fn log_x(mut self) -> Self {
+        self.log_x = true;
+        self
+    }
     /// The same panel with a logarithmic `y` axis.
     pub fn log_y(mut self) -> Self {
         self.log_y = true;
