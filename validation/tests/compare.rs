@@ -205,11 +205,12 @@ fn a_dent_passage_runs_both_models_on_one_plan() {
     let csv = c.history_csv().unwrap();
     assert!(csv.lines().filter(|l| l.starts_with("layer,")).count() == layer.len());
     assert!(csv.lines().filter(|l| l.starts_with("reynolds,")).count() == rey.len());
-    // With the approach of each (the last column, never empty for these two models).
+    // With the approach of each and the share of the load the solids carry (the last columns,
+    // never empty for these two models: both tell contact from a film).
     assert!(csv.starts_with(
-        "model,t_s,central_film_m,minimum_film_m,film_overlap_m,max_pressure_pa,approach_m"
+        "model,t_s,central_film_m,minimum_film_m,film_overlap_m,max_pressure_pa,approach_m,contact_load_share"
     ));
-    assert!(csv.lines().skip(1).all(|l| !l.ends_with(',')), "an empty approach");
+    assert!(csv.lines().skip(1).all(|l| !l.ends_with(',') && !l.contains(",,")), "an empty column");
 }
 
 /// Every JSON path of `v` with the kind of value there (`number`, `string`, …), arrays by

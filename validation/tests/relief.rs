@@ -138,3 +138,62 @@ fn a_rough_patch_rolls_in_and_the_layer_model_reports_the_load_its_solids_carry(
     let p = run(0.0).passage().expect("a roughness of 0 still has its passage");
     assert_eq!(p.contact_load_share_max, Some(0.0), "{p:?}");
 }
+
+#[test]
+fn a_height_map_sampled_from_a_wave_rolls_through_the_layer_model_as_the_wave_does() {
+    // waviness-compare's wave through the layer model on 65², once as the wave and once as an
+    // `.npy` map of the same surface, sampled on the grid's own spacing over the domain and a
+    // transit upstream of it (no tiling read), from a scene file beside it (its relative path
+    // found from the scene's folder). At the grid's nodes, one cell a step, the map's samples
+    // are the wave's values; its mean is removed, a constant the approach takes up. The two
+    // marches must agree to the contact solve's tolerance at every record they share (the wave
+    // may stop later or earlier, periodic).
+    use ehl_scene::Feature;
+    let dir = tempfile::tempdir().unwrap();
+    let mut base = ehl_scene::builtin("waviness-compare").unwrap().for_model(Model::Layer);
+    base.outputs.figures = false;
+    let base = base.with_points(65).unwrap();
+    let a = ehl_core::HertzScales::new(&base.conditions.contact()).a;
+    let g = base.grid();
+    let Some(Feature::Waviness(w)) = base.run.as_ref().map(|r| r.features[0].clone()) else {
+        panic!("a wavy scene")
+    };
+    let (dx_m, x0_m) = (g.dx() * a, (2.0 * g.x_min - g.x_max) * a);
+    let n = 2 * (g.nx - 1) + 1;
+    let tau = std::f64::consts::TAU;
+    let h = ndarray::Array2::from_shape_fn((g.ny, n), |(_, i)| {
+        -w.amplitude_m * (tau * (x0_m + i as f64 * dx_m) / w.wavelength_m).cos()
+    });
+    ndarray_npy::write_npy(dir.path().join("wave.npy"), &h).unwrap();
+    let mut json: serde_json::Value = serde_json::from_str(&base.to_json()).unwrap();
+    json["name"] = "measured-wave".into();
+    json["run"]["features"] = serde_json::json!([{"height-map": {
+        "path": "wave.npy", "spacing_m": dx_m, "origin_m": [x0_m, g.y_min * a]
+    }}]);
+    let file = dir.path().join("measured.json");
+    std::fs::write(&file, json.to_string()).unwrap();
+    let mapped = ehl_scene::load(file.to_str().unwrap()).unwrap();
+    let run = |s: &ehl_scene::Scene| ehl_workbench::run_scene(s).unwrap();
+    let (o_wave, o_map) = (run(&base), run(&mapped));
+    let (hw, hm) = (o_wave.history().unwrap(), o_map.history().unwrap());
+    // One transit (a cell a step): beyond it the inlet reads the map's tiling, not the wave.
+    let shared = hw.len().min(hm.len()).min(g.nx);
+    assert_eq!(shared, g.nx, "the marches' records");
+    // From the first step: the start is the smooth contact's steady state, its film read
+    // over each relief as it stands (the map's a constant, its samples' mean, apart).
+    for k in 1..shared {
+        let (a, b) = (&hw[k].1, &hm[k].1);
+        assert!((hw[k].0 - hm[k].0).abs() < 1e-15, "record {k}: times");
+        // The layer's contact solve converges to 1e-7: the films agree to about that of the
+        // supply, the pressures of p_h (a wrong sign or a cell's shift is of order one).
+        assert!(
+            (a.central_film_m - b.central_film_m).abs() < 1e-6 * 25e-9,
+            "record {k}: {a:?} {b:?}"
+        );
+        assert!((a.max_pressure_pa / b.max_pressure_pa - 1.0).abs() < 1e-6, "record {k}");
+    }
+    // A file that is not there is refused before anything runs, naming the field.
+    std::fs::remove_file(dir.path().join("wave.npy")).unwrap();
+    let e = ehl_scene::load(file.to_str().unwrap()).unwrap_err().to_string();
+    assert!(e.contains("run.features[0].height-map.path") && e.contains("wave.npy"), "{e}");
+}

@@ -157,6 +157,65 @@ impl Roughness {
     }
 }
 
+/// A measured surface: a height map [m] on a regular grid, placed on the track and tiled along
+/// and across it (the map repeats beyond its edges), carried with the surfaces; between its
+/// samples, bilinear. Its mean is removed (the surface's own level is the contact's approach),
+/// and a peak narrows the gap: the gap added is `−h`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeightMap {
+    /// Heights [m], rows along `y`, columns along `x`, their mean removed.
+    heights_m: Array2<f64>,
+    /// Spacing of the samples along `x` and `y` [a].
+    pub spacing_a: (f64, f64),
+    /// Where the first sample is at the start [a].
+    pub origin_a: (f64, f64),
+    /// RMS height `Rq` [m].
+    pub rq_m: f64,
+}
+
+impl HeightMap {
+    /// The map of `heights_m` [m] (rows along `y`) with samples `spacing_a` [a] apart, its first
+    /// at `origin_a` [a] at the start; `None` for fewer than 2 × 2 samples.
+    pub fn new(
+        heights_m: Array2<f64>,
+        spacing_a: (f64, f64),
+        origin_a: (f64, f64),
+    ) -> Option<Self> {
+        let (ny, nx) = heights_m.dim();
+        if nx < 2 || ny < 2 {
+            return None;
+        }
+        let mean = heights_m.mean()?;
+        let heights_m = heights_m.mapv(|h| h - mean);
+        let rq_m = (heights_m.iter().map(|h| h * h).sum::<f64>() / (nx * ny) as f64).sqrt();
+        Some(Self { heights_m, spacing_a, origin_a, rq_m })
+    }
+
+    /// The samples per side `(n_x, n_y)`.
+    pub fn dim(&self) -> (usize, usize) {
+        let (ny, nx) = self.heights_m.dim();
+        (nx, ny)
+    }
+
+    /// Gap added at `(x, y)` [a] after the surfaces travelled `travel_a` [a], in units of
+    /// `delta` [m].
+    pub fn gap(&self, x: f64, y: f64, travel_a: f64, delta: f64) -> f64 {
+        let (nx, ny) = self.dim();
+        let u = (x - travel_a - self.origin_a.0) / self.spacing_a.0;
+        let v = (y - self.origin_a.1) / self.spacing_a.1;
+        let (u0, v0) = (u.floor(), v.floor());
+        let (fu, fv) = (u - u0, v - v0);
+        // Tiled: indices wrap around the map.
+        let wrap = |k: f64, n: usize| (k as i64).rem_euclid(n as i64) as usize;
+        let (i0, i1) = (wrap(u0, nx), wrap(u0 + 1.0, nx));
+        let (j0, j1) = (wrap(v0, ny), wrap(v0 + 1.0, ny));
+        let h = &self.heights_m;
+        let below = h[[j0, i0]] * (1.0 - fu) + h[[j0, i1]] * fu;
+        let above = h[[j1, i0]] * (1.0 - fu) + h[[j1, i1]] * fu;
+        -(below * (1.0 - fv) + above * fv) / delta
+    }
+}
+
 /// The surfaces' relief passing through the contact: every model adds [`Relief::gap`] to its
 /// rigid gap, each at its own grid points.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -167,12 +226,17 @@ pub struct Relief {
     pub waves: Vec<Waviness>,
     /// Random roughness.
     pub roughness: Vec<Roughness>,
+    /// Measured height maps.
+    pub maps: Vec<HeightMap>,
 }
 
 impl Relief {
     /// Smooth surfaces.
     pub fn is_empty(&self) -> bool {
-        self.dents.is_empty() && self.waves.is_empty() && self.roughness.is_empty()
+        self.dents.is_empty()
+            && self.waves.is_empty()
+            && self.roughness.is_empty()
+            && self.maps.is_empty()
     }
     /// Gap added at `(x, y)` [a] after the surfaces travelled `travel_a` [a], in units of
     /// `delta` [m] (the solvers' `a²/R`).
@@ -181,19 +245,21 @@ impl Relief {
             self.dents.iter().map(|d| d.gap(x, y, d.x_start_a + travel_a, delta)).sum();
         let waves: f64 = self.waves.iter().map(|w| w.gap(x, y, travel_a, delta)).sum();
         let rough: f64 = self.roughness.iter().map(|r| r.gap(x, y, travel_a, delta)).sum();
-        dents + waves + rough
+        let maps: f64 = self.maps.iter().map(|m| m.gap(x, y, travel_a, delta)).sum();
+        dents + waves + rough + maps
     }
     /// [`Self::gap`] at every point of `grid` [units of `delta`]: what a model adds to its rigid
     /// gap, the roughness summed by rows and columns ([`Roughness::add_gap_on`]).
     pub fn gap_on(&self, grid: &Grid, travel_a: f64, delta: f64) -> Array2<f64> {
         let mut g = grid.zeros();
-        if !(self.dents.is_empty() && self.waves.is_empty()) {
+        if !(self.dents.is_empty() && self.waves.is_empty() && self.maps.is_empty()) {
             Zip::indexed(&mut g).par_for_each(|(j, i), v| {
                 let (x, y) = (grid.x(i), grid.y(j));
                 let dents: f64 =
                     self.dents.iter().map(|d| d.gap(x, y, d.x_start_a + travel_a, delta)).sum();
                 let waves: f64 = self.waves.iter().map(|w| w.gap(x, y, travel_a, delta)).sum();
-                *v = dents + waves;
+                let maps: f64 = self.maps.iter().map(|m| m.gap(x, y, travel_a, delta)).sum();
+                *v = dents + waves + maps;
             });
         }
         for r in &self.roughness {
@@ -202,31 +268,34 @@ impl Relief {
         g
     }
 
-    /// The RMS height of the relief's patterns [m]: waves' `A/√2` and roughness' `Rq`, combined
-    /// as independent (`None`: no pattern, dents alone).
+    /// The RMS height of the relief's patterns [m]: waves' `A/√2`, roughness' and height maps'
+    /// `Rq`, combined as independent (`None`: no pattern, dents alone).
     pub fn rms_m(&self) -> Option<f64> {
-        if self.waves.is_empty() && self.roughness.is_empty() {
+        if self.waves.is_empty() && self.roughness.is_empty() && self.maps.is_empty() {
             return None;
         }
         let waves = self.waves.iter().map(|w| 0.5 * w.amplitude_m * w.amplitude_m);
         let rough = self.roughness.iter().map(|r| r.rq_m * r.rq_m);
-        Some(waves.chain(rough).sum::<f64>().sqrt())
+        let maps = self.maps.iter().map(|m| m.rq_m * m.rq_m);
+        Some(waves.chain(rough).chain(maps).sum::<f64>().sqrt())
     }
 
     /// The shortest wave a grid must carry [a]: a waviness' wavelength, a roughness' `2 β`
     /// (its Gaussian spectrum's shortest waves, two standard deviations out, are about
-    /// `2.2 β`); `None` without waviness or roughness.
+    /// `2.2 β`), a height map's two spacings (the shortest wave its samples hold); `None`
+    /// without any of them.
     pub fn shortest_wave_a(&self) -> Option<f64> {
         let waves = self.waves.iter().map(|w| w.wavelength_a);
         let rough = self.roughness.iter().map(|r| 2.0 * r.correlation_a.0.min(r.correlation_a.1));
-        waves.chain(rough).reduce(f64::min)
+        let maps = self.maps.iter().map(|m| 2.0 * m.spacing_a.0.min(m.spacing_a.1));
+        waves.chain(rough).chain(maps).reduce(f64::min)
     }
 
     /// The travel after which the relief repeats [a], when it is periodic: waves alone, all
     /// with one period along the rolling direction (longitudinal waves stand and repeat at
-    /// any travel). `None` with dents or roughness, or with no wave moving.
+    /// any travel). `None` with dents, roughness or a height map, or with no wave moving.
     pub fn period_a(&self) -> Option<f64> {
-        if !(self.dents.is_empty() && self.roughness.is_empty()) {
+        if !(self.dents.is_empty() && self.roughness.is_empty() && self.maps.is_empty()) {
             return None;
         }
         let along = |w: &Waviness| {
@@ -392,7 +461,8 @@ mod tests {
         let d = Dent { depth_m: 2e-8, width_a: 0.1, x_start_a: -1.0, y_a: 0.0 };
         let w = Waviness { amplitude_m: 1e-8, wavelength_a: 0.25, angle_rad: 0.3, phase_rad: 1.0 };
         let r = Roughness::new(5e-9, 0.1, 0.1, 1);
-        let all = Relief { dents: vec![d], waves: vec![w], roughness: vec![r.clone()] };
+        let all =
+            Relief { dents: vec![d], waves: vec![w], roughness: vec![r.clone()], maps: vec![] };
         let (x, y, s) = (-0.6, 0.1, 0.45);
         let parts = d.gap(x, y, -1.0 + s, 1e-9) + w.gap(x, y, s, 1e-9) + r.gap(x, y, s, 1e-9);
         assert!((all.gap(x, y, s, 1e-9) - parts).abs() < 1e-12);
@@ -405,7 +475,14 @@ mod tests {
         let w = Waviness { amplitude_m: 1e-8, wavelength_a: 0.25, angle_rad: 0.3, phase_rad: 1.0 };
         let r = Roughness::new(5e-9, 0.1, 0.2, 7);
         let entering = Roughness::new(3e-9, 0.15, 0.15, 2).entering_at(-0.4);
-        let all = Relief { dents: vec![d], waves: vec![w], roughness: vec![r, entering] };
+        let heights = Array2::from_shape_fn((5, 7), |(j, i)| 1e-9 * ((i * i + 3 * j) % 5) as f64);
+        let map = HeightMap::new(heights, (0.11, 0.07), (-0.3, 0.2)).unwrap();
+        let all = Relief {
+            dents: vec![d],
+            waves: vec![w],
+            roughness: vec![r, entering],
+            maps: vec![map],
+        };
         // A grid that is not square, so that rows and columns cannot be swapped unseen.
         let g = Grid::new(33, 21, (-1.3, 1.1), (-0.8, 0.9));
         let s = 0.37;
@@ -436,6 +513,27 @@ mod tests {
         assert!(
             (patch.gap(-0.4, 0.1, 0.6, 1e-9) - 0.5 * whole.gap(-0.4, 0.1, 0.6, 1e-9)).abs() < 1e-12
         );
+    }
+
+    #[test]
+    fn a_height_map_is_its_samples_at_its_nodes_bilinear_between_and_tiled_beyond() {
+        // Heights 1, 2, 3 / 4, 5, 6 nm (mean 3.5) 0.1 a apart from (-0.2, 0.5): at a node the gap
+        // added is minus its height over the mean; halfway between the four of one cell their
+        // mean; a map's length on (3 × 0.1 a along, 2 × 0.1 a across) the same again.
+        let h = Array2::from_shape_vec((2, 3), vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]).unwrap() * 1e-9;
+        let m = HeightMap::new(h, (0.1, 0.1), (-0.2, 0.5)).unwrap();
+        let at = |x: f64, y: f64, s: f64| m.gap(x, y, s, 1e-9);
+        assert!((at(-0.2, 0.5, 0.0) - 2.5).abs() < 1e-12);
+        assert!((at(0.0, 0.6, 0.0) + 2.5).abs() < 1e-12);
+        assert!((at(-0.15, 0.55, 0.0) - 0.5).abs() < 1e-12, "{}", at(-0.15, 0.55, 0.0));
+        for (x, y) in [(-0.13, 0.52), (0.37, -1.11)] {
+            assert!((at(x + 0.3, y - 0.2, 0.0) - at(x, y, 0.0)).abs() < 1e-12);
+            // Carried with the surfaces: after 0.25 a the map is 0.25 a downstream.
+            assert!((at(x + 0.25, y, 0.25) - at(x, y, 0.0)).abs() < 1e-12);
+        }
+        // Its RMS about the mean: √(35/12) nm.
+        assert!((m.rq_m - (35.0f64 / 12.0).sqrt() * 1e-9).abs() < 1e-20);
+        assert!(HeightMap::new(Array2::zeros((1, 4)), (0.1, 0.1), (0.0, 0.0)).is_none());
     }
 
     #[test]

@@ -36,7 +36,9 @@ pub fn par_min_len(work: usize) -> usize {
 pub use check::FieldError;
 pub use deformation::Deformation;
 pub use dry::{DryProblem, DryReport, DrySettings, DrySolver, Start};
-pub use features::{Dent, Hole, Passing, ROUGHNESS_MODES, Relief, Roughness, Supply, Waviness};
+pub use features::{
+    Dent, HeightMap, Hole, Passing, ROUGHNESS_MODES, Relief, Roughness, Supply, Waviness,
+};
 pub use grid::Grid;
 pub use kinematics::{Kinematics, KinematicsError};
 pub use observe::{Observables, SolidContact};

@@ -385,11 +385,11 @@ const STALL_WINDOW: usize = 30;
 
 /// Whether the last [`STALL_WINDOW`] iterations failed to beat the best mismatch before them:
 /// the iteration has settled on a cycle or a fixed point above the tolerance, and more
-/// iterations only cost time (measured: a 2 mm/s seed point repeats 2.456e-5 from iteration ~40
-/// to 300). Converging solves set a new best every few iterations (the seed's 257²: 25
-/// iterations, a new best at least every 4). A new best must beat the old by 1 %: a cycle
-/// repeats its values to rounding (2 mm/s, 20 N, 257²: 2.46e-5 for 260 iterations, "new bests"
-/// in the last digits kept it from being called stalled).
+/// iterations only cost time (at the seed's lowest speeds the same mismatch repeats for
+/// hundreds of iterations). Converging solves set a new best every few iterations. A new best
+/// must beat the old by 1 %: a cycle repeats its values to rounding, and "new bests" in the
+/// last digits would keep it from being called stalled (docs/decisions.md, "The direct steady
+/// solve at low speed").
 fn stalled(history: &[f64]) -> bool {
     let n = history.len();
     n > STALL_WINDOW + 10 && {

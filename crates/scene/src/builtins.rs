@@ -79,6 +79,7 @@ pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
     }
     let text = std::fs::read_to_string(path)
         .map_err(|e| SceneError::Io { path: name_or_path.into(), message: e.to_string() })?;
+    let text = with_height_maps_found(text, path);
     let mut scene = Scene::from_json(&text, &format!("file {name_or_path}"))?;
     if let Some(c) = &scene.comparison
         && !BUILTINS.iter().any(|(n, _)| n == c)
@@ -88,6 +89,28 @@ pub fn load(name_or_path: &str) -> Result<Scene, SceneError> {
         scene.comparison = Some(dir.join(c).to_string_lossy().into_owned());
     }
     Ok(scene)
+}
+
+/// The scene file's text with each height map's relative `path` taken from the file's folder
+/// (as the comparison's scene is), before the scene is read and checked; the text as it was
+/// when it is not a JSON object (its reading then says why).
+fn with_height_maps_found(text: String, path: &Path) -> String {
+    let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) else { return text };
+    let Ok(mut v) = serde_json::from_str::<serde_json::Value>(&text) else { return text };
+    let Some(features) = v.pointer_mut("/run/features").and_then(|f| f.as_array_mut()) else {
+        return text;
+    };
+    let mut changed = false;
+    for f in features {
+        if let Some(p) = f.pointer_mut("/height-map/path")
+            && let Some(rel) = p.as_str().filter(|r| Path::new(r).is_relative())
+        {
+            *p = dir.join(rel).to_string_lossy().into_owned().into();
+            changed = true;
+        }
+    }
+    // Untouched otherwise: a refusal's place in the file stays the file's own.
+    if changed { v.to_string() } else { text }
 }
 
 /// Deserialises scene-crate JSON (scenes, sweeps), a refusal naming the field's path. The text

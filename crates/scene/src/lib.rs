@@ -23,7 +23,7 @@ pub mod views;
 use builtins::parse;
 pub use builtins::{builtin, builtin_names, builtins, load};
 pub use error::SceneError;
-pub use relief::{DentSpec, Feature, RoughnessSpec, WavinessSpec};
+pub use relief::{DentSpec, Feature, HeightMapSpec, RoughnessSpec, WavinessSpec};
 pub use spec::{
     Conditions, Domain, GridSpec, LubricantSpec, Method, Motion, Outputs, RunSpec, StartState,
     StopSettings, TimeSettings,
@@ -298,6 +298,14 @@ impl Scene {
                 })?),
                 Feature::Waviness(w) => out.waves.push(w.resolved(a_m)),
                 Feature::Roughness(r) => out.roughness.push(r.resolved(a_m)),
+                Feature::HeightMap(m) => {
+                    out.maps.push(m.resolved(a_m).map_err(|why| SceneError::Range {
+                        origin: self.name.clone(),
+                        field: format!("run.features[{k}].height-map.path"),
+                        value: m.path.clone(),
+                        allowed: why,
+                    })?)
+                }
                 Feature::Hole(_) => {}
             }
         }
@@ -314,7 +322,10 @@ impl Scene {
     pub fn passing(&self) -> Vec<Passing> {
         let dents = self.run.iter().flat_map(|r| &r.features).filter_map(|f| match f {
             Feature::Dent(d) => Some(Passing { x_start_a: d.x_start_a, reach_a: d.reach_a() }),
-            Feature::Waviness(_) | Feature::Roughness(_) | Feature::Hole(_) => None,
+            Feature::Waviness(_)
+            | Feature::Roughness(_)
+            | Feature::HeightMap(_)
+            | Feature::Hole(_) => None,
         });
         dents.chain(self.holes().iter().map(Passing::from)).collect()
     }

@@ -1,12 +1,12 @@
 //! The features of a run as a scene gives them: the surfaces' relief (dents, waviness,
 //! roughness) in SI, resolved on a model's contact into the core's [`ehl_core::Relief`].
 
-use ehl_core::{Dent, Hole, Roughness, Waviness};
+use ehl_core::{Dent, HeightMap, Hole, Roughness, Waviness};
 use serde::{Deserialize, Serialize};
 
 /// A feature of the run: the surfaces' relief. A hole is in the oil supply (`supply.holes`) and
 /// is refused here with that said.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Feature {
     /// A dent (or bump) in the ball.
@@ -15,6 +15,8 @@ pub enum Feature {
     Waviness(WavinessSpec),
     /// Random roughness of the surfaces.
     Roughness(RoughnessSpec),
+    /// A measured surface: a height map read from an `.npy` file, placed and tiled.
+    HeightMap(HeightMapSpec),
     /// Refused: holes are in `supply.holes`.
     Hole(Hole),
 }
@@ -125,5 +127,48 @@ impl RoughnessSpec {
     /// The shortest correlation length [m].
     pub fn shortest_m(&self) -> f64 {
         self.correlation_length_m.min(self.correlation_length_y_m.unwrap_or(f64::INFINITY))
+    }
+}
+
+/// A measured surface as a scene gives it (SI): an `.npy` file of heights [m] with the spacing
+/// of its samples, placed on the track and tiled along and across it ([`ehl_core::HeightMap`]:
+/// its mean removed, a peak narrowing the gap).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HeightMapSpec {
+    /// The `.npy` file: a 2-D array of float64 heights [m], rows across the rolling direction
+    /// (`y`), columns along it (`x`). A relative path is taken from the scene file's folder.
+    pub path: String,
+    /// The samples' spacing along the rolling direction [m] (across it too, unless given).
+    pub spacing_m: f64,
+    /// The samples' spacing across the rolling direction [m] (absent: `spacing_m`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spacing_y_m: Option<f64>,
+    /// Where the map's first sample is at the start, `[x, y]` [m].
+    #[serde(default)]
+    pub origin_m: [f64; 2],
+}
+
+impl HeightMapSpec {
+    /// The file's heights [m], rows along `y`; why not, in words (the file, its shape, its type).
+    pub fn read(&self) -> Result<ndarray::Array2<f64>, String> {
+        ndarray_npy::read_npy::<_, ndarray::Array2<f64>>(&self.path).map_err(|e| {
+            format!("{}: not a readable 2-D float64 .npy array of heights in m ({e})", self.path)
+        })
+    }
+    /// The spacing across the rolling direction [m].
+    pub fn spacing_y(&self) -> f64 {
+        self.spacing_y_m.unwrap_or(self.spacing_m)
+    }
+    /// The surface on a contact of half-width `a_m` [m], read from its file.
+    pub fn resolved(&self, a_m: f64) -> Result<HeightMap, String> {
+        let h = self.read()?;
+        let (ny, nx) = h.dim();
+        HeightMap::new(
+            h,
+            (self.spacing_m / a_m, self.spacing_y() / a_m),
+            (self.origin_m[0] / a_m, self.origin_m[1] / a_m),
+        )
+        .ok_or_else(|| format!("{}: {ny} × {nx} samples, at least 2 × 2 are needed", self.path))
     }
 }

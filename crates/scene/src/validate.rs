@@ -5,8 +5,7 @@ use super::*;
 
 /// The fastest rolling speed a scene may ask for [m/s]. The models are isothermal, which a
 /// point contact stops being long before this (shear heating); and a march steps a cell's
-/// travel at a time, so a speed far above the reference speed costs as many more steps (a
-/// table knot at 4097 m/s in `stop-start-compare`, 0.01 m/s reference, ran for 365 s on 17²).
+/// travel at a time, so a speed far above the reference speed costs as many more steps.
 pub const MAX_SPEED_M_S: f64 = 100.0;
 
 /// The plausible range of each physical input, SI: `(field, least, most, unit, why)`. Beyond
@@ -763,6 +762,16 @@ impl Scene {
                         ck.own("", within(&f(n), v, -MAX_PLACE_A, MAX_PLACE_A, "units of a"))?;
                     }
                 }
+                Feature::HeightMap(m) => {
+                    let f = |n: &str| format!("run.features[{k}].height-map.{n}");
+                    check_height_map(ck, m, &f)?;
+                    // Its shortest wave is two samples: the grid's cells no coarser than a
+                    // sample's spacing.
+                    let spacing = m.spacing_m.min(m.spacing_y());
+                    let field =
+                        if m.spacing_y() < m.spacing_m { "spacing_y_m" } else { "spacing_m" };
+                    resolved(&f(field), 2.0 * spacing, 2.0, "two samples of the height map")?;
+                }
                 Feature::Hole(_) => {
                     return Err(ck.err(
                         &format!("run.features[{k}]"),
@@ -826,4 +835,34 @@ impl Scene {
 
         Ok(())
     }
+}
+
+/// A height map's own ranges and its file: readable, 2-D float64, at least 2 × 2 samples, every
+/// height finite and within ±1 mm (`f` names a field of this feature).
+fn check_height_map(
+    ck: &Check,
+    m: &crate::HeightMapSpec,
+    f: &dyn Fn(&str) -> String,
+) -> Result<(), SceneError> {
+    use ehl_core::check::{above, within};
+    ck.own("", above(&f("spacing_m"), m.spacing_m, 0.0, 1e-2, "m"))?;
+    if let Some(s) = m.spacing_y_m {
+        ck.own("", above(&f("spacing_y_m"), s, 0.0, 1e-2, "m"))?;
+    }
+    for (n, v) in [("origin_m[0]", m.origin_m[0]), ("origin_m[1]", m.origin_m[1])] {
+        ck.own("", within(&f(n), v, -1.0, 1.0, "m"))?;
+    }
+    let h = m.read().map_err(|why| ck.err(&f("path"), m.path.clone(), &why))?;
+    let (ny, nx) = h.dim();
+    if nx < 2 || ny < 2 {
+        let why = format!("{ny} × {nx} samples: at least 2 × 2");
+        return Err(ck.err(&f("path"), m.path.clone(), &why));
+    }
+    if let Some(((j, i), v)) = h.indexed_iter().find(|(_, v)| !(v.is_finite() && v.abs() <= 1e-3)) {
+        let why = format!(
+            "heights in m, finite and within ±1e-3 m: the sample at row {j}, column {i} is {v:e}"
+        );
+        return Err(ck.err(&f("path"), m.path.clone(), &why));
+    }
+    Ok(())
 }

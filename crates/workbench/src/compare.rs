@@ -454,11 +454,12 @@ impl Comparison {
         Ok(files)
     }
 
-    /// The models' histories (runs in time) in one table, SI: every step's standard observables
-    /// and the solids' approach (empty for a model that reports none).
+    /// The models' histories (runs in time) in one table, SI: every step's standard observables,
+    /// the solids' approach and the share of the load they carry where they touch (empty for a
+    /// model that reports none).
     pub fn history_csv(&self) -> Option<String> {
         let mut s = String::from(
-            "model,t_s,central_film_m,minimum_film_m,film_overlap_m,max_pressure_pa,approach_m\n",
+            "model,t_s,central_film_m,minimum_film_m,film_overlap_m,max_pressure_pa,approach_m,contact_load_share\n",
         );
         let mut any = false;
         for e in &self.entries {
@@ -466,10 +467,12 @@ impl Comparison {
             let Some(h) = o.history() else { continue };
             any = true;
             let approach = aligned_approach(o.as_ref(), h);
+            let contact = o.contact_history().filter(|c| c.len() == h.len());
             for (k, (t, ob)) in h.iter().enumerate() {
                 let d = approach.as_ref().map_or(String::new(), |a| format!("{:e}", a[k]));
+                let c = contact.as_ref().map_or(String::new(), |c| format!("{:e}", c[k].0));
                 s += &format!(
-                    "{},{t:e},{:e},{:e},{:e},{:e},{d}\n",
+                    "{},{t:e},{:e},{:e},{:e},{:e},{d},{c}\n",
                     e.name(),
                     ob.central_film_m,
                     ob.minimum_film_m,
@@ -520,6 +523,19 @@ impl Comparison {
                 Some(Series::new(e.name(), pts, Mark::Line))
             })
             .collect();
+        // The share of the load the solids carry where they touch, when any model's did.
+        let contact: Vec<Series> = self
+            .entries
+            .iter()
+            .filter_map(|e| {
+                let o = e.outcome.as_ref().ok()?;
+                let (h, c) = (o.history()?, o.contact_history()?);
+                (c.len() == h.len()).then_some(())?;
+                let pts = h.iter().zip(&c).map(|((t, _), c)| (t * 1e3, 100.0 * c.0)).collect();
+                Some(Series::new(e.name(), pts, Mark::Line))
+            })
+            .collect();
+        let touched = contact.iter().any(|s| s.points.iter().any(|p| p.1 > 0.0));
         let f = dir.join("comparison_history.png");
         // The motion's stops and starts, marked on every panel.
         let events = self.motion_events();
@@ -535,6 +551,7 @@ impl Comparison {
             panel("Approach since the start", "δ − δ(0) [nm]", approach),
         ]
         .into_iter()
+        .chain(touched.then(|| panel("The solids' share of the load", "share [%]", contact)))
         .filter(Panel::has_data)
         .collect();
         plot::charts(&f, &panels, note)?;

@@ -205,9 +205,9 @@ impl Level {
         // With contact, a closed gap (`ε̄ = 0`, `H ≤ 0`) or a point where the solids touch
         // passes no oil through its faces: the pressure there is the contact's, and the mean
         // with an open neighbour's `ε̄` would drive a flow through a shut gap (a gap held at
-        // `H = 0` from above has a tiny `ε̄`, not none: the seed's contact fed 0.2 nm on 129²
-        // let 4 % more oil out of the domain than it was given). Open on both sides, or without
-        // contact, the mean.
+        // `H = 0` from above has a tiny `ε̄`, not none, and lost oil: docs/decisions.md, "The
+        // solids touching in the steady cycles"). Open on both sides, or without contact, the
+        // mean.
         let touch = self.touch;
         let shut = |jj: usize, ii: usize| touch && self.contact[[jj, ii]];
         let here = shut(j, i);

@@ -145,9 +145,8 @@ impl Level {
     /// around the boundaries between full and partly filled gap (7 cells, the neighbours held),
     /// the rows in turn. A meniscus moves by the oil its neighbours' pressures push into it,
     /// a little each sweep, and where the supply fills part of the inlet that was the slow
-    /// part of the whole solve: the seed's contact with 25 nm supplied needed ~4× the cycles
-    /// at 3 sweeps a cycle as at 12 (129²), a relaxation-bound mode. Windows cost a few cells
-    /// a row.
+    /// part of the whole solve, a relaxation-bound mode (docs/decisions.md, "Passes around the
+    /// menisci"). Windows cost a few cells a row.
     pub(super) fn relax_menisci(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
         if s.meniscus_passes == 0 {
             return;
@@ -212,9 +211,8 @@ impl Level {
     /// film content), over the points where the Poiseuille term governs (the distributive
     /// ones are left to the row pass). Beside the contact the boundary between full and partly
     /// filled gap runs along `x`, between rows: a row pass holds one side of it while solving
-    /// the other, and the side meniscus crept a little each sweep (the seed's contact with
-    /// 25 nm supplied: film contents beside the contact changing by 0.07 a cycle after 40
-    /// cycles). The column Jacobian keeps the Poiseuille stencil, the film-content columns and
+    /// the other, and the side meniscus crept a little each sweep, for tens of cycles. The
+    /// column Jacobian keeps the Poiseuille stencil, the film-content columns and
     /// the elastic coupling along the column; the film is recomputed after the pass.
     pub(super) fn relax_columns(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
         let (ny, nx) = self.p_dim();
@@ -387,10 +385,9 @@ impl Level {
         // Where the gap is full `P` is a line unknown; mass conserving, where `P = 0` and the
         // equation asks for less oil than a full gap holds (`r > 0`), or the gap is partly
         // filled, `θ` is (its column in the line Jacobian the wedge's and the time term's
-        // weight of `ρ̄H`). Solving both kinds in one line system matters: with the seed's
-        // `ε̄` a pressure change of 1e-5 moves a neighbour's film-content equation by ~0.4,
-        // and updating `θ` point by point between the pressure solves moved the meniscus
-        // one cell in several sweeps (129², a 5 nm supply: the force balance stalled at 2e-4).
+        // weight of `ρ̄H`). Solving both kinds in one line system matters: a tiny pressure change
+        // moves a neighbour's film-content equation by order one, and updating `θ` point by
+        // point between the pressure solves moved the meniscus one cell in several sweeps.
         // A coarser grid of a cycle holds `θ` (its partly filled points keep `P = 0`), unless it
         // solves for it too ([`Self::coarse_theta`]).
         if mass_conserving {

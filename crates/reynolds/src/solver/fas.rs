@@ -148,9 +148,8 @@ impl ReynoldsSolver {
     }
 
     /// The finest-grid cycles over which a stall is judged. Mass conserving, a meniscus that
-    /// still moves lowers the residual slowly but steadily (the seed's contact with 25 nm
-    /// supplied: ~0.97 a cycle over 120 cycles on 257²): a window twice as long tells that from
-    /// a stall.
+    /// still moves lowers the residual slowly but steadily, by a few per cent a cycle: a window
+    /// twice as long tells that from a stall.
     pub(super) fn stall_window(&self) -> usize {
         self.active.stall_cycles * if self.levels[0].mass_conserving() { 2 } else { 1 }
     }

@@ -24,11 +24,11 @@ pub const DEFAULT_LIMIT: f64 = 0.05;
 
 /// The least scale a film's change is judged on [m]: a nanometre, a few molecular diameters
 /// of a mineral oil. Below it neither model's continuum film has digits that mean anything,
-/// and a relative change there measures the solver's rounding. Measured at 2 mm/s, 40 N
-/// (`seed-speed-load`, 1793²): the layer is squeezed out, its central film 0.214 nm and its
-/// minimum −2.3, −0.46, −0.40 pm on the point's grid, the half and the quarter (zero: the
-/// solids touch, to the contact solve's tolerance). On the central film's scale that read
-/// "`h_min` ±2.6 %", a flag for 1.8 pm. No Reynolds film is that thin.
+/// and a relative change there measures the solver's rounding: a layer squeezed out to a
+/// fifth of a nanometre, its solids touching to picometres, would otherwise be flagged for
+/// its picometres (the sweep's test
+/// `picometre_changes_of_a_squeezed_out_film_are_judged_on_a_nanometre_not_flagged`). No
+/// Reynolds film is that thin.
 pub const FILM_SCALE_FLOOR_M: f64 = 1e-9;
 
 /// The scale an answer's film changes are judged on: its central film, at least
@@ -152,8 +152,8 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
 /// answer or why there is none, the quarter's when it answered. A coarser grid whose cells are
 /// wider than the model's answer can exist on is not run: it would only fail, slowly (a Reynolds
 /// film that closes runs its whole cascade of attempts). The models' rule asks for half the cell
-/// where existence ends (measured: the seed's film answers on twice its rule's cell and closes on
-/// four times it), so twice the rule's cell.
+/// where existence ends (docs/decisions.md, "The grid rule's constants"), so twice the rule's
+/// cell.
 fn coarser_answers(
     scene: &Scene,
     model: Option<&'static dyn crate::model::ContactModel>,
@@ -230,9 +230,8 @@ fn coarser_answers(
 
 /// The least error a film is given, relative to the film's scale: the solvers stop at a change
 /// of 1e-4 a cycle (the Reynolds solve) or settle within 1e-3 over a window (the layer's steady
-/// solve), and below this the grids' differences measure those iterations, not the grid.
-/// Measured (`docs/measured/accuracy.md`): below 0.3 % the three grids understated the actual
-/// film errors by up to 4.4× (the layer at 0.2 m/s: 0.02 % estimated, 0.10 % actual).
+/// solve), and below this the grids' differences measure those iterations, not the grid: below
+/// it the three grids understated the actual film errors (`docs/measured/accuracy.md`).
 pub const FILM_FLOOR: f64 = 3e-3;
 
 /// The least each error can be, whatever the grids say. An extent ends where the pressure

@@ -7,9 +7,8 @@
 //!   point contacts, Part IV: starvation results, J. Lubr. Technol. 99 (1977) 15–23) is
 //!   `m* = 1 + 3.06 [(R/b)² H]^0.58`, `H = h/R`; for `b = a`, `(R/a)² h/R` is the film in Hertz
 //!   units `h / (a²/R)`, here the Nijenbanning–Venner–Moes central film. At `m*` itself the film
-//!   is still ~3 % short (measured: the domain check moves `h_c` by +3.0 % at every speed of
-//!   `seed-speed` with the inlet at `m*`), so the inlet goes to `1 + 2 (m* − 1)` (measured: 0.5 %
-//!   short at 1 + 1.8 (m* − 1) for 0.2 m/s).
+//!   is still a few per cent short, so the inlet goes to `1 + 2 (m* − 1)` (docs/decisions.md,
+//!   "The accuracy rule's constants").
 //! - Layer: nothing happens before the layer touches the ball, where the Hertz separation equals
 //!   the supply thickness `l0`; the inlet goes where the separation is `2 l0`.
 //!

@@ -157,8 +157,8 @@ impl Plan {
                 }
                 let span = piece.t1 - piece.t0;
                 // A phase that runs until steady may still run to the time limit: its steps to
-                // there are held to the same budget (4097 m/s on 17² asked for 4e7 steps of
-                // 5e-9 s before its 0.2 s limit, and ran for as long as one waited).
+                // there are held to the same budget, or a fast scene runs for as long as one
+                // waits.
                 let to_limit = st.max_time_s.map_or(f64::INFINITY, |m| m - piece.t0);
                 if !span.is_finite() && to_limit / dt > MAX_STEPS {
                     return Err(Diagnosis::Plan(format!(
