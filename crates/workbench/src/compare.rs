@@ -762,6 +762,33 @@ impl Comparison {
                 &note,
             )?;
             files.push(map);
+            // The two films and pressures side by side (a pattern inside the contact, a dent's
+            // print): the films up to twice the largest central film, so that the contact's
+            // own variations take the colours rather than the open gap around it.
+            let top = 0.4 * cap_nm;
+            let film = |o: &dyn Outcome| o.film().mapv(|v| (s.h_si(v) * 1e9).clamp(0.0, top));
+            let (fa, fb) = (film(*a), film(*b));
+            let (pa, pb) =
+                (a.pressure().mapv(|v| s.p_si(v) * 1e-9), b.pressure().mapv(|v| s.p_si(v) * 1e-9));
+            let panel = |field, title: String, bar: &str| MapPanel {
+                field,
+                title,
+                bar_label: bar.into(),
+                diverging: false,
+            };
+            let maps = dir.join("comparison_maps.png");
+            plot::heat_maps(
+                &maps,
+                &[
+                    panel(&fa, format!("Film, {name_a}"), "h [nm]"),
+                    panel(&fb, format!("Film, {name_b}"), "h [nm]"),
+                    panel(&pa, format!("Pressure, {name_a}"), "p [GPa]"),
+                    panel(&pb, format!("Pressure, {name_b}"), "p [GPa]"),
+                ],
+                &g,
+                &note,
+            )?;
+            files.push(maps);
         }
         Ok(files)
     }
