@@ -17,9 +17,9 @@ const REGIMES: [(f64, &str); 2] = [(1.0, "λ = 1"), (3.0, "λ = 3")];
 pub fn run(out: &Path) -> Result<()> {
     let (mut s, dir_of) = ehl_scene::load_sweep("mixed-lubrication")?;
     if crate::quick() {
-        // The code path on 65²: two speeds, the roughness' correlation length on the cells 65²
-        // carries (20 µm on 3.8 of them).
-        s.parameters[0].values = Some(vec![0.01, 0.1]);
+        // The code path on 65², in seconds: one speed whose film the roughness does not close,
+        // the roughness' correlation length on the cells 65² carries (20 µm on 3.8 of them).
+        s.parameters[0].values = Some(vec![0.1]);
     }
     let (plan, ran, recs) = if crate::quick() {
         let mut plan = sweep::Plan::new(&s, dir_of.as_deref())?;
