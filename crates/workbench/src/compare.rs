@@ -744,53 +744,56 @@ impl Comparison {
         files.extend(self.snapshot_figure(dir, &note)?);
         // The first two lubricated models in the scene's order (the seed's: layer − Reynolds).
         let wet: Vec<&(String, &dyn Outcome)> = ok.iter().filter(|(_, o)| o.lubricated()).collect();
-        if let [(name_a, a), (name_b, b), ..] = wet.as_slice() {
-            let diff = (a.film() - b.film()).mapv(|v| s.h_si(v) * 1e9);
-            // Outside the contact both films open to micrometres: the map shows the contact,
-            // differences clipped to ±5x the largest central film.
-            let clip = diff.mapv(|v| v.clamp(-cap_nm, cap_nm));
-            let map = dir.join("comparison_film_difference.png");
-            plot::heat_maps(
-                &map,
-                &[MapPanel {
-                    field: &clip,
-                    title: format!("Film difference {name_a} − {name_b}"),
-                    bar_label: "Δh [nm]".into(),
-                    diverging: true,
-                }],
-                &g,
-                &note,
-            )?;
-            files.push(map);
-            // The two films and pressures side by side (a pattern inside the contact, a dent's
-            // print): the films up to twice the largest central film, so that the contact's
-            // own variations take the colours rather than the open gap around it.
-            let top = 0.4 * cap_nm;
-            let film = |o: &dyn Outcome| o.film().mapv(|v| (s.h_si(v) * 1e9).clamp(0.0, top));
-            let (fa, fb) = (film(*a), film(*b));
-            let (pa, pb) =
-                (a.pressure().mapv(|v| s.p_si(v) * 1e-9), b.pressure().mapv(|v| s.p_si(v) * 1e-9));
-            let panel = |field, title: String, bar: &str| MapPanel {
-                field,
-                title,
-                bar_label: bar.into(),
-                diverging: false,
-            };
-            let maps = dir.join("comparison_maps.png");
-            plot::heat_maps(
-                &maps,
-                &[
-                    panel(&fa, format!("Film, {name_a}"), "h [nm]"),
-                    panel(&fb, format!("Film, {name_b}"), "h [nm]"),
-                    panel(&pa, format!("Pressure, {name_a}"), "p [GPa]"),
-                    panel(&pb, format!("Pressure, {name_b}"), "p [GPa]"),
-                ],
-                &g,
-                &note,
-            )?;
-            files.push(maps);
+        if let [a, b, ..] = wet.as_slice() {
+            files.extend(self.map_figures(dir, &note, [*a, *b], cap_nm)?);
         }
         Ok(files)
+    }
+
+    /// The maps of two lubricated models `[(name, outcome); 2]`: their film difference, clipped
+    /// to `±cap_nm` [nm] (outside the contact both films open to micrometres), and their films
+    /// and pressures side by side (a pattern inside the contact, a dent's print).
+    fn map_figures(
+        &self,
+        dir: &Path,
+        note: &str,
+        pair: [&(String, &dyn Outcome); 2],
+        cap_nm: f64,
+    ) -> Result<Vec<PathBuf>> {
+        let [(name_a, a), (name_b, b)] = pair;
+        let (s, g) = (self.scales(), self.scene.grid());
+        let diff = (a.film() - b.film()).mapv(|v| (s.h_si(v) * 1e9).clamp(-cap_nm, cap_nm));
+        let map = dir.join("comparison_film_difference.png");
+        let title = format!("Film difference {name_a} − {name_b}");
+        let bar_label = "Δh [nm]".into();
+        let panel = MapPanel { field: &diff, title, bar_label, diverging: true };
+        plot::heat_maps(&map, &[panel], &g, note)?;
+        // The films up to twice the largest central film, so that the contact's own variations
+        // take the colours rather than the open gap around it.
+        let top = 0.4 * cap_nm;
+        let film = |o: &dyn Outcome| o.film().mapv(|v| (s.h_si(v) * 1e9).clamp(0.0, top));
+        let (fa, fb) = (film(*a), film(*b));
+        let gpa = |o: &dyn Outcome| o.pressure().mapv(|v| s.p_si(v) * 1e-9);
+        let (pa, pb) = (gpa(*a), gpa(*b));
+        let panel = |field, title: String, bar: &str| MapPanel {
+            field,
+            title,
+            bar_label: bar.into(),
+            diverging: false,
+        };
+        let maps = dir.join("comparison_maps.png");
+        plot::heat_maps(
+            &maps,
+            &[
+                panel(&fa, format!("Film, {name_a}"), "h [nm]"),
+                panel(&fb, format!("Film, {name_b}"), "h [nm]"),
+                panel(&pa, format!("Pressure, {name_a}"), "p [GPa]"),
+                panel(&pb, format!("Pressure, {name_b}"), "p [GPa]"),
+            ],
+            &g,
+            note,
+        )?;
+        Ok(vec![map, maps])
     }
 }
 
