@@ -676,7 +676,7 @@ impl Monitor {
         let prow = s.p.row(j0);
         let lrow = l.row(j0);
         let dry_tol = NO_LAYER_LEFT * model.l0;
-        let contact = model.solid_contact(s);
+        let contact = solid_contact(g, sc, &s.p, &l, model.l0);
         Self {
             t: s.t,
             central_thickness: sc.h_si(l[[j0, i0]]),
