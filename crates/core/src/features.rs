@@ -147,11 +147,13 @@ impl Roughness {
             let ky_y = self.modes[q % m][1] * grid.y(j);
             if q < m { ky_y.cos() } else { -ky_y.sin() }
         });
+        // The patch's edge depends on the column alone: once a column, not once a mode.
+        let weight: Vec<f64> =
+            (0..grid.nx).map(|i| scale * self.taper(grid.x(i) - travel_a)).collect();
         let columns = Array2::from_shape_fn((2 * m, grid.nx), |(q, i)| {
             let [kx, _, ph] = self.modes[q % m];
-            let xs = grid.x(i) - travel_a;
-            let arg = kx * xs + ph;
-            scale * self.taper(xs) * if q < m { arg.cos() } else { arg.sin() }
+            let arg = kx * (grid.x(i) - travel_a) + ph;
+            weight[i] * if q < m { arg.cos() } else { arg.sin() }
         });
         ndarray::linalg::general_mat_mul(1.0, &rows, &columns, 1.0, out);
     }
