@@ -295,6 +295,11 @@ impl Level {
         self.shape = self.grid.paraboloid() + extra;
     }
 
+    /// The rigid film `X²/2 + Y²/2 + extra` [a²/R] (the gap at `H00 = 0` without deformation).
+    pub fn rigid_film(&self) -> &Array2<f64> {
+        &self.shape
+    }
+
     /// `ρ̄θH` on the grid: the oil's mass per area (`θ = 1` without a supply).
     pub fn rho_film(&self, prm: &ReynoldsParams) -> Array2<f64> {
         Zip::from(&self.p)

@@ -360,6 +360,15 @@ impl Outcome for ReynoldsOutcome {
                 ),
             ),
             (
+                "from_dry".into(),
+                Indicator::new(
+                    f64::from(u8::from(self.report.from_dry)),
+                    "1",
+                    "1: the grid is too coarse for the film; the answer started from the dry contact",
+                    false,
+                ),
+            ),
+            (
                 "contact_load_share".into(),
                 Indicator::new(
                     self.transient.as_ref().map_or_else(
@@ -612,6 +621,7 @@ impl ReynoldsOutcome {
                 "omega_gs": self.report.omega_gs,
                 "from_flooded": self.report.from_flooded,
                 "touched_from_cycle": self.report.touched_from,
+                "from_dry": self.report.from_dry,
                 "settled": self.report.settled,
                 "final_residual": last.residual,
                 "final_load_error": last.load_error,

@@ -98,6 +98,10 @@ pub struct ReynoldsReport {
     /// which the solids touched where it had closed ([`ReynoldsSettings::contact`]); the
     /// contact's share of the load and its area are [`ReynoldsSolver::contact`]'s.
     pub touched_from: Option<usize>,
+    /// A steady solve whose attempts all failed on a grid too coarse for the film to exist:
+    /// its answer's cycles started from the dry contact, the solids touching from the first
+    /// ([`ReynoldsSolver::solve`]).
+    pub from_dry: bool,
 }
 
 /// How a stalled steady solve's answer settled over its last cycles ([`SETTLED_BOUND`]).

@@ -98,6 +98,29 @@ impl ReynoldsSolver {
                 };
             }
         }
+        if self.settings.contact && !self.film_held() {
+            // Every attempt failed on a grid too coarse for the film to exist: the answer is
+            // the closed film, the solids carrying what the oil does not.
+            if let Some(failed) = film_closed(&rep).or_else(|| given_up(&rep)) {
+                let kept = (self.save(), self.levels.iter().map(|l| l.touch).collect::<Vec<_>>());
+                let note = match self.attempt_from_dry(log, failed.1, t0) {
+                    Ok(Ok(mut r)) if r.converged => {
+                        r.first_attempt = Some(failed.0);
+                        rep = Ok(r);
+                        None
+                    }
+                    Ok(other) => Some(what_it_said(&other)),
+                    Err(e) => Some(e),
+                };
+                if let Some(note) = note {
+                    self.restore(kept.0);
+                    for (l, touch) in self.levels.iter_mut().zip(kept.1) {
+                        l.touch = touch;
+                    }
+                    rep = with_note(rep, &format!("; then from the dry contact: {note}"));
+                }
+            }
+        }
         // A stall or a limit cycle whose answer has settled is returned, saying so.
         let window = self.stall_window();
         let rep = rep.map(|mut r| {
@@ -232,6 +255,63 @@ impl ReynoldsSolver {
         self.active = kept;
         self.coarsest = usize::MAX;
         FromFlooded::Fed(fed)
+    }
+
+    /// Whether this grid can hold the contact's film: cells at most twice the grid rule's
+    /// ([`formulas::cell_needed`], for the flooded film or, fed, the film the supply makes),
+    /// where the film's existence was measured to end. Coarser, a film that closes is the
+    /// answer, not a failure of the cycles.
+    fn film_held(&self) -> bool {
+        let film = self.starved_film_estimate(self.nvm_film());
+        self.levels[0].grid.dx() <= FILM_GONE_CELLS * formulas::cell_needed(film)
+    }
+
+    /// The last attempt of a steady solve on a grid that cannot hold the film: from the dry
+    /// contact (the core's dry solver over the same rigid film and load), the solids touching
+    /// where it carries pressure from the first cycle, no full-multigrid start; cycle numbers
+    /// and time counted on from `cycles_before` and `t0`. `Err`: the dry solve failed (why).
+    ///
+    /// Its limit is the dry contact itself: at vanishing speed, or without oil, the pressure
+    /// is the dry solver's and the solids carry the load. It does not find a film the grid
+    /// could hold: from the dry contact a rolling contact stays dry (a point in contact lets
+    /// go only where holding it shut would take a negative pressure), so it is tried only
+    /// where the grid cannot hold the film ([`Self::film_held`]).
+    pub(super) fn attempt_from_dry(
+        &mut self,
+        log: &mut dyn FnMut(&CycleLog),
+        cycles_before: usize,
+        t0: Instant,
+    ) -> Result<Result<ReynoldsReport, ReynoldsError>, String> {
+        use ehl_core::{DryProblem, DrySettings, DrySolver, Start};
+        self.start();
+        let f = &self.levels[0];
+        let problem =
+            DryProblem { rigid_gap: f.rigid_film().view(), compliance: None, load: 2.0 * PI / 3.0 };
+        let solver = DrySolver::new(f.grid, DrySettings::default());
+        let (mut p, mut w) = (f.grid.zeros(), f.grid.zeros());
+        let dry = solver
+            .solve(&problem, &mut p, &mut w, Start::Flat)
+            .map_err(|e| format!("its dry solve failed: {e}"))?;
+        self.h00 = dry.h0;
+        let h00 = self.h00;
+        let f = &mut self.levels[0];
+        f.p = p;
+        f.update_film(h00);
+        f.contact = f.p.mapv(|v| v > 0.0);
+        f.start_theta();
+        for lv in &mut self.levels {
+            lv.touch = true;
+        }
+        let kept = self.active;
+        self.active.fmg_cycles = 0;
+        self.active.contact = true;
+        let rep = self.cycles(log, cycles_before, t0.elapsed().as_secs_f64(), f64::NAN);
+        self.active = kept;
+        Ok(rep.map(|mut r| {
+            r.touched_from = Some(cycles_before + 1);
+            r.from_dry = true;
+            r
+        }))
     }
 
     /// Cycles until converged or given up; cycle numbers and wall times continue from
@@ -432,6 +512,7 @@ impl ReynoldsSolver {
             mode_jumps,
             from_flooded: false,
             touched_from,
+            from_dry: false,
         }
     }
 }
@@ -508,6 +589,11 @@ pub(super) fn film_closed(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option
 /// that moves by tens of percent (the same on 513²: ±60 %) passes through its closures, and
 /// touching there turned into a contact over the whole Hertz zone.
 pub const CLOSURE_SETTLED: f64 = 3e-2;
+
+/// Cells, in units of the grid rule's ([`formulas::cell_needed`]), beyond which a steady film
+/// no longer exists on a grid: where its existence was measured to end (the rule keeps half
+/// of it: docs/decisions.md, "The grid rule's constants").
+pub const FILM_GONE_CELLS: f64 = 2.0;
 
 /// Whether a stalled answer has settled round its closed film: its central film within
 /// [`CLOSURE_SETTLED`] and its force balance within [`SETTLED_BOUND`] over the `window`'s

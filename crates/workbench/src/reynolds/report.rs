@@ -70,7 +70,15 @@ pub(super) fn reynolds_report(o: &ReynoldsOutcome) -> String {
     }
     // A steady answer whose lubricated cycles stalled with the film closed: the solids touch
     // there.
-    if let (Some(k), Some(c)) = (o.report.touched_from, Outcome::solid_contact(o))
+    if let Some(c) = Outcome::solid_contact(o).filter(|_| o.report.from_dry)
+        && o.transient.is_none()
+    {
+        let _ = writeln!(
+            out,
+            "  contact (every lubricated attempt failed on a grid too coarse for the film; from the dry contact): the solids carry {:.4} of the load on {:.3e} m², contact pressure up to {:.4e} Pa",
+            c.load_share, c.area_m2, c.max_pressure_pa
+        );
+    } else if let (Some(k), Some(c)) = (o.report.touched_from, Outcome::solid_contact(o))
         && o.transient.is_none()
     {
         let _ = writeln!(
