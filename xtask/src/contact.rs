@@ -1,7 +1,9 @@
 //! The solids touching in a steady Reynolds solve: the seed's contact fed supplies thinner than
 //! the discrete dry gap's error at the contact's edge, each solved with contact (the default:
 //! the solids touch where the lubricated cycles stall with the film closed) and without it,
-//! on two grids. Writes `docs/measured/steady-contact.md` and the rows as JSON into `--out`.
+//! on two grids; and its dry limits: the contact at vanishing speed, flooded and fed almost no
+//! oil, against the core's dry contact on the same grid. Writes
+//! `docs/measured/steady-contact.md` and the rows as JSON into `--out`.
 
 use crate::measured::{self, Table};
 use anyhow::{Context, Result};
@@ -9,6 +11,15 @@ use ehl_scene::Model;
 use ehl_workbench::{reynolds::ReynoldsOutcome, run_scene};
 use serde_json::json;
 use std::path::Path;
+
+/// What stopped a failed solve's last attempt, in its diagnosis' words: the start from the dry
+/// contact's when it was tried (its note closes the text), else the first the text names.
+fn last_attempt_failure(text: &str) -> &'static str {
+    let last = text.rfind("then from the dry contact:").map_or(text, |at| &text[at..]);
+    let kinds = ["the film closed", "diverged", "stalled", "limit cycle", "cycle limit"];
+    let why = kinds.iter().filter_map(|k| last.find(k).map(|at| (at, *k))).min();
+    why.map_or("failed", |(_, k)| k)
+}
 
 /// One solve: the seed's contact, the Reynolds model fed `h_oil` [m] on `n`², contact on or
 /// off; its row's cells and JSON.
@@ -29,11 +40,8 @@ fn solve(h_oil: f64, n: usize, contact: bool) -> Result<(Vec<String>, serde_json
     let o = match answer {
         Ok(o) => o,
         Err(e) => {
-            // What stopped the last attempt, in the diagnosis' words.
             let text = e.to_string();
-            let kinds = ["the film closed", "diverged", "stalled", "limit cycle", "cycle limit"];
-            let why = kinds.iter().filter_map(|k| text.find(k).map(|at| (at, *k))).min();
-            let why = why.map_or("failed", |(_, k)| k);
+            let why = last_attempt_failure(&text);
             let mut row = head;
             row.extend([format!("failed: {why}"), String::new(), String::new(), String::new()]);
             row.extend([String::new(), String::new(), String::new(), format!("{wall:.1}")]);
@@ -67,6 +75,91 @@ fn solve(h_oil: f64, n: usize, contact: bool) -> Result<(Vec<String>, serde_json
     Ok((row, v))
 }
 
+/// The largest pressure difference [p_h] of `r` from the core's dry contact on its grid (the
+/// ball's rigid film, the same load).
+fn from_dry_contact(r: &ReynoldsOutcome) -> Result<f64> {
+    use ehl_core::{DryProblem, DrySettings, DrySolver, Start};
+    let ball = r.grid.paraboloid();
+    let load = 2.0 * std::f64::consts::PI / 3.0;
+    let problem = DryProblem { rigid_gap: ball.view(), compliance: None, load };
+    let (mut p, mut w) = (r.grid.zeros(), r.grid.zeros());
+    DrySolver::new(r.grid, DrySettings::default()).solve(&problem, &mut p, &mut w, Start::Flat)?;
+    Ok((&r.p - &p).iter().fold(0.0f64, |m, v| m.max(v.abs())))
+}
+
+/// One solve of the dry limit: the seed's contact rolling at `u1` [m/s] on `n`², flooded or
+/// fed `h_oil` [m]; its row's cells and JSON.
+fn dry_limit(u1: f64, h_oil: Option<f64>, n: usize) -> Result<(Vec<String>, serde_json::Value)> {
+    let mut s = ehl_scene::builtin("seed")?.for_model(Model::Reynolds).with_points(n)?;
+    s.name = format!("seed-dry-limit-{n}");
+    s.outputs.figures = false;
+    s.conditions.rolling_velocity_m_s = Some(u1);
+    match h_oil {
+        Some(h) => s.supply.as_mut().context("the seed's scene has a supply")?.thickness_m = h,
+        None => s.supply = None,
+    }
+    let t = std::time::Instant::now();
+    let answer = run_scene(&s);
+    let wall = t.elapsed().as_secs_f64();
+    let supply = h_oil.map_or("flooded".to_string(), |h| format!("{:.1} nm", h * 1e9));
+    let mut row = vec![format!("{u1:.0e}"), supply, format!("{n}²")];
+    let v = match answer {
+        Err(e) => {
+            let text = e.to_string();
+            row.push(format!("failed: {}", last_attempt_failure(&text)));
+            row.extend(["", "", "", ""].map(String::from));
+            json!({"u1_m_s": u1, "h_oil_m": h_oil, "points": n, "answered": false,
+                   "diagnosis": text, "wall_s": wall})
+        }
+        Ok(o) => {
+            let r = o.downcast_ref::<ReynoldsOutcome>().context("a Reynolds outcome")?;
+            let c = o.solid_contact().unwrap_or_default();
+            let diff = from_dry_contact(r)?;
+            row.push(if r.report.from_dry { "from the dry contact" } else { "lubricated" }.into());
+            row.extend([
+                format!("{:.6}", c.load_share),
+                format!("{diff:.1e}"),
+                format!("{:.4}", c.max_pressure_pa / r.prm.scales.p_h),
+                r.report.cycles.to_string(),
+            ]);
+            json!({"u1_m_s": u1, "h_oil_m": h_oil, "points": n, "answered": true,
+                   "from_dry": r.report.from_dry, "solid_contact": c,
+                   "pressure_from_dry_contact_p_h": diff, "cycles": r.report.cycles,
+                   "wall_s": wall})
+        }
+    };
+    row.push(format!("{wall:.1}"));
+    Ok((row, v))
+}
+
+/// The dry-limit table: the speeds and supplies on the grids.
+fn dry_limits(rows: &mut Vec<serde_json::Value>) -> Result<Table> {
+    let (speeds, grids): (&[f64], &[usize]) =
+        if crate::quick() { (&[1e-6], &[65]) } else { (&[1e-6, 1e-5, 1e-4, 1e-3], &[65, 129]) };
+    let mut t = Table::new(&[
+        "u1 [m/s]",
+        "supply",
+        "grid",
+        "answer",
+        "contact's share of the load",
+        "largest P − P_dry, either sign [p_h]",
+        "contact pressure max [p_h]",
+        "cycles",
+        "wall [s]",
+    ]);
+    for &n in grids {
+        for &u in speeds {
+            for h in [None, Some(1e-9), Some(10e-9)] {
+                println!("u1 {u:.0e} m/s, {h:?} m, on {n}²");
+                let (cells, v) = dry_limit(u, h, n)?;
+                t.rows.push(cells);
+                rows.push(v);
+            }
+        }
+    }
+    Ok(t)
+}
+
 /// Runs the supplies on the grids and writes the page. Quickly: 129² and two supplies.
 pub fn run(out: &Path) -> Result<()> {
     let (supplies, grids): (&[f64], &[usize]) = if crate::quick() {
@@ -98,6 +191,7 @@ pub fn run(out: &Path) -> Result<()> {
             }
         }
     }
+    let dry = dry_limits(&mut rows)?;
     std::fs::create_dir_all(out)?;
     let f = out.join("steady-contact.json");
     std::fs::write(&f, serde_json::to_string_pretty(&rows)? + "\n")?;
@@ -112,13 +206,17 @@ pub fn run(out: &Path) -> Result<()> {
         contact's share of the load and its area: where the solids touch, apart from the \
         fluid (`solid_contact` in `summary.json`). The film below zero: how far the film \
         went negative somewhere (the solids overlapping: a closure the answer was returned \
-        with, flagged). A failed row gives what stopped its last attempt.";
+        with, flagged). A failed row gives what stopped its last attempt. The dry limits: the \
+        same contact at vanishing speed, flooded and fed 1 and 10 nm, on grids far too coarse \
+        for the film (cells of 0.04 and 0.02 a; the film exists on cells up to 4e-4 … 9e-3 a): \
+        where every lubricated attempt fails the last starts from the dry contact; its answer \
+        against the core's dry contact on the same grid (the ball, the same load).";
     let p = measured::write(
         "steady-contact",
         "The solids touching in a steady Reynolds solve",
         "cargo xtask contact",
         intro,
-        &[("Steady solves", &t)],
+        &[("Steady solves", &t), ("The dry limits", &dry)],
     )?;
     println!("wrote {}", p.display());
     Ok(())

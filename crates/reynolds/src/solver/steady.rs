@@ -13,6 +13,11 @@ impl ReynoldsSolver {
     /// ([`ReynoldsSettings::coarse_film_content`]): the ring of full film round the contact,
     /// which the finest grid's relaxation moves a little each cycle, moves with the coarse-grid
     /// correction (docs/decisions.md, "The coarser grids solving for the film content").
+    ///
+    /// When every attempt fails on a grid too coarse for the film to exist, a last one starts
+    /// from the dry contact, the solids touching from its first cycle: its answer is the closed
+    /// film ([`ReynoldsReport::from_dry`]; docs/decisions.md, "The start from the dry contact,
+    /// where the grid cannot hold the film").
     pub fn solve(
         &mut self,
         log: &mut dyn FnMut(&CycleLog),
@@ -99,27 +104,7 @@ impl ReynoldsSolver {
             }
         }
         if self.settings.contact && !self.film_held() {
-            // Every attempt failed on a grid too coarse for the film to exist: the answer is
-            // the closed film, the solids carrying what the oil does not.
-            if let Some(failed) = film_closed(&rep).or_else(|| given_up(&rep)) {
-                let kept = (self.save(), self.levels.iter().map(|l| l.touch).collect::<Vec<_>>());
-                let note = match self.attempt_from_dry(log, failed.1, t0) {
-                    Ok(Ok(mut r)) if r.converged => {
-                        r.first_attempt = Some(failed.0);
-                        rep = Ok(r);
-                        None
-                    }
-                    Ok(other) => Some(what_it_said(&other)),
-                    Err(e) => Some(e),
-                };
-                if let Some(note) = note {
-                    self.restore(kept.0);
-                    for (l, touch) in self.levels.iter_mut().zip(kept.1) {
-                        l.touch = touch;
-                    }
-                    rep = with_note(rep, &format!("; then from the dry contact: {note}"));
-                }
-            }
+            rep = self.dry_start_fallback(rep, log, t0);
         }
         // A stall or a limit cycle whose answer has settled is returned, saying so.
         let window = self.stall_window();
@@ -255,6 +240,32 @@ impl ReynoldsSolver {
         self.active = kept;
         self.coarsest = usize::MAX;
         FromFlooded::Fed(fed)
+    }
+
+    /// After every attempt failed on a grid that cannot hold the film: once more from the dry
+    /// contact ([`Self::attempt_from_dry`]), kept when it converges; else the attempts before
+    /// stand, their state back, with what this one gave.
+    fn dry_start_fallback(
+        &mut self,
+        rep: Result<ReynoldsReport, ReynoldsError>,
+        log: &mut dyn FnMut(&CycleLog),
+        t0: Instant,
+    ) -> Result<ReynoldsReport, ReynoldsError> {
+        let Some(failed) = film_closed(&rep).or_else(|| given_up(&rep)) else { return rep };
+        let kept = (self.save(), self.levels.iter().map(|l| l.touch).collect::<Vec<_>>());
+        let note = match self.attempt_from_dry(log, failed.1, t0) {
+            Ok(Ok(mut r)) if r.converged => {
+                r.first_attempt = Some(failed.0);
+                return Ok(r);
+            }
+            Ok(other) => what_it_said(&other),
+            Err(e) => e,
+        };
+        self.restore(kept.0);
+        for (l, touch) in self.levels.iter_mut().zip(kept.1) {
+            l.touch = touch;
+        }
+        with_note(rep, &format!("; then from the dry contact: {note}"))
     }
 
     /// Whether this grid can hold the contact's film: cells at most twice the grid rule's
