@@ -133,6 +133,9 @@ pub enum Part {
     /// The error estimate's cost against the solve alone, every model on the seed's 257²
     /// (`docs/measured/bench-estimate.md`).
     Estimate,
+    /// The Reynolds solver's dry limits on the seed's 257²: vanishing speed, almost no oil
+    /// (`docs/measured/bench-dry-limit.md`).
+    DryLimit,
 }
 
 pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
@@ -178,6 +181,10 @@ pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
     }
     if wanted(Part::Estimate) {
         estimate(crate::seed_grid(max), if crate::quick() { 1 } else { 3 })?;
+    }
+    if wanted(Part::DryLimit) {
+        let n = if crate::quick() { 65 } else { crate::seed_grid(max) };
+        println!("wrote {}", crate::contact::bench(n)?.display());
     }
     Ok(())
 }

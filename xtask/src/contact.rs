@@ -132,21 +132,57 @@ fn dry_limit(u1: f64, h_oil: Option<f64>, n: usize) -> Result<(Vec<String>, serd
     Ok((row, v))
 }
 
+/// The dry-limit table's columns.
+const DRY_LIMIT_COLUMNS: [&str; 9] = [
+    "u1 [m/s]",
+    "supply",
+    "grid",
+    "answer",
+    "contact's share of the load",
+    "largest P − P_dry, either sign [p_h]",
+    "contact pressure max [p_h]",
+    "cycles",
+    "wall [s]",
+];
+
+/// The dry limits' cost on `n`² (`cargo xtask bench --only dry-limit`): the seed's contact at
+/// 1e-6 m/s flooded and fed 1 nm, and at 1e-5 m/s fed 1 nm, each the whole steady solve (the
+/// lubricated attempts that fail, then the start from the dry contact); writes
+/// `docs/measured/bench-dry-limit.md`.
+pub fn bench(n: usize) -> Result<std::path::PathBuf> {
+    let mut t = Table::new(&DRY_LIMIT_COLUMNS);
+    // Quickly: the flooded one alone (the fed ones run their failing attempts first: seconds).
+    let cases: &[(f64, Option<f64>)] = if crate::quick() {
+        &[(1e-6, None)]
+    } else {
+        &[(1e-6, None), (1e-6, Some(1e-9)), (1e-5, Some(1e-9))]
+    };
+    for &(u, h) in cases {
+        println!("u1 {u:.0e} m/s, {h:?} m, on {n}²");
+        t.rows.push(dry_limit(u, h, n)?.0);
+    }
+    let intro = format!(
+        "The seed's contact (Table 1, 20 N) through the Reynolds solver at vanishing speed, \
+         flooded and fed almost no oil, on {n}² over its own domain [-1.25, 1.25]² a: a grid \
+         far too coarse for the film, where every lubricated attempt fails and the last starts \
+         from the core's dry contact. Each row one whole steady solve (its failed attempts \
+         counted in the cycles and the wall time), its answer against the core's dry contact \
+         on the same grid; no error estimate."
+    );
+    measured::write(
+        "bench-dry-limit",
+        "The dry limits' cost",
+        &format!("cargo xtask bench --only dry-limit --max-points {n}"),
+        &intro,
+        &[("Steady solves", &t)],
+    )
+}
+
 /// The dry-limit table: the speeds and supplies on the grids.
 fn dry_limits(rows: &mut Vec<serde_json::Value>) -> Result<Table> {
     let (speeds, grids): (&[f64], &[usize]) =
         if crate::quick() { (&[1e-6], &[65]) } else { (&[1e-6, 1e-5, 1e-4, 1e-3], &[65, 129]) };
-    let mut t = Table::new(&[
-        "u1 [m/s]",
-        "supply",
-        "grid",
-        "answer",
-        "contact's share of the load",
-        "largest P − P_dry, either sign [p_h]",
-        "contact pressure max [p_h]",
-        "cycles",
-        "wall [s]",
-    ]);
+    let mut t = Table::new(&DRY_LIMIT_COLUMNS);
     for &n in grids {
         for &u in speeds {
             for h in [None, Some(1e-9), Some(10e-9)] {

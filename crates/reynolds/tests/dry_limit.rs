@@ -6,8 +6,8 @@ use ehl_reynolds::*;
 use ndarray::Array2;
 use std::f64::consts::PI;
 
-/// The seed's contact (Table 1) rolling at `u1` [m/s] on its own domain, 65².
-fn seed_at(u1: f64) -> (ReynoldsParams, ReynoldsSolver) {
+/// The seed's contact (Table 1) rolling at `u1` [m/s] on its own domain, `n`².
+fn seed_at(u1: f64, n: usize) -> (ReynoldsParams, ReynoldsSolver) {
     let prm = ReynoldsParams::from_si(
         &SEED_CONTACT,
         &SEED_LUBRICANT,
@@ -15,7 +15,7 @@ fn seed_at(u1: f64) -> (ReynoldsParams, ReynoldsSolver) {
         ViscosityLaw::Roelands,
         DensityLaw::DowsonHigginson,
     );
-    let grid = Grid::new(65, 65, (-1.25, 1.25), (-1.25, 1.25));
+    let grid = Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
     (prm, ReynoldsSolver::new(grid, prm, ReynoldsSettings::default()))
 }
 
@@ -39,35 +39,39 @@ fn against_dry(s: &ReynoldsSolver) -> (f64, f64) {
 
 #[test]
 fn at_vanishing_speed_the_flooded_pressure_is_the_dry_contacts() {
-    // 1e-6 m/s: the film (NVM, 0.03 nm) is far below what cells of 0.04 a hold (the lubricated
-    // attempts diverge); the answer is the dry contact.
-    let (_, mut s) = seed_at(1e-6);
-    let rep = s.solve(&mut |_| {}).expect("the dry limit converges");
-    assert!(rep.converged && rep.from_dry, "{:?}", rep.diagnosis);
-    // Measured: 2.0e-5 p_h apart, the solids carrying all but 5e-7 of the load: what is left
-    // is the oil's pressure at the contact's edge, of the order of the speed. Bounds five and
-    // twenty times that: a start from another rigid film or load misses by percents, a contact
-    // let go where it carries pressure by the share.
-    let (diff, share) = against_dry(&s);
-    assert!(diff < 1e-4, "{diff:.3e} p_h from the dry contact");
-    assert!(share > 1.0 - 1e-5, "the solids carry {share}");
-    // And the dry contact is Hertz's to the grid's accuracy (65²: 1 %).
-    let p_max = s.pressure().iter().fold(0.0f64, |m, &v| m.max(v));
-    assert!((p_max - 1.0).abs() < 1e-2, "p_max {p_max} p_h");
+    // 1e-6 m/s: the film (NVM, 0.05 nm) is far below what cells of 0.04 and 0.02 a hold (the
+    // lubricated attempts diverge); the answer is the dry contact, on every grid.
+    for n in [65, 129] {
+        let (_, mut s) = seed_at(1e-6, n);
+        let rep = s.solve(&mut |_| {}).expect("the dry limit converges");
+        assert!(rep.converged && rep.from_dry, "{n}²: {:?}", rep.diagnosis);
+        // Measured: 2.0e-5 and 1.1e-4 p_h apart on 65² and 129², the solids carrying all but
+        // 5e-7 and 1e-6 of the load: what is left is the oil's pressure at the contact's edge,
+        // of the order of the speed. Bounds about five times that: a start from another rigid
+        // film or load misses by percents, a contact let go where it carries pressure by the
+        // share.
+        let (diff, share) = against_dry(&s);
+        assert!(diff < 5e-4, "{n}²: {diff:.3e} p_h from the dry contact");
+        assert!(share > 1.0 - 1e-5, "{n}²: the solids carry {share}");
+        // And the dry contact is Hertz's to the grid's accuracy (65²: 1 %).
+        let p_max = s.pressure().iter().fold(0.0f64, |m, &v| m.max(v));
+        assert!((p_max - 1.0).abs() < 1e-2, "{n}²: p_max {p_max} p_h");
+    }
 }
 
 #[test]
 fn with_almost_no_oil_the_fed_pressure_is_the_dry_contacts() {
     // 1 nm of oil at 1e-5 m/s: the lubricated attempts end with the film closed or diverge;
     // from the dry contact the oil that arrives fills the gap round it and carries nothing.
-    let (prm, mut s) = seed_at(1e-5);
+    let (prm, mut s) = seed_at(1e-5, 65);
     let hd = 1e-9 / prm.scales.delta;
     s.set_supply(Some(&move |_y| hd));
     let rep = s.solve(&mut |_| {}).expect("the dry limit converges");
     assert!(rep.converged && rep.from_dry, "{:?}", rep.diagnosis);
-    // Measured: 3.7e-7 p_h apart, the solids carrying the whole load (the oil, 1 nm at 1e-5
-    // m/s, carries no pressure a double resolves). Bounds as above.
+    // Measured: 1.0e-6 p_h apart, the solids carrying the whole load (the oil, 1 nm at 1e-5
+    // m/s, carries next to nothing). Bounds ten times that, and the share as above. (On 129² this one ends in
+    // a stall: docs/decisions.md, "The start from the dry contact".)
     let (diff, share) = against_dry(&s);
-    assert!(diff < 1e-4, "{diff:.3e} p_h from the dry contact");
+    assert!(diff < 1e-5, "{diff:.3e} p_h from the dry contact");
     assert!(share > 1.0 - 1e-5, "the solids carry {share}");
 }
