@@ -1,5 +1,5 @@
 //! The Reynolds solver where the film vanishes: at vanishing speed, or with almost no oil, on
-//! a grid far too coarse for the film, the answer is the dry contact (the core's dry solver on
+//! a grid that cannot tell the film from a closed gap, the answer is the dry contact (the core's dry solver on
 //! the same grid), the solids carrying the load, and never a failure.
 use ehl_core::{DryProblem, DrySettings, DrySolver, Grid, SEED_CONTACT, SEED_LUBRICANT, Start};
 use ehl_reynolds::*;

@@ -140,8 +140,9 @@ fn seed_regime_failure_on_a_coarse_grid_is_a_closed_film_at_the_outlet() {
 #[test]
 fn a_grid_too_coarse_for_the_film_answers_with_the_solids_touching() {
     // The same 33² with the solids let touch (the default): every lubricated attempt ends
-    // with the film closed, and the grid (cells 0.19 a; the seed's 12 nm film exists on
-    // 0.017 a and finer) cannot hold the film, so the answer is the closed film, from the dry
+    // with the film closed, and the grid (cells 0.19 a, whose dry gap errs by 0.018 a²/R at
+    // the contact's edge) cannot tell the 12 nm film (6e-3 a²/R) from a closed gap, so the
+    // answer is the closed film, from the dry
     // contact: converged, the solids carrying nearly all the load. What the film would be is
     // the error estimate's business (a grid this coarse is flagged), not a failure.
     let settings = ReynoldsSettings { max_cycles: 40, ..Default::default() };

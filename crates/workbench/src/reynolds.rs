@@ -364,7 +364,7 @@ impl Outcome for ReynoldsOutcome {
                 Indicator::new(
                     f64::from(u8::from(self.report.from_dry)),
                     "1",
-                    "1: the grid is too coarse for the film; the answer started from the dry contact",
+                    "1: the film is thinner than this grid tells from a closed gap; the answer started from the dry contact",
                     false,
                 ),
             ),

@@ -98,7 +98,8 @@ pub struct ReynoldsReport {
     /// which the solids touched where it had closed ([`ReynoldsSettings::contact`]); the
     /// contact's share of the load and its area are [`ReynoldsSolver::contact`]'s.
     pub touched_from: Option<usize>,
-    /// A steady solve whose attempts all failed on a grid too coarse for the film to exist:
+    /// A steady solve whose attempts all failed with a film thinner than the grid tells from a
+    /// closed gap:
     /// its answer's cycles started from the dry contact, the solids touching from the first
     /// ([`ReynoldsSolver::solve`]).
     pub from_dry: bool,

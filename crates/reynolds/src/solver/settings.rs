@@ -108,8 +108,8 @@ pub struct ReynoldsSettings {
     /// ([`ReynoldsReport::touched_from`]); a converged lubricated answer whose touching cycles
     /// fail is returned as it was. Touching from the first cycle, a start's passing closures
     /// became a contact set the cycles never let go of (docs/decisions.md, "The solids touching
-    /// in the steady cycles"). Where every attempt fails on a grid too coarse for the film to
-    /// exist, a last attempt starts from the dry contact, touching from its first cycle
+    /// in the steady cycles"). Where every attempt fails with a film thinner than the grid
+    /// tells from a closed gap, a last attempt starts from the dry contact, touching from its first cycle
     /// ([`ReynoldsReport::from_dry`]).
     pub contact: bool,
     /// Mass conserving, steady: the largest factor of a jump along the solve's slow mode when

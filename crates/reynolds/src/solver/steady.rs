@@ -14,10 +14,10 @@ impl ReynoldsSolver {
     /// which the finest grid's relaxation moves a little each cycle, moves with the coarse-grid
     /// correction (docs/decisions.md, "The coarser grids solving for the film content").
     ///
-    /// When every attempt fails on a grid too coarse for the film to exist, a last one starts
+    /// When every attempt fails with a film thinner than the grid tells from a closed gap, a last one starts
     /// from the dry contact, the solids touching from its first cycle: its answer is the closed
     /// film ([`ReynoldsReport::from_dry`]; docs/decisions.md, "The start from the dry contact,
-    /// where the grid cannot hold the film").
+    /// where the grid cannot tell the film from a closed gap").
     pub fn solve(
         &mut self,
         log: &mut dyn FnMut(&CycleLog),
@@ -242,7 +242,8 @@ impl ReynoldsSolver {
         FromFlooded::Fed(fed)
     }
 
-    /// After every attempt failed on a grid that cannot hold the film: once more from the dry
+    /// After every attempt failed on a grid that cannot tell the film from a closed gap: once
+    /// more from the dry
     /// contact ([`Self::attempt_from_dry`]), kept when it converges; else the attempts before
     /// stand, their state back, with what this one gave.
     fn dry_start_fallback(
@@ -274,16 +275,18 @@ impl ReynoldsSolver {
         f.touch && f.contact[[f.grid.row_nearest(0.0), f.grid.col_nearest(0.0)]]
     }
 
-    /// Whether this grid can hold the contact's film: cells at most twice the grid rule's
-    /// ([`formulas::cell_needed`], for the flooded film or, fed, the film the supply makes),
-    /// where the film's existence was measured to end. Coarser, a film that closes is the
-    /// answer, not a failure of the cycles.
+    /// Whether this grid can tell the contact's film from a closed gap: the film (the flooded
+    /// estimate, or fed the film the supply makes) at least the discrete dry gap's error at the
+    /// contact's edge, [`DRY_GAP_ERROR_PER_CELL2`] times the cell squared. Thinner, a film
+    /// that closes is the answer, not a failure of the cycles.
     fn film_held(&self) -> bool {
         let film = self.starved_film_estimate(self.nvm_film());
-        self.levels[0].grid.dx() <= FILM_GONE_CELLS * formulas::cell_needed(film)
+        let cell = self.levels[0].grid.dx();
+        film >= DRY_GAP_ERROR_PER_CELL2 * cell * cell
     }
 
-    /// The last attempt of a steady solve on a grid that cannot hold the film: from the dry
+    /// The last attempt of a steady solve on a grid that cannot tell the film from a closed
+    /// gap ([`Self::film_held`]): from the dry
     /// contact (the core's dry solver over the same rigid film and load), the solids touching
     /// where it carries pressure from the first cycle, no full-multigrid start; cycle numbers
     /// and time counted on from `cycles_before` and `t0`. `Err`: the dry solve failed (why).
@@ -292,7 +295,7 @@ impl ReynoldsSolver {
     /// is the dry solver's and the solids carry the load. It does not find a film the grid
     /// could hold: from the dry contact a rolling contact stays dry (a point in contact lets
     /// go only where holding it shut would take a negative pressure), so it is tried only
-    /// where the grid cannot hold the film ([`Self::film_held`]).
+    /// where the grid cannot tell the film from a closed gap ([`Self::film_held`]).
     pub(super) fn attempt_from_dry(
         &mut self,
         log: &mut dyn FnMut(&CycleLog),
@@ -624,10 +627,13 @@ pub(super) fn film_closed(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option
 /// touching there turned into a contact over the whole Hertz zone.
 pub const CLOSURE_SETTLED: f64 = 3e-2;
 
-/// Cells, in units of the grid rule's ([`formulas::cell_needed`]), beyond which a steady film
-/// no longer exists on a grid: where its existence was measured to end (the rule keeps half
-/// of it: docs/decisions.md, "The grid rule's constants").
-pub const FILM_GONE_CELLS: f64 = 2.0;
+/// The discrete dry gap's error at a contact's edge over the cell squared [a²/R per a²]: the
+/// seed's contact on 129² carried films of −2e-4 to −4e-4 a²/R along its edge rows where the
+/// oil made 1e-4 (docs/decisions.md, "The solids touching in the steady cycles"), the lower
+/// end over 0.0195² a²; second order, as the dry contact's approach converges
+/// (docs/measured/dry-convergence.md). A film thinner than this is one the grid cannot tell from
+/// a closed gap.
+pub const DRY_GAP_ERROR_PER_CELL2: f64 = 0.5;
 
 /// Whether a stalled answer has settled round its closed film: its central film within
 /// [`CLOSURE_SETTLED`] and its force balance within [`SETTLED_BOUND`] over the `window`'s

@@ -75,7 +75,7 @@ pub(super) fn reynolds_report(o: &ReynoldsOutcome) -> String {
     {
         let _ = writeln!(
             out,
-            "  contact (every lubricated attempt failed on a grid too coarse for the film; from the dry contact): the solids carry {:.4} of the load on {:.3e} m², contact pressure up to {:.4e} Pa",
+            "  contact (every lubricated attempt failed, the film thinner than this grid tells from a closed gap; from the dry contact): the solids carry {:.4} of the load on {:.3e} m², contact pressure up to {:.4e} Pa",
             c.load_share, c.area_m2, c.max_pressure_pa
         );
     } else if let (Some(k), Some(c)) = (o.report.touched_from, Outcome::solid_contact(o))
