@@ -269,6 +269,26 @@ impl ReynoldsSolver {
         with_note(rep, &format!("; then from the dry contact: {note}"))
     }
 
+    /// Whether a steady cycle's answer has settled against the cycle's before, each `(H_c,
+    /// the contact's share of the load where the solids touch at the centre)`: the central
+    /// film's change relative to it, or to `film_floor` where the centre has closed (a dry band
+    /// passing after a stop: `H_c` 1e-10 a²/R, whose relative change no cycle settles). Where
+    /// the solids touch at the centre its film is the gap equation's residual, not an answer:
+    /// the share settles instead (from the dry contact on 129², the central gap moved by 1e-9
+    /// a²/R a cycle while the load and the share had settled, and it stalled).
+    fn settles(
+        &self,
+        now: (f64, Option<f64>),
+        before: (f64, Option<f64>),
+        film_floor: f64,
+    ) -> bool {
+        let tol = self.active.film_tolerance;
+        match (now.1, before.1) {
+            (Some(s), Some(b)) => (s - b).abs() < tol,
+            _ => ((now.0 - before.0) / now.0.abs().max(film_floor)).abs() < tol,
+        }
+    }
+
     /// Whether the solids touch at the contact's centre on the finest grid.
     fn centre_touching(&self) -> bool {
         let f = &self.levels[0];
@@ -408,8 +428,9 @@ impl ReynoldsSolver {
         let mut touching = Touching::default();
         // The central film of the grid below, where the full-multigrid start left it.
         let coarse_hc = history.last().map(|c: &CycleLog| c.central_film);
-        let mut prev_hc = start_hc;
-        let mut prev_share: Option<f64> = None;
+        // The central film and, where the solids touch at the centre, the contact's share of
+        // the load, as the cycle before left them.
+        let mut prev: (f64, Option<f64>) = (start_hc, None);
         let film_floor = 1e-2 * self.starved_film_estimate(self.nvm_film());
         let mut stalled = false;
         let mut jumps = ModeExtrapolation::new(self.active.mode_extrapolation);
@@ -429,23 +450,13 @@ impl ReynoldsSolver {
             history.push(rec);
             if moved {
                 // The record is not the state's after a jump: the next cycle judges it.
-                prev_hc = f64::NAN;
-                prev_share = None;
+                prev = (f64::NAN, None);
                 continue;
             }
             let hc = rec.central_film;
-            // Relative to the central film, or to a hundredth of the supplied contact's film
-            // where the centre has closed (a dry band passing after a stop: `H_c` 1e-10 a²/R,
-            // whose relative change no cycle settles). Where the solids touch at the centre its
-            // film is the gap equation's residual, not an answer: the contact's share of the
-            // load settles instead (from the dry contact on 129², the central gap moved by
-            // 1e-9 a²/R a cycle while the load and the share had settled, and it stalled).
-            let share = self.centre_touching().then(|| self.contact().0);
-            let settled = match (share, prev_share) {
-                (Some(now), Some(before)) => (now - before).abs() < self.active.film_tolerance,
-                _ => ((hc - prev_hc) / hc.abs().max(film_floor)).abs() < self.active.film_tolerance,
-            };
-            prev_share = share;
+            let now = (hc, self.centre_touching().then(|| self.contact().0));
+            let settled = self.settles(now, prev, film_floor);
+            let prev_hc = prev.0;
             let mass = rec.mass_defect <= self.active.mass_tolerance;
             let closed = may_touch && touching.at.is_none() && rec.minimum_film < 0.0;
             let strict = settled && rec.load_error.abs() < self.active.load_tolerance && mass;
@@ -461,21 +472,19 @@ impl ReynoldsSolver {
             if (strict || discretisation) && closed {
                 // Converged with the film closed: touching from here, this answer kept.
                 self.let_touch(&mut touching, cycle, history.len(), true);
-                prev_hc = f64::NAN;
-                prev_share = None;
+                prev = (f64::NAN, None);
                 continue;
             }
             if strict || discretisation {
                 let jumps = mode_jumps + jumps.jumps;
                 return Ok(self.attempt_report(None, cycle, history, t0, jumps, touching.at));
             }
-            prev_hc = hc;
+            prev = now;
             let w = self.stall_window();
             if stalled_over(&history[touching.judged_from..], rec.points, w) {
                 if closed && settled_round_closure(&history[history.len() - w..]) {
                     self.let_touch(&mut touching, cycle, history.len(), false);
-                    prev_hc = f64::NAN;
-                    prev_share = None;
+                    prev = (f64::NAN, None);
                     continue;
                 }
                 stalled = true;
