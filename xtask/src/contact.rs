@@ -163,9 +163,9 @@ pub fn bench(n: usize) -> Result<std::path::PathBuf> {
     }
     let intro = format!(
         "The seed's contact (Table 1, 20 N) through the Reynolds solver at vanishing speed, \
-         flooded and fed almost no oil, on {n}² over its own domain [-1.25, 1.25]² a: a grid \
-         far too coarse for the film, where every lubricated attempt fails and the last starts \
-         from the core's dry contact. Each row one whole steady solve (its failed attempts \
+         flooded and fed almost no oil, on {n}² over its own domain [-1.25, 1.25]² a: films \
+         thinner than the grid's dry gap error at the contact's edge, where every lubricated \
+         attempt fails and the last starts from the core's dry contact. Each row one whole steady solve (its failed attempts \
          counted in the cycles and the wall time), its answer against the core's dry contact \
          on the same grid; no error estimate."
     );
@@ -243,10 +243,11 @@ pub fn run(out: &Path) -> Result<()> {
         fluid (`solid_contact` in `summary.json`). The film below zero: how far the film \
         went negative somewhere (the solids overlapping: a closure the answer was returned \
         with, flagged). A failed row gives what stopped its last attempt. The dry limits: the \
-        same contact at vanishing speed, flooded and fed 1 and 10 nm, on grids far too coarse \
-        for the film (cells of 0.04 and 0.02 a; the film exists on cells up to 4e-4 … 9e-3 a): \
-        where every lubricated attempt fails the last starts from the dry contact; its answer \
-        against the core's dry contact on the same grid (the ball, the same load).";
+        same contact at vanishing speed, flooded and fed 1 and 10 nm, on 65² and 129²: where \
+        every lubricated attempt fails and the film is thinner than the grid's dry gap error at \
+        the contact's edge (half the cell squared: 7.6e-4 and 1.9e-4 a²/R; the flooded film is \
+        2.4e-5 a²/R at 1e-6 m/s, 2.4e-3 at 1e-3 m/s), the last starts from the dry contact; its \
+        answer against the core's dry contact on the same grid (the ball, the same load).";
     let p = measured::write(
         "steady-contact",
         "The solids touching in a steady Reynolds solve",
