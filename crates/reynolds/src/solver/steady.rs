@@ -14,9 +14,9 @@ impl ReynoldsSolver {
     /// which the finest grid's relaxation moves a little each cycle, moves with the coarse-grid
     /// correction (docs/decisions.md, "The coarser grids solving for the film content").
     ///
-    /// When every attempt fails with a film thinner than the grid tells from a closed gap, a last one starts
-    /// from the dry contact, the solids touching from its first cycle: its answer is the closed
-    /// film ([`ReynoldsReport::from_dry`]; docs/decisions.md, "The start from the dry contact,
+    /// When every attempt fails with a film thinner than the grid tells from a closed gap, a
+    /// last one starts from the dry contact, the solids touching from its first cycle: its
+    /// answer is the closed film ([`ReynoldsReport::from_dry`]; docs/decisions.md, "The start from the dry contact,
     /// where the grid cannot tell the film from a closed gap").
     pub fn solve(
         &mut self,
@@ -243,9 +243,8 @@ impl ReynoldsSolver {
     }
 
     /// After every attempt failed on a grid that cannot tell the film from a closed gap: once
-    /// more from the dry
-    /// contact ([`Self::attempt_from_dry`]), kept when it converges; else the attempts before
-    /// stand, their state back, with what this one gave.
+    /// more from the dry contact ([`Self::attempt_from_dry`]), kept when it converges; else the
+    /// attempts before stand, their state back, with what this one gave.
     fn dry_start_fallback(
         &mut self,
         rep: Result<ReynoldsReport, ReynoldsError>,
@@ -306,10 +305,10 @@ impl ReynoldsSolver {
     }
 
     /// The last attempt of a steady solve on a grid that cannot tell the film from a closed
-    /// gap ([`Self::film_held`]): from the dry
-    /// contact (the core's dry solver over the same rigid film and load), the solids touching
-    /// where it carries pressure from the first cycle, no full-multigrid start; cycle numbers
-    /// and time counted on from `cycles_before` and `t0`. `Err`: the dry solve failed (why).
+    /// gap ([`Self::film_held`]): from the dry contact (the core's dry solver over the same
+    /// rigid film and load), the solids touching where it carries pressure from the first
+    /// cycle, no full-multigrid start; cycle numbers and time counted on from `cycles_before`
+    /// and `t0`. `Err`: the dry solve failed (why).
     ///
     /// Its limit is the dry contact itself: at vanishing speed, or without oil, the pressure
     /// is the dry solver's and the solids carry the load. It does not find a film the grid
