@@ -46,6 +46,14 @@ pub fn cell_needed(h_hertz: f64) -> f64 {
     CELLS_PER_FILM * h_hertz.max(0.0).powf(2.0 / 3.0)
 }
 
+/// The discrete dry gap's error at a contact's edge over the cell squared [a²/R per a²]: the
+/// seed's contact on 129² carried films of −2e-4 to −4e-4 a²/R along its edge rows where the
+/// oil made 1e-4 (docs/decisions.md, "The solids touching in the steady cycles"), the lower
+/// end over 0.0195² a²; second order, as the dry contact's approach converges
+/// (docs/measured/dry-convergence.md). A film thinner than this is one the grid cannot tell from
+/// a closed gap.
+pub const DRY_GAP_ERROR_PER_CELL2: f64 = 0.5;
+
 /// The grid error's constant: the flooded central film's change from half the points per side,
 /// `|h_c,2h / h_c − 1|`, is at most this times `ρ²`, `ρ` the cell over `H_c^{2/3}` (`H_c` the
 /// NVM central film in Hertz units, the grid rule's width). Measured on `seed-speed-load` (35

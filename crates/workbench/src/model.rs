@@ -116,6 +116,12 @@ pub trait Outcome: AsAny + Send + Sync + 'static {
     fn solid_contact(&self) -> Option<ehl_core::SolidContact> {
         None
     }
+    /// An answer that is the closed film because its grid cannot tell a thinner film from a
+    /// closed gap: that film [m], its films' error whatever coarser grids or a grid law say
+    /// (they resolve the film no better). `None` for an answer with a film of its own.
+    fn film_resolution_m(&self) -> Option<f64> {
+        None
+    }
     /// Statistics over the last passage of a march rolling through a patterned relief
     /// (waviness, roughness): the films over it, `λ`, a single wave's deformed amplitude at the
     /// contact's centre ([`ehl_core::Passage`]); `None` for anything else.

@@ -252,6 +252,13 @@ impl Outcome for ReynoldsOutcome {
         let s = &self.prm.scales;
         Some(ehl_core::SolidContact::from_mask(&self.grid, s, &self.p, &self.contact))
     }
+    /// The discrete dry gap's error at the contact's edge, for a steady answer that started
+    /// from the dry contact ([`ehl_reynolds::ReynoldsReport::from_dry`]).
+    fn film_resolution_m(&self) -> Option<f64> {
+        let cell = self.grid.dx();
+        let gap = ehl_reynolds::formulas::DRY_GAP_ERROR_PER_CELL2 * cell * cell;
+        (self.report.from_dry && self.transient.is_none()).then(|| self.prm.scales.h_si(gap))
+    }
     fn caveat(&self) -> Option<String> {
         let r = &self.report;
         let settled = r.settled.map(|st| {

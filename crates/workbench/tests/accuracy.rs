@@ -120,3 +120,23 @@ fn a_coarser_grid_started_from_the_finer_answer_reaches_its_own_answer_in_fewer_
         assert!(cw < cc, "{name}: {cw} cycles from the finer answer, {cc} from its own start");
     }
 }
+
+#[test]
+fn a_closed_film_from_the_dry_contact_is_known_to_what_its_grid_resolves() {
+    // The seed's Reynolds case at 1e-6 m/s on 65²: its film (0.05 nm) is thinner than the
+    // grid's dry gap error at the contact's edge, and the answer is the closed film, from the
+    // dry contact. Its films' error is that gap error (0.5 × cell² in a²/R: 1.45 nm), not the
+    // grid law's thousands of nm, nor the zero change of coarser grids that close as well.
+    let mut scene = ehl_scene::builtin("reynolds-seed").unwrap().with_points(65).unwrap();
+    scene.conditions.rolling_velocity_m_s = Some(1e-6);
+    scene.outputs.figures = false;
+    let c = accuracy::run(&scene, true).unwrap();
+    let e = c.estimate.as_ref().unwrap();
+    let cell = scene.grid().dx();
+    let gap = c.scales().h_si(ehl_reynolds::formulas::DRY_GAP_ERROR_PER_CELL2 * cell * cell);
+    for k in [0, 1] {
+        let bar = e.errors[k].unwrap();
+        assert!((bar.absolute / gap - 1.0).abs() < 1e-12, "{bar:?} against {gap:e} m");
+    }
+    assert!(e.method.contains("closed film"), "{}", e.method);
+}

@@ -296,12 +296,12 @@ impl ReynoldsSolver {
 
     /// Whether this grid can tell the contact's film from a closed gap: the film (the flooded
     /// estimate, or fed the film the supply makes) at least the discrete dry gap's error at the
-    /// contact's edge, [`DRY_GAP_ERROR_PER_CELL2`] times the cell squared. Thinner, a film
+    /// contact's edge, [`formulas::DRY_GAP_ERROR_PER_CELL2`] times the cell squared. Thinner, a film
     /// that closes is the answer, not a failure of the cycles.
     fn film_held(&self) -> bool {
         let film = self.starved_film_estimate(self.nvm_film());
         let cell = self.levels[0].grid.dx();
-        film >= DRY_GAP_ERROR_PER_CELL2 * cell * cell
+        film >= formulas::DRY_GAP_ERROR_PER_CELL2 * cell * cell
     }
 
     /// The last attempt of a steady solve on a grid that cannot tell the film from a closed
@@ -634,14 +634,6 @@ pub(super) fn film_closed(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option
 /// that moves by tens of percent (the same on 513²: ±60 %) passes through its closures, and
 /// touching there turned into a contact over the whole Hertz zone.
 pub const CLOSURE_SETTLED: f64 = 3e-2;
-
-/// The discrete dry gap's error at a contact's edge over the cell squared [a²/R per a²]: the
-/// seed's contact on 129² carried films of −2e-4 to −4e-4 a²/R along its edge rows where the
-/// oil made 1e-4 (docs/decisions.md, "The solids touching in the steady cycles"), the lower
-/// end over 0.0195² a²; second order, as the dry contact's approach converges
-/// (docs/measured/dry-convergence.md). A film thinner than this is one the grid cannot tell from
-/// a closed gap.
-pub const DRY_GAP_ERROR_PER_CELL2: f64 = 0.5;
 
 /// Whether a stalled answer has settled round its closed film: its central film within
 /// [`CLOSURE_SETTLED`] and its force balance within [`SETTLED_BOUND`] over the `window`'s

@@ -144,6 +144,13 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
         }
     };
     floors(scene, answer, &mut errors);
+    let method = match answer.film_resolution_m() {
+        Some(r) => format!(
+            "{method}; the films: the closed film, known to the thinnest film this grid tells from a closed gap ({:.3} nm)",
+            r * 1e9
+        ),
+        None => method,
+    };
     Estimate { grids, errors, method, wall_time_s: t0.elapsed().as_secs_f64() }
 }
 
@@ -242,6 +249,17 @@ pub const FILM_FLOOR: f64 = 3e-3;
 fn floors(scene: &Scene, answer: &dyn Outcome, errors: &mut [Option<ErrorBar>; 5]) {
     let point = answer.observables();
     let has_bar = [errors[0].is_some(), errors[1].is_some()];
+    if let Some(r) = answer.film_resolution_m() {
+        // The closed film of a grid that cannot tell a thinner one from contact: known to that
+        // film, whatever the coarser grids (closed as well) or the grid law (measured for
+        // films the grid resolves) say.
+        let film = film_scale(point.central_film_m);
+        for (k, has) in [(0, has_bar[0]), (1, has_bar[1])] {
+            if has {
+                errors[k] = Some(ErrorBar { relative: r / film, absolute: r, order: None });
+            }
+        }
+    }
     let mut at_least = |k: usize, absolute: f64, scale: f64| {
         let least = absolute / scale;
         let bar = errors[k].get_or_insert(ErrorBar { relative: 0.0, absolute: 0.0, order: None });
