@@ -54,6 +54,13 @@ pub fn cell_needed(h_hertz: f64) -> f64 {
 /// a closed gap.
 pub const DRY_GAP_ERROR_PER_CELL2: f64 = 0.5;
 
+/// The discrete dry gap's error at a contact's edge on cells of `cell` [a], in a²/R
+/// ([`DRY_GAP_ERROR_PER_CELL2`] times the cell squared): the thinnest film the grid tells from
+/// a closed gap.
+pub fn dry_gap_error(cell: f64) -> f64 {
+    DRY_GAP_ERROR_PER_CELL2 * cell * cell
+}
+
 /// The grid error's constant: the flooded central film's change from half the points per side,
 /// `|h_c,2h / h_c − 1|`, is at most this times `ρ²`, `ρ` the cell over `H_c^{2/3}` (`H_c` the
 /// NVM central film in Hertz units, the grid rule's width). Measured on `seed-speed-load` (35

@@ -255,8 +255,7 @@ impl Outcome for ReynoldsOutcome {
     /// The discrete dry gap's error at the contact's edge, for a steady answer that started
     /// from the dry contact ([`ehl_reynolds::ReynoldsReport::from_dry`]).
     fn film_resolution_m(&self) -> Option<f64> {
-        let cell = self.grid.dx();
-        let gap = ehl_reynolds::formulas::DRY_GAP_ERROR_PER_CELL2 * cell * cell;
+        let gap = ehl_reynolds::formulas::dry_gap_error(self.grid.dx());
         (self.report.from_dry && self.transient.is_none()).then(|| self.prm.scales.h_si(gap))
     }
     fn caveat(&self) -> Option<String> {

@@ -296,12 +296,11 @@ impl ReynoldsSolver {
 
     /// Whether this grid can tell the contact's film from a closed gap: the film (the flooded
     /// estimate, or fed the film the supply makes) at least the discrete dry gap's error at the
-    /// contact's edge, [`formulas::DRY_GAP_ERROR_PER_CELL2`] times the cell squared. Thinner, a film
+    /// contact's edge ([`formulas::dry_gap_error`]). Thinner, a film
     /// that closes is the answer, not a failure of the cycles.
     fn film_held(&self) -> bool {
         let film = self.starved_film_estimate(self.nvm_film());
-        let cell = self.levels[0].grid.dx();
-        film >= formulas::DRY_GAP_ERROR_PER_CELL2 * cell * cell
+        film >= formulas::dry_gap_error(self.levels[0].grid.dx())
     }
 
     /// The last attempt of a steady solve on a grid that cannot tell the film from a closed
