@@ -3,7 +3,8 @@
 //! supply, and prints the central film, `ρ̄(p_c) h_c` against the supply, `R` and the inlet
 //! meniscus on the centre line. `M20=1`: Moes' M = 20, L = 10 on [-4.5, 1.5] × [-3, 3] instead.
 //! `LOG=1` prints every cycle (residual, load error, central film, the oil unaccounted for);
-//! `POIS=ratio` sets `relax.poiseuille_full_step`.
+//! `POIS=ratio` sets `relax.poiseuille_full_step`; `U=m/s` the rolling speed `u1` of the seed's
+//! contact; `JUMPS=cap` the slow mode's jumps (0: none); a failure prints the largest residuals and where.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -15,7 +16,12 @@ fn main() {
     let n: usize = args.get(1).map(|s| s.parse().expect("N")).unwrap_or(129);
     let supplies: Vec<f64> = args.iter().skip(2).map(|s| s.parse().expect("nm")).collect();
     let m20 = std::env::var("M20").is_ok();
-    let prm = if m20 { common::m20() } else { common::seed() };
+    let u1: Option<f64> = std::env::var("U").ok().map(|v| v.parse().expect("U: m/s"));
+    let prm = match (m20, u1) {
+        (true, _) => common::m20(),
+        (false, Some(u)) => common::seed_at(u),
+        (false, None) => common::seed(),
+    };
     let grid = if m20 {
         Grid::new(n, n, (-4.5, 1.5), (-3.0, 3.0))
     } else {
@@ -28,20 +34,51 @@ fn main() {
         if let Ok(v) = std::env::var("POIS") {
             settings.relax.poiseuille_full_step = v.parse().expect("POIS: a ratio");
         }
+        if let Ok(v) = std::env::var("MAXC") {
+            settings.max_cycles = v.parse().expect("MAXC: cycles");
+        }
+        if let Ok(v) = std::env::var("GAIN") {
+            settings.h00_gain = v.parse().expect("GAIN");
+        }
+        if let Ok(v) = std::env::var("WC") {
+            settings.relax.omega_contact = v.parse().expect("WC");
+        }
+        if let Ok(v) = std::env::var("JUMPS") {
+            settings.mode_extrapolation = v.parse().expect("JUMPS: a cap");
+        }
         let mut s = ReynoldsSolver::new(grid, prm, settings);
         if let Some(h) = h_oil_nm {
             let hd = h * 1e-9 / delta;
             s.set_supply(Some(&move |_y| hd));
         }
         let t = std::time::Instant::now();
-        let r = s.solve(&mut |c| {
+        let mut logf = |c: &CycleLog| {
             if log {
                 println!(
                     "  cycle {} on {}²: residual {:.3e}, load {:.2e}, h_c {:.5e}, oil {:.2e}",
                     c.cycle, c.points, c.residual, c.load_error, c.central_film, c.mass_defect
                 )
             }
-        });
+        };
+        let r = s.solve(&mut logf);
+        if let Ok(at) = std::env::var("ROW") {
+            // `ROW=y,x0,x1`: the row nearest y [a] from x0 to x1 [a].
+            let v: Vec<f64> = at.split(',').map(|t| t.parse().expect("ROW: y,x0,x1")).collect();
+            let (f, j) = (s.finest(), grid.row_nearest(v[0]));
+            let r = f.residual(&prm);
+            for i in grid.col_nearest(v[1])..=grid.col_nearest(v[2]) {
+                println!(
+                    "  x {:.3} y {:.3}: P {:.4e} θ {:.3e} H {:+.3e} contact {} res {:+.2e}",
+                    grid.x(i),
+                    grid.y(j),
+                    f.p[[j, i]],
+                    f.theta[[j, i]],
+                    f.film[[j, i]],
+                    f.contact[[j, i]],
+                    r[[j, i]]
+                );
+            }
+        }
         let (hc, _) = s.films();
         let (j, i) = (grid.row_nearest(0.0), grid.col_nearest(0.0));
         let rho = prm.density.rho(s.pressure()[[j, i]]);
@@ -56,7 +93,24 @@ fn main() {
                 hc * delta * 1e9,
                 rho * hc * delta * 1e9
             ),
-            Err(e) => println!("supply {h_oil_nm:?} nm: {e}"),
+            Err(e) => {
+                println!("supply {h_oil_nm:?} nm: {e}");
+                let r = s.finest().residual(&prm);
+                let mut v: Vec<_> = r.indexed_iter().map(|(ix, v)| (ix, *v)).collect();
+                v.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+                for ((j, i), m) in v.iter().take(4) {
+                    let f = s.finest();
+                    println!(
+                        "  residual {m:+.2e} at x = {:.3} a, y = {:.3} a: P {:.3e}, θ {:.3e}, H {:.3e}, contact {}",
+                        grid.x(*i),
+                        grid.y(*j),
+                        f.p[[*j, *i]],
+                        f.theta[[*j, *i]],
+                        f.film[[*j, *i]],
+                        f.contact[[*j, *i]]
+                    );
+                }
+            }
         }
         hc
     };

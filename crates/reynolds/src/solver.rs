@@ -92,6 +92,11 @@ pub struct SolverState {
 /// rule ([`ReynoldsSettings::coarse_film_content`]).
 pub const COARSE_FILM_CELLS: f64 = 8.0;
 
+/// The under-relaxation of the gap's changes where the solids touch in the start from the dry
+/// contact, at most ([`ReynoldsSolver::attempt_from_dry`]; the lubricated solve's is
+/// [`RelaxSettings::omega_contact`]).
+const DRY_START_OMEGA_CONTACT: f64 = 0.4;
+
 /// Mass conserving, the full-multigrid start begins on the coarsest grid with at least this
 /// many points per side ([`ReynoldsSolver::fmg_top`]) …
 const STARVED_FMG_POINTS: usize = 129;

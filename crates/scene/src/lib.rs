@@ -552,6 +552,36 @@ mod tests {
     }
 
     #[test]
+    fn no_oil_is_the_reynolds_model_s_dry_limit_and_no_layer() {
+        let builtin = |name: &str| BUILTINS.iter().find(|b| b.0 == name).unwrap().1.to_string();
+        // A Reynolds contact with no oil supplied is a scene (its answer is the dry contact).
+        let dry = builtin("reynolds-seed").replace(
+            "\"model\": \"reynolds\",",
+            "\"model\": \"reynolds\", \"supply\": { \"thickness_m\": 0.0 },",
+        );
+        let s = Scene::from_json(&dry, "test").unwrap();
+        assert_eq!(s.supply.as_ref().map(|s| s.thickness_m), Some(0.0));
+        // Less than none is refused, naming the field; so is a supply thinner than a molecule.
+        let m = refused(&dry.replace("\"thickness_m\": 0.0", "\"thickness_m\": -1e-9"));
+        assert!(m.contains("supply.thickness_m") && m.contains(">= 0"), "{m}");
+        let m = refused(&dry.replace("\"thickness_m\": 0.0", "\"thickness_m\": 1e-15"));
+        assert!(m.contains("supply.thickness_m") && m.contains("molecular"), "{m}");
+        // The layer model's layer is the oil: it refuses none, and a dent in its units.
+        let layer =
+            builtin("dent-shallow").replace("\"thickness_m\": 2.5e-08", "\"thickness_m\": 0.0");
+        let m = refused(&layer);
+        assert!(m.contains("supply.thickness_m") && m.contains("layer model"), "{m}");
+        let dent = builtin("reynolds-m20-l10-dent")
+            .replace("\"depth_m\": 2.5e-7", "\"amplitude\": 10.0")
+            .replace(
+                "\"model\": \"reynolds\",",
+                "\"model\": \"reynolds\", \"supply\": { \"thickness_m\": 0.0 },",
+            );
+        let m = refused(&dent);
+        assert!(m.contains("dent.amplitude") && m.contains("thicker than zero"), "{m}");
+    }
+
+    #[test]
     fn dent_depth_and_snapshots_in_either_unit() {
         let text = BUILTINS.iter().find(|b| b.0 == "dent-shallow").unwrap().1.to_string();
         // The depth in metres is the factor times l0 (25 nm): 1.25 l0 = 31.25 nm.

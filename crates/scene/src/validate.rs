@@ -226,8 +226,12 @@ impl Scene {
             ck.plausible("lubricant.p0_roelands_pa", l.p0_roelands_pa)?;
         }
         if let Some(sup) = &self.supply {
-            ck.positive("supply.thickness_m", sup.thickness_m, "m")?;
-            ck.plausible("supply.thickness_m", sup.thickness_m)?;
+            // Zero is no oil at all: the Reynolds answer is the dry contact (the layer model,
+            // whose layer is this oil, refuses it below).
+            ck.nonneg("supply.thickness_m", sup.thickness_m, "m")?;
+            if sup.thickness_m > 0.0 {
+                ck.plausible("supply.thickness_m", sup.thickness_m)?;
+            }
             for (k, h) in sup.holes.iter().enumerate() {
                 let f = |n: &str| format!("supply.holes[{k}].{n}");
                 ck.own(
@@ -413,6 +417,13 @@ impl Scene {
                 "supply",
                 "(missing)".into(),
                 "required by the layer model: its layer is the supplied oil (supply.thickness_m, m)",
+            ));
+        }
+        if let Some(sup) = self.supply.as_ref().filter(|s| s.thickness_m <= 0.0) {
+            return Err(ck.err(
+                "supply.thickness_m",
+                num(sup.thickness_m),
+                "must be > 0 for the layer model: its layer is the supplied oil, the unit of its thicknesses (no oil at all is the dry contact: the dry or Reynolds model)",
             ));
         }
         if self.layer.is_none() {
@@ -729,11 +740,13 @@ impl Scene {
                         (Some(a), None) if !a.is_finite() => {
                             return Err(ck.err(&f("amplitude"), num(a), "must be finite"));
                         }
-                        (Some(_), None) if self.supply.is_none() => {
+                        (Some(_), None)
+                            if self.supply.as_ref().is_none_or(|s| s.thickness_m <= 0.0) =>
+                        {
                             return Err(ck.err(
                                 &f("amplitude"),
                                 "(given)".into(),
-                                "in units of supply.thickness_m: give `supply`, or the depth in metres (`depth_m`)",
+                                "in units of supply.thickness_m: give a supply thicker than zero, or the depth in metres (`depth_m`)",
                             ));
                         }
                         (None, Some(m)) if !m.is_finite() => {

@@ -91,6 +91,7 @@ impl Diagnosis {
                 ehl_layer::SteadyFailure::IterationLimit => "cycle limit",
             },
             Diagnosis::Reynolds(R::Diverged { .. }) => "diverged",
+            Diagnosis::Reynolds(R::DryStart(_)) => "contact solve",
             Diagnosis::Reynolds(R::NotConverged(r)) => match r.diagnosis.as_ref().map(|d| d.kind) {
                 Some(K::FilmClosed) => "film closed",
                 Some(K::LimitCycle) => "limit cycle",

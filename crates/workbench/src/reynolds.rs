@@ -239,12 +239,21 @@ const ESTIMATE_FILM_TOLERANCE: f64 = 5e-4;
 const ESTIMATE_LOAD_TOLERANCE: f64 = 1e-5;
 
 /// The Nijenbanning–Venner–Moes central film of the scene's rolling contact in Hertz units
-/// [a²/R]; `None` without a lubricant or rolling.
+/// [a²/R]; `None` without a lubricant, rolling or oil (a film the grid rule sizes cells for).
 fn nvm_film(scene: &Scene) -> Option<f64> {
     let (Some(l), (c, u_sum)) = (&scene.lubricant, scene.reynolds_conditions()) else {
         return None;
     };
+    if no_oil(scene) {
+        return None;
+    }
     (u_sum > 0.0).then(|| HertzScales::new(&c).h_dimless(nvm_central(&c, &l.lubricant(), u_sum)))
+}
+
+/// Whether the scene supplies no oil at all (`supply.thickness_m` = 0): its steady answer is
+/// the dry contact ([`ehl_reynolds::ReynoldsSolver::solve`]).
+fn no_oil(scene: &Scene) -> bool {
+    scene.supply.as_ref().is_some_and(|s| s.thickness_m <= 0.0)
 }
 
 impl Outcome for ReynoldsOutcome {
@@ -253,9 +262,11 @@ impl Outcome for ReynoldsOutcome {
         Some(ehl_core::SolidContact::from_mask(&self.grid, s, &self.p, &self.contact))
     }
     /// The discrete dry gap's error at the contact's edge, for a steady answer that started
-    /// from the dry contact ([`ehl_reynolds::ReynoldsReport::from_dry`]).
+    /// from the dry contact ([`ehl_reynolds::ReynoldsReport::from_dry`]); none without oil
+    /// (no film on any grid).
     fn film_resolution_m(&self) -> Option<f64> {
         let gap = ehl_reynolds::formulas::dry_gap_error(self.grid.dx());
+        let gap = if no_oil(&self.scene) { 0.0 } else { gap };
         (self.report.from_dry && self.transient.is_none()).then(|| self.prm.scales.h_si(gap))
     }
     fn caveat(&self) -> Option<String> {

@@ -197,6 +197,12 @@ impl Level {
         w.rho.extend(w.dens.iter().zip(&w.theta).map(|(r, t)| r * t));
     }
 
+    /// Whether the solids touch at `(i, j)` (with contact on).
+    #[inline]
+    pub(super) fn shut(&self, j: usize, i: usize) -> bool {
+        self.touch && self.contact[[j, i]]
+    }
+
     /// `ε̄` averaged to the half points east, west, north, south of `(i, j)` (rows `j−1, j,
     /// j+1`).
     #[inline]
@@ -250,7 +256,9 @@ impl Level {
         let a = (ee * (p[1][i + 1] - pc) - ew * (pc - p[1][i - 1]) + en * (p[2][i] - pc)
             - es * (pc - p[0][i]))
             / (h * h);
-        let rh = |ii: usize| rho[ii] * film[ii];
+        // A shut gap sends no oil downstream: its film is the gap equation's residual, not a
+        // film, and read as one it made oil at the contact's trailing edge.
+        let rh = |ii: usize| if self.shut(j, ii) { 0.0 } else { rho[ii] * film[ii] };
         let [w0, w1, w2] = self.upwind(theta, j, i);
         let b = if i >= 2 {
             (w0 * rh(i) + w1 * rh(i - 1) + w2 * rh(i - 2)) / h
@@ -291,10 +299,11 @@ impl Level {
         // Wedge: −∂(ρH)_x/∂δ; the film at the point `back` cells upstream of i changes by
         // K(i − back − ic, 0) (or the distributed kernel).
         let [w0, w1, w2] = self.upwind(theta, j, i);
+        let sent = |k: usize| if self.shut(j, k) { 0.0 } else { rho[k] * inv_h };
         let (r0, r1, r2) = if i >= 2 {
-            (w0 * rho[i] * inv_h, w1 * rho[i - 1] * inv_h, w2 * rho[i - 2] * inv_h)
+            (w0 * sent(i), w1 * sent(i - 1), w2 * sent(i - 2))
         } else {
-            (w0 * rho[i] * inv_h, w1 * rho[i - 1] * inv_h, 0.0)
+            (w0 * sent(i), w1 * sent(i - 1), 0.0)
         };
         let transient = self.time_a0 * rho[i];
         let mut row = [0.0; 5];

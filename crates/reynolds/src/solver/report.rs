@@ -195,6 +195,10 @@ pub enum ReynoldsError {
         /// The last load error.
         load: f64,
     },
+    /// The dry contact a steady solve starts from where no film can be told (or no oil is
+    /// supplied) failed: the core's dry solver's own failure.
+    #[error("the dry contact the solve starts from failed: {0}")]
+    DryStart(String),
     /// A time step asked of a solver with no steady state to step from.
     #[error("a time step needs a steady solve to start from: call solve() first")]
     NoSteadyStart,
@@ -229,7 +233,9 @@ impl ReynoldsError {
     pub fn cycle(&self) -> usize {
         match self {
             ReynoldsError::Diverged { cycle, .. } => *cycle,
-            ReynoldsError::NoSteadyStart | ReynoldsError::Cancelled(_) => 0,
+            ReynoldsError::NoSteadyStart
+            | ReynoldsError::DryStart(_)
+            | ReynoldsError::Cancelled(_) => 0,
             ReynoldsError::NotConverged(r) => r.cycles,
         }
     }

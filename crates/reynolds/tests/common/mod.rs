@@ -24,10 +24,15 @@ pub fn moes(m: f64, l: f64) -> ReynoldsParams {
 
 /// Seed Table 1: `M ≈ 2223, L ≈ 2.49`, pure rolling at `u1 = 0.01 m/s` (sum velocity 0.02 m/s).
 pub fn seed() -> ReynoldsParams {
+    seed_at(0.01)
+}
+
+/// The seed's contact (Table 1) in pure rolling at `u1` [m/s].
+pub fn seed_at(u1: f64) -> ReynoldsParams {
     ReynoldsParams::from_si(
         &SEED_CONTACT,
         &SEED_LUBRICANT,
-        0.02,
+        2.0 * u1,
         ViscosityLaw::Roelands,
         DensityLaw::DowsonHigginson,
     )

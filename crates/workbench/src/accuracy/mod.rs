@@ -145,6 +145,7 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
     };
     floors(scene, answer, &mut errors);
     let method = match answer.film_resolution_m() {
+        Some(0.0) => format!("{method}; the films: none on any grid (no oil)"),
         Some(r) => format!(
             "{method}; the films: the closed film, known to the thinnest film this grid tells from a closed gap ({:.3} nm)",
             r * 1e9

@@ -73,9 +73,14 @@ pub(super) fn reynolds_report(o: &ReynoldsOutcome) -> String {
     if let Some(c) = Outcome::solid_contact(o).filter(|_| o.report.from_dry)
         && o.transient.is_none()
     {
+        let why = if o.report.first_attempt.is_none() {
+            "no oil supplied: the dry contact"
+        } else {
+            "every lubricated attempt failed, the film thinner than this grid tells from a closed gap; from the dry contact"
+        };
         let _ = writeln!(
             out,
-            "  contact (every lubricated attempt failed, the film thinner than this grid tells from a closed gap; from the dry contact): the solids carry {:.4} of the load on {:.3e} m², contact pressure up to {:.4e} Pa",
+            "  contact ({why}): the solids carry {:.4} of the load on {:.3e} m², contact pressure up to {:.4e} Pa",
             c.load_share, c.area_m2, c.max_pressure_pa
         );
     } else if let (Some(k), Some(c)) = (o.report.touched_from, Outcome::solid_contact(o))
