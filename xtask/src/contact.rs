@@ -1,8 +1,8 @@
 //! The solids touching in a steady Reynolds solve: the seed's contact fed supplies thinner than
 //! the discrete dry gap's error at the contact's edge, each solved with contact (the default:
 //! the solids touch where the lubricated cycles stall with the film closed) and without it,
-//! on two grids; and its dry limits: the contact at vanishing speed, flooded and fed almost no
-//! oil, against the core's dry contact on the same grid. Writes
+//! on two grids; and its dry limits: the contact at vanishing speed, flooded, fed almost no
+//! oil and none, against the core's dry contact on the same grid. Writes
 //! `docs/measured/steady-contact.md` and the rows as JSON into `--out`.
 
 use crate::measured::{self, Table};
@@ -101,7 +101,11 @@ fn dry_limit(u1: f64, h_oil: Option<f64>, n: usize) -> Result<(Vec<String>, serd
     let t = std::time::Instant::now();
     let answer = run_scene(&s);
     let wall = t.elapsed().as_secs_f64();
-    let supply = h_oil.map_or("flooded".to_string(), |h| format!("{:.1} nm", h * 1e9));
+    let supply = match h_oil {
+        None => "flooded".to_string(),
+        Some(h) if h <= 0.0 => "none".to_string(),
+        Some(h) => format!("{:.1} nm", h * 1e9),
+    };
     let mut row = vec![format!("{u1:.0e}"), supply, format!("{n}²")];
     let v = match answer {
         Err(e) => {
@@ -115,7 +119,14 @@ fn dry_limit(u1: f64, h_oil: Option<f64>, n: usize) -> Result<(Vec<String>, serd
             let r = o.downcast_ref::<ReynoldsOutcome>().context("a Reynolds outcome")?;
             let c = o.solid_contact().unwrap_or_default();
             let diff = from_dry_contact(r)?;
-            row.push(if r.report.from_dry { "from the dry contact" } else { "lubricated" }.into());
+            row.push(
+                match (r.report.from_dry, &r.report.first_attempt) {
+                    (true, None) => "the dry contact at once (no oil)",
+                    (true, Some(_)) => "from the dry contact",
+                    (false, _) => "lubricated",
+                }
+                .into(),
+            );
             row.extend([
                 format!("{:.6}", c.load_share),
                 format!("{diff:.1e}"),
@@ -146,16 +157,23 @@ const DRY_LIMIT_COLUMNS: [&str; 9] = [
 ];
 
 /// The dry limits' cost on `n`² (`cargo xtask bench --only dry-limit`): the seed's contact at
-/// 1e-6 m/s flooded and fed 1 nm, and at 1e-5 m/s fed 1 nm, each the whole steady solve (the
-/// lubricated attempts that fail, then the start from the dry contact); writes
+/// 1e-6 m/s flooded and fed 1 nm, at 1e-5 m/s fed 1 nm, and with no oil at 1e-6 m/s and at
+/// its own 0.01 m/s, each the whole steady solve (the lubricated attempts that fail, then the
+/// start from the dry contact; with no oil that start alone); writes
 /// `docs/measured/bench-dry-limit.md`.
 pub fn bench(n: usize) -> Result<std::path::PathBuf> {
     let mut t = Table::new(&DRY_LIMIT_COLUMNS);
     // Quickly: the flooded one alone (the fed ones run their failing attempts first: seconds).
     let cases: &[(f64, Option<f64>)] = if crate::quick() {
-        &[(1e-6, None)]
+        &[(1e-6, None), (0.01, Some(0.0))]
     } else {
-        &[(1e-6, None), (1e-6, Some(1e-9)), (1e-5, Some(1e-9))]
+        &[
+            (1e-6, None),
+            (1e-6, Some(1e-9)),
+            (1e-5, Some(1e-9)),
+            (1e-6, Some(0.0)),
+            (0.01, Some(0.0)),
+        ]
     };
     for &(u, h) in cases {
         println!("u1 {u:.0e} m/s, {h:?} m, on {n}²");
@@ -165,7 +183,8 @@ pub fn bench(n: usize) -> Result<std::path::PathBuf> {
         "The seed's contact (Table 1, 20 N) through the Reynolds solver at vanishing speed, \
          flooded and fed almost no oil, on {n}² over its own domain [-1.25, 1.25]² a: films \
          thinner than the grid's dry gap error at the contact's edge, where every lubricated \
-         attempt fails and the last starts from the core's dry contact. Each row one whole steady solve (its failed attempts \
+         attempt fails and the last starts from the core's dry contact; and with no oil at \
+         all, which starts there at once. Each row one whole steady solve (its failed attempts \
          counted in the cycles and the wall time), its answer against the core's dry contact \
          on the same grid; no error estimate."
     );
@@ -185,7 +204,7 @@ fn dry_limits(rows: &mut Vec<serde_json::Value>) -> Result<Table> {
     let mut t = Table::new(&DRY_LIMIT_COLUMNS);
     for &n in grids {
         for &u in speeds {
-            for h in [None, Some(1e-9), Some(10e-9)] {
+            for h in [None, Some(0.0), Some(1e-9), Some(10e-9)] {
                 println!("u1 {u:.0e} m/s, {h:?} m, on {n}²");
                 let (cells, v) = dry_limit(u, h, n)?;
                 t.rows.push(cells);
@@ -243,11 +262,12 @@ pub fn run(out: &Path) -> Result<()> {
         fluid (`solid_contact` in `summary.json`). The film below zero: how far the film \
         went negative somewhere (the solids overlapping: a closure the answer was returned \
         with, flagged). A failed row gives what stopped its last attempt. The dry limits: the \
-        same contact at vanishing speed, flooded and fed 1 and 10 nm, on 65² and 129²: where \
+        same contact at vanishing speed, flooded, fed no oil, 1 and 10 nm, on 65² and 129²: where \
         every lubricated attempt fails and the film is thinner than the grid's dry gap error at \
         the contact's edge (half the cell squared: 7.6e-4 and 1.9e-4 a²/R; the flooded film is \
         2.4e-5 a²/R at 1e-6 m/s, 2.4e-3 at 1e-3 m/s), the last starts from the dry contact; its \
-        answer against the core's dry contact on the same grid (the ball, the same load).";
+        answer against the core's dry contact on the same grid (the ball, the same load); with \
+        no oil at all the solve starts there at once.";
     let p = measured::write(
         "steady-contact",
         "The solids touching in a steady Reynolds solve",
