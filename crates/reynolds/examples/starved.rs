@@ -4,7 +4,7 @@
 //! meniscus on the centre line. `M20=1`: Moes' M = 20, L = 10 on [-4.5, 1.5] × [-3, 3] instead.
 //! `LOG=1` prints every cycle (residual, load error, central film, the oil unaccounted for);
 //! `POIS=ratio` sets `relax.poiseuille_full_step`; `U=m/s` the rolling speed `u1` of the seed's
-//! contact; `JUMPS=cap` the slow mode's jumps (0: none); a failure prints the largest residuals and where.
+//! contact (`LOAD=N` its load); `JUMPS=cap` the slow mode's jumps (0: none); a failure prints the largest residuals and where.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -19,7 +19,10 @@ fn main() {
     let u1: Option<f64> = std::env::var("U").ok().map(|v| v.parse().expect("U: m/s"));
     let prm = match (m20, u1) {
         (true, _) => common::m20(),
-        (false, Some(u)) => common::seed_at(u),
+        (false, Some(u)) => common::seed_loaded(
+            u,
+            std::env::var("LOAD").map_or(20.0, |v| v.parse().expect("LOAD: N")),
+        ),
         (false, None) => common::seed(),
     };
     let grid = if m20 {

@@ -281,12 +281,18 @@ impl Scene {
 }
 
 impl Scene {
+    /// The supplied oil's thickness `l0` [m], when there is oil (a supply thicker than zero):
+    /// the unit of a dent's `amplitude` and of the layer model's thicknesses.
+    pub fn oil_m(&self) -> Option<f64> {
+        self.supply.as_ref().map(|s| s.thickness_m).filter(|&t| t > 0.0)
+    }
+
     /// The surfaces' relief in the run, resolved for a contact of half-width `a_m` [m]: dents
     /// with their depths in metres (an `amplitude` in units of the supply's thickness resolved
     /// with it), waviness and roughness with their lengths in units of `a`.
     pub fn relief(&self, a_m: f64) -> Result<Relief, SceneError> {
         let Some(r) = &self.run else { return Ok(Relief::default()) };
-        let l0 = self.supply.as_ref().map(|s| s.thickness_m);
+        let l0 = self.oil_m();
         let mut out = Relief::default();
         for (k, f) in r.features.iter().enumerate() {
             match f {
@@ -294,7 +300,7 @@ impl Scene {
                     origin: self.name.clone(),
                     field: format!("run.features[{k}].dent.amplitude"),
                     value: format!("{:?}", d.amplitude),
-                    allowed: "a depth in units of supply.thickness_m needs a supply: give `supply`, or `depth_m`".into(),
+                    allowed: "a depth in units of supply.thickness_m needs oil: give a supply thicker than zero, or `depth_m`".into(),
                 })?),
                 Feature::Waviness(w) => out.waves.push(w.resolved(a_m)),
                 Feature::Roughness(r) => out.roughness.push(r.resolved(a_m)),

@@ -740,9 +740,7 @@ impl Scene {
                         (Some(a), None) if !a.is_finite() => {
                             return Err(ck.err(&f("amplitude"), num(a), "must be finite"));
                         }
-                        (Some(_), None)
-                            if self.supply.as_ref().is_none_or(|s| s.thickness_m <= 0.0) =>
-                        {
+                        (Some(_), None) if self.oil_m().is_none() => {
                             return Err(ck.err(
                                 &f("amplitude"),
                                 "(given)".into(),

@@ -253,7 +253,7 @@ fn nvm_film(scene: &Scene) -> Option<f64> {
 /// Whether the scene supplies no oil at all (`supply.thickness_m` = 0): its steady answer is
 /// the dry contact ([`ehl_reynolds::ReynoldsSolver::solve`]).
 fn no_oil(scene: &Scene) -> bool {
-    scene.supply.as_ref().is_some_and(|s| s.thickness_m <= 0.0)
+    scene.supply.is_some() && scene.oil_m().is_none()
 }
 
 impl Outcome for ReynoldsOutcome {

@@ -29,8 +29,13 @@ pub fn seed() -> ReynoldsParams {
 
 /// The seed's contact (Table 1) in pure rolling at `u1` [m/s].
 pub fn seed_at(u1: f64) -> ReynoldsParams {
+    seed_loaded(u1, SEED_CONTACT.load)
+}
+
+/// The seed's contact (Table 1) under `load` [N] in pure rolling at `u1` [m/s].
+pub fn seed_loaded(u1: f64, load: f64) -> ReynoldsParams {
     ReynoldsParams::from_si(
-        &SEED_CONTACT,
+        &ehl_core::Contact { load, ..SEED_CONTACT },
         &SEED_LUBRICANT,
         2.0 * u1,
         ViscosityLaw::Roelands,
