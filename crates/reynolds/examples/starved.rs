@@ -82,6 +82,20 @@ fn main() {
                 );
             }
         }
+        if std::env::var("MINAT").is_ok() {
+            let f = s.finest();
+            let ((j, i), m) = f
+                .film
+                .indexed_iter()
+                .fold(((0, 0), f64::INFINITY), |a, (ix, &v)| if v < a.1 { (ix, v) } else { a });
+            println!(
+                "  minimum film {m:.3e} a²/R at x = {:.3} a, y = {:.3} a: P {:.3e}, contact {}",
+                grid.x(i),
+                grid.y(j),
+                f.p[[j, i]],
+                f.contact[[j, i]]
+            );
+        }
         let (hc, _) = s.films();
         let (j, i) = (grid.row_nearest(0.0), grid.col_nearest(0.0));
         let rho = prm.density.rho(s.pressure()[[j, i]]);

@@ -295,12 +295,12 @@ fn a_steady_solve_whose_film_stays_open_never_touches() {
 }
 
 #[test]
-fn a_closure_that_touching_does_not_resolve_keeps_the_lubricated_answer() {
+fn a_closure_whose_touching_cycles_settle_answers_with_the_solids_touching() {
     // 2 mm/s under 80 N, fed 25 nm, on 257² (the grid rule asks for 1153²): the lubricated
     // cycles converge with the film closed at a side lobe (-3 nm); the solids let touch there,
-    // the contact spreads and the cycles diverge. The answer is then the lubricated one, bit
-    // for bit that of a solver without contact, with no contact and its film below zero (for
-    // the workbench to flag), not a failure.
+    // the cycles stall settled (the force balance held at 1.9e-6 against a tolerance of 1e-6).
+    // The answer is that of the solids touching, returned as settled with its contact's
+    // share, not the lubricated one with the solids overlapping, nor a failure.
     let contact = ehl_core::Contact { load: 80.0, ..ehl_core::SEED_CONTACT };
     let prm = ReynoldsParams::from_si(
         &contact,
@@ -315,12 +315,18 @@ fn a_closure_that_touching_does_not_resolve_keeps_the_lubricated_answer() {
         let mut s =
             ReynoldsSolver::new(grid, prm, ReynoldsSettings { contact, ..Default::default() });
         s.set_supply(Some(&move |_y| hd));
-        let r = s.solve(&mut |_| {}).expect("the lubricated answer");
+        let r = s.solve(&mut |_| {}).expect("an answer");
         (r, s)
     };
-    let ((with, s_with), (_, s_without)) = (run(true), run(false));
-    assert!(with.converged && with.touched_from.is_none());
-    assert_eq!(s_with.contact(), (0.0, 0.0));
-    assert_eq!(s_with.pressure(), s_without.pressure());
-    assert!(s_with.films().1 < 0.0, "the closure the test is about is gone");
+    let ((with, s_with), (without, s_without)) = (run(true), run(false));
+    // Without contact the lubricated answer, its film below zero (for the workbench to flag).
+    assert!(without.converged && s_without.films().1 < 0.0, "the closure is gone");
+    let settled = with.settled.expect("settled");
+    assert!(!with.converged && with.touched_from.is_some());
+    assert!(settled.load_error < SETTLED_BOUND, "{settled:?}");
+    // Measured: the solids carry 1.66 % of the load; the film closes to the gap equation's
+    // residual, not below it. A kept lubricated answer has no contact and the -3 nm closure.
+    let (share, _) = s_with.contact();
+    assert!(share > 1e-3 && share < 0.1, "the solids carry {share}");
+    assert!(s_with.films().1 > -1e-6, "the film went {} a²/R below zero", s_with.films().1);
 }

@@ -264,7 +264,7 @@ impl ReynoldsSolver {
         let Some(failed) = film_closed(&rep).or_else(|| given_up(&rep)) else { return rep };
         let kept = (self.save(), self.levels.iter().map(|l| l.touch).collect::<Vec<_>>());
         let note = match self.attempt_from_dry(log, failed.1, t0) {
-            Ok(mut r) if r.converged => {
+            Ok(mut r) if r.converged || r.settled.is_some() => {
                 r.first_attempt = Some(failed.0);
                 return Ok(r);
             }
@@ -525,10 +525,11 @@ impl ReynoldsSolver {
     }
 
     /// Back to the converged lubricated answer the solids were let touch from, when one was
-    /// kept: its state and record, no contact, and its report. A closure the lubricated cycles
-    /// converged on that touching does not resolve (low speed under high load on a grid coarser
-    /// than the grid rule's: the contact spread and diverged) keeps the answer it had, flagged
-    /// for its film below zero.
+    /// kept and the touching cycles neither converged nor settled: its state and record, no
+    /// contact, and its report. A closure that touching does not resolve keeps the answer it
+    /// had, flagged for its film below zero. Touching cycles that stalled settled ([`settled`])
+    /// keep theirs (returned as settled, the contact reported): the solids touching where the
+    /// film closed, not overlapping.
     fn lubricated_report(
         &mut self,
         t: &mut Touching,
@@ -536,6 +537,12 @@ impl ReynoldsSolver {
         t0: Instant,
         mode_jumps: usize,
     ) -> Option<ReynoldsReport> {
+        let since = &history[t.judged_from.min(history.len())..];
+        if t.at.is_some()
+            && settled(since, self.stall_window(), self.active.mass_tolerance).is_some()
+        {
+            return None;
+        }
         let (state, len, cycle) = t.lubricated.take()?;
         self.restore(state);
         for lv in &mut self.levels {
@@ -559,6 +566,14 @@ impl ReynoldsSolver {
         mode_jumps: usize,
         touched_from: Option<usize>,
     ) -> ReynoldsReport {
+        // Touching cycles that stalled settled are an answer (the solids touching where the
+        // film closed): no later attempt starts over from a lubricated start that closes again.
+        let stuck = diagnosis
+            .as_ref()
+            .is_some_and(|d| matches!(d.kind, FailureKind::Stalled | FailureKind::LimitCycle));
+        let settled = (touched_from.is_some() && stuck)
+            .then(|| settled(&history, self.stall_window(), self.active.mass_tolerance))
+            .flatten();
         ReynoldsReport {
             converged: diagnosis.is_none(),
             diagnosis,
@@ -568,7 +583,7 @@ impl ReynoldsSolver {
             lagged_laws: self.active.relax.coefficient_lag,
             first_attempt: None,
             omega_gs: self.active.relax.omega_gs,
-            settled: None,
+            settled,
             mode_jumps,
             from_flooded: false,
             touched_from,
@@ -578,7 +593,8 @@ impl ReynoldsSolver {
 }
 
 /// Why a steady attempt was given up, and after how many cycles: a divergence, a stall or a
-/// limit cycle. Not a cycle limit (more of the same would converge), nor a closed film, which
+/// limit cycle (not one whose touching cycles settled: that is an answer). Not a cycle limit
+/// (more of the same would converge), nor a closed film, which
 /// the lagged and smaller-change attempts did not open where tried; a fed film that closed goes
 /// to the start from the flooded answer ([`ReynoldsSettings::flooded_start_fallback`]).
 pub(super) fn given_up(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option<(String, usize)> {
@@ -590,6 +606,7 @@ pub(super) fn given_up(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option<(S
             .diagnosis
             .as_ref()
             .filter(|d| matches!(d.kind, FailureKind::Stalled | FailureKind::LimitCycle))
+            .filter(|_| r.settled.is_none())
             .map(|d| (d.text.clone(), r.cycles)),
     }
 }
