@@ -155,10 +155,15 @@ enum Command {
         out: PathBuf,
     },
     /// The solids touching in a steady Reynolds solve: the seed's contact fed 0.1–2 nm with
-    /// contact and without, on 129² and 257²; writes `docs/measured/steady-contact.md`.
+    /// contact and without, on 129² and 257²; writes `docs/measured/steady-contact.md`. With
+    /// `--grids`, instead: 2 mm/s, 80 N fed 25 nm on 257², 513², 1025² (the contact's share
+    /// and area as the grid refines), `docs/measured/contact-grids.md`.
     Contact {
         #[arg(long, default_value = "out/steady-contact")]
         out: PathBuf,
+        /// The touching contact over grids instead.
+        #[arg(long)]
+        grids: bool,
     },
     /// The seed's comparisons that move (a hole, a dent, a stop, a start) through every model:
     /// writes `docs/measured/findings.md`, and each comparison's outputs (histories, figures)
@@ -279,7 +284,8 @@ fn main() -> Result<()> {
         Command::SlurmCheck { keep } => slurm::check(keep),
         Command::Example { out } => example::run(&out),
         Command::Findings { out } => findings::run(&out),
-        Command::Contact { out } => contact::run(&out),
+        Command::Contact { out, grids: false } => contact::run(&out),
+        Command::Contact { out, grids: true } => contact::over_grids(&out),
         Command::Sweep { name, map, from, out } => {
             sweep_page::run(&name, map, from.as_deref(), &out)
         }
