@@ -264,7 +264,7 @@ impl ReynoldsSolver {
         let Some(failed) = film_closed(&rep).or_else(|| given_up(&rep)) else { return rep };
         let kept = (self.save(), self.levels.iter().map(|l| l.touch).collect::<Vec<_>>());
         let note = match self.attempt_from_dry(log, failed.1, t0) {
-            Ok(mut r) if r.converged || r.settled.is_some() => {
+            Ok(mut r) if r.converged => {
                 r.first_attempt = Some(failed.0);
                 return Ok(r);
             }
