@@ -572,19 +572,18 @@ mod tests {
         assert!(m.contains("supply.thickness_m") && m.contains(">= 0"), "{m}");
         let m = refused(&dry.replace("\"thickness_m\": 0.0", "\"thickness_m\": 1e-15"));
         assert!(m.contains("supply.thickness_m") && m.contains("molecular"), "{m}");
-        // The layer model's layer is the oil: it refuses none, and a dent in its units.
+        // The layer model's layer is the oil: it refuses none.
         let layer =
             builtin("dent-shallow").replace("\"thickness_m\": 2.5e-08", "\"thickness_m\": 0.0");
         let m = refused(&layer);
         assert!(m.contains("supply.thickness_m") && m.contains("layer model"), "{m}");
-        let dent = builtin("reynolds-m20-l10-dent")
-            .replace("\"depth_m\": 2.5e-7", "\"amplitude\": 10.0")
-            .replace(
-                "\"model\": \"reynolds\",",
-                "\"model\": \"reynolds\", \"supply\": { \"thickness_m\": 0.0 },",
-            );
+        // A Reynolds march with no oil is the dry contact's, stepped: refused, saying so.
+        let dent = builtin("reynolds-m20-l10-dent").replace(
+            "\"model\": \"reynolds\",",
+            "\"model\": \"reynolds\", \"supply\": { \"thickness_m\": 0.0 },",
+        );
         let m = refused(&dent);
-        assert!(m.contains("dent.amplitude") && m.contains("thicker than zero"), "{m}");
+        assert!(m.contains("supply.thickness_m") && m.contains("`dry` model"), "{m}");
     }
 
     #[test]

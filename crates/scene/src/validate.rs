@@ -393,6 +393,15 @@ impl Scene {
             )?;
         }
         let marching = self.run.as_ref().is_some_and(|r| r.method == Some(Method::March));
+        if marching && self.supply.is_some() && self.oil_m().is_none() {
+            // Each step would be a dry contact solved by Reynolds' line relaxation, which
+            // converges that slowly (a dent entering: the force balance 7e-5 off after 30 cycles).
+            return Err(ck.err(
+                "supply.thickness_m",
+                "0".into(),
+                "must be > 0 in a Reynolds march (with no oil each step is the dry contact's: run the `dry` model; a steady Reynolds solve takes none)",
+            ));
+        }
         if let Some(k) = self.supply.as_ref().and_then(|s| (!s.holes.is_empty()).then_some(0))
             && !marching
         {
