@@ -527,9 +527,8 @@ impl ReynoldsSolver {
     /// Back to the converged lubricated answer the solids were let touch from, when one was
     /// kept and the touching cycles neither converged nor settled: its state and record, no
     /// contact, and its report. A closure that touching does not resolve keeps the answer it
-    /// had, flagged for its film below zero. Touching cycles that stalled settled ([`settled`])
-    /// keep theirs (returned as settled, the contact reported): the solids touching where the
-    /// film closed, not overlapping.
+    /// had, flagged for its film below zero. Touching cycles that stalled settled
+    /// ([`Self::touching_settled`]) keep theirs (returned as settled, the contact reported).
     fn lubricated_report(
         &mut self,
         t: &mut Touching,
@@ -538,9 +537,7 @@ impl ReynoldsSolver {
         mode_jumps: usize,
     ) -> Option<ReynoldsReport> {
         let since = &history[t.judged_from.min(history.len())..];
-        if t.at.is_some()
-            && settled(since, self.stall_window(), self.active.mass_tolerance).is_some()
-        {
+        if t.at.is_some() && self.touching_settled(since).is_some() {
             return None;
         }
         let (state, len, cycle) = t.lubricated.take()?;
@@ -554,6 +551,12 @@ impl ReynoldsSolver {
         history.truncate(len);
         *t = Touching::default();
         Some(self.attempt_report(None, cycle, std::mem::take(history), t0, mode_jumps, None))
+    }
+
+    /// How touching cycles that stalled settled over the last stall window of `history`
+    /// ([`settled`]): `None` when they did not.
+    fn touching_settled(&self, history: &[CycleLog]) -> Option<Settled> {
+        settled(history, self.stall_window(), self.active.mass_tolerance)
     }
 
     /// The report of an attempt's cycles: converged without a diagnosis, else with it.
@@ -571,9 +574,8 @@ impl ReynoldsSolver {
         let stuck = diagnosis
             .as_ref()
             .is_some_and(|d| matches!(d.kind, FailureKind::Stalled | FailureKind::LimitCycle));
-        let settled = (touched_from.is_some() && stuck)
-            .then(|| settled(&history, self.stall_window(), self.active.mass_tolerance))
-            .flatten();
+        let settled =
+            (touched_from.is_some() && stuck).then(|| self.touching_settled(&history)).flatten();
         ReynoldsReport {
             converged: diagnosis.is_none(),
             diagnosis,
