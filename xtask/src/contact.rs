@@ -163,7 +163,8 @@ const DRY_LIMIT_COLUMNS: [&str; 9] = [
 /// `docs/measured/bench-dry-limit.md`.
 pub fn bench(n: usize) -> Result<std::path::PathBuf> {
     let mut t = Table::new(&DRY_LIMIT_COLUMNS);
-    // Quickly: the flooded one alone (the fed ones run their failing attempts first: seconds).
+    // Quickly: flooded and with no oil (the fed ones run their failing attempts first:
+    // seconds).
     let cases: &[(f64, Option<f64>)] = if crate::quick() {
         &[(1e-6, None), (0.01, Some(0.0))]
     } else {
@@ -198,9 +199,9 @@ pub fn bench(n: usize) -> Result<std::path::PathBuf> {
 }
 
 /// The seed's contact at 2 mm/s under 80 N fed 25 nm (its film closes at the side lobes on
-/// the grids coarser than the rule's, 1153²) on 257², 513² and 1025² (quickly 129² and 257²),
-/// with its error estimate (quickly 257² alone): how the solids' share of the load and their
-/// area go as the grid refines. Writes `docs/measured/contact-grids.md` and the rows as JSON into `out`.
+/// the grids coarser than the rule's, 1153²) on 257², 513² and 1025² (quickly 257² alone),
+/// each with its error estimate: how the solids' share of the load and their area go as the
+/// grid refines. Writes `docs/measured/contact-grids.md` and the rows as JSON into `out`.
 pub fn over_grids(out: &Path) -> Result<()> {
     let grids: &[usize] = if crate::quick() { &[257] } else { &[257, 513, 1025] };
     let mut t = Table::new(&[

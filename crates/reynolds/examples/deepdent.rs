@@ -92,13 +92,11 @@ fn main() {
                 println!("step {k}, dent at {xc:.3} a: {e}");
                 let r = s.finest().residual(&prm);
                 line(&s, xc, Some(&r));
-                let mut v: Vec<_> = r.indexed_iter().map(|(ix, v)| (ix, *v)).collect();
-                v.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
-                for ((j, i), m) in v.iter().take(3) {
+                for ((j, i), m) in common::largest_residuals(&prm, &s, 3) {
                     println!(
                         "  largest residual {m:+.2e} at x = {:.3} a, y = {:.3} a",
-                        grid.x(*i),
-                        grid.y(*j)
+                        grid.x(i),
+                        grid.y(j)
                     );
                 }
                 break;

@@ -4,7 +4,10 @@
 //! meniscus on the centre line. `M20=1`: Moes' M = 20, L = 10 on [-4.5, 1.5] × [-3, 3] instead.
 //! `LOG=1` prints every cycle (residual, load error, central film, the oil unaccounted for);
 //! `POIS=ratio` sets `relax.poiseuille_full_step`; `U=m/s` the rolling speed `u1` of the seed's
-//! contact (`LOAD=N` its load); `JUMPS=cap` the slow mode's jumps (0: none); a failure prints the largest residuals and where.
+//! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS` the cycle limit, the `H00` gain,
+//! the gap's under-relaxation and the slow mode's jump cap (0: none); `ROW=y,x0,x1` a row's
+//! state after the solve, `MINAT=1` where the film is thinnest; a failure prints the largest
+//! residuals and where.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -64,22 +67,25 @@ fn main() {
             }
         };
         let r = s.solve(&mut logf);
+        // A point's place and state on the finest grid, in one line.
+        let point = |j: usize, i: usize| {
+            let f = s.finest();
+            format!(
+                "x = {:.3} a, y = {:.3} a: P {:.4e}, θ {:.3e}, H {:+.3e}, contact {}",
+                grid.x(i),
+                grid.y(j),
+                f.p[[j, i]],
+                f.theta[[j, i]],
+                f.film[[j, i]],
+                f.contact[[j, i]]
+            )
+        };
         if let Ok(at) = std::env::var("ROW") {
             // `ROW=y,x0,x1`: the row nearest y [a] from x0 to x1 [a].
             let v: Vec<f64> = at.split(',').map(|t| t.parse().expect("ROW: y,x0,x1")).collect();
-            let (f, j) = (s.finest(), grid.row_nearest(v[0]));
-            let r = f.residual(&prm);
+            let (j, r) = (grid.row_nearest(v[0]), s.finest().residual(&prm));
             for i in grid.col_nearest(v[1])..=grid.col_nearest(v[2]) {
-                println!(
-                    "  x {:.3} y {:.3}: P {:.4e} θ {:.3e} H {:+.3e} contact {} res {:+.2e}",
-                    grid.x(i),
-                    grid.y(j),
-                    f.p[[j, i]],
-                    f.theta[[j, i]],
-                    f.film[[j, i]],
-                    f.contact[[j, i]],
-                    r[[j, i]]
-                );
+                println!("  {}, residual {:+.2e}", point(j, i), r[[j, i]]);
             }
         }
         if std::env::var("MINAT").is_ok() {
@@ -88,13 +94,7 @@ fn main() {
                 .film
                 .indexed_iter()
                 .fold(((0, 0), f64::INFINITY), |a, (ix, &v)| if v < a.1 { (ix, v) } else { a });
-            println!(
-                "  minimum film {m:.3e} a²/R at x = {:.3} a, y = {:.3} a: P {:.3e}, contact {}",
-                grid.x(i),
-                grid.y(j),
-                f.p[[j, i]],
-                f.contact[[j, i]]
-            );
+            println!("  minimum film {m:.3e} a²/R at {}", point(j, i));
         }
         let (hc, _) = s.films();
         let (j, i) = (grid.row_nearest(0.0), grid.col_nearest(0.0));
@@ -112,20 +112,8 @@ fn main() {
             ),
             Err(e) => {
                 println!("supply {h_oil_nm:?} nm: {e}");
-                let r = s.finest().residual(&prm);
-                let mut v: Vec<_> = r.indexed_iter().map(|(ix, v)| (ix, *v)).collect();
-                v.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
-                for ((j, i), m) in v.iter().take(4) {
-                    let f = s.finest();
-                    println!(
-                        "  residual {m:+.2e} at x = {:.3} a, y = {:.3} a: P {:.3e}, θ {:.3e}, H {:.3e}, contact {}",
-                        grid.x(*i),
-                        grid.y(*j),
-                        f.p[[*j, *i]],
-                        f.theta[[*j, *i]],
-                        f.film[[*j, *i]],
-                        f.contact[[*j, *i]]
-                    );
+                for ((j, i), m) in common::largest_residuals(&prm, &s, 4) {
+                    println!("  residual {m:+.2e} at {}", point(j, i));
                 }
             }
         }

@@ -265,8 +265,11 @@ impl Outcome for ReynoldsOutcome {
     /// from the dry contact ([`ehl_reynolds::ReynoldsReport::from_dry`]); none without oil
     /// (no film on any grid).
     fn film_resolution_m(&self) -> Option<f64> {
-        let gap = ehl_reynolds::formulas::dry_gap_error(self.grid.dx());
-        let gap = if no_oil(&self.scene) { 0.0 } else { gap };
+        let gap = if no_oil(&self.scene) {
+            0.0
+        } else {
+            ehl_reynolds::formulas::dry_gap_error(self.grid.dx())
+        };
         (self.report.from_dry && self.transient.is_none()).then(|| self.prm.scales.h_si(gap))
     }
     fn caveat(&self) -> Option<String> {

@@ -82,3 +82,17 @@ pub fn oil_held(prm: &ReynoldsParams, s: &ReynoldsSolver) -> f64 {
     }
     sum * f.h * f.h
 }
+
+/// The `k` largest residuals of the finest grid by size, each with its `(j, i)` (the probes'
+/// diagnosis of a failed solve or step).
+pub fn largest_residuals(
+    prm: &ReynoldsParams,
+    s: &ReynoldsSolver,
+    k: usize,
+) -> Vec<((usize, usize), f64)> {
+    let r = s.finest().residual(prm);
+    let mut v: Vec<_> = r.indexed_iter().map(|(ix, v)| (ix, *v)).collect();
+    v.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+    v.truncate(k);
+    v
+}
