@@ -9,8 +9,16 @@ use ehl_workbench::compare::{self, Comparison};
 /// `waviness-compare` with its wave's amplitude set to `amplitude_m` [m], run without figures
 /// with each answer's error estimated (as `ehl compare` runs it), every model converged.
 fn wave(amplitude_m: f64) -> Comparison {
+    wave_stepped(amplitude_m, None)
+}
+
+/// [`wave`] at `steps_per_cell` steps a cell instead of the scene's, when given.
+fn wave_stepped(amplitude_m: f64, steps_per_cell: Option<f64>) -> Comparison {
     let mut scene = ehl_scene::builtin("waviness-compare").unwrap();
     scene.outputs.figures = false;
+    if let (Some(n), Some(r)) = (steps_per_cell, scene.run.as_mut()) {
+        r.time.steps_per_cell = n;
+    }
     let Some(ehl_scene::Feature::Waviness(w)) = scene.run.as_mut().map(|r| &mut r.features[0])
     else {
         panic!("a wavy scene")
@@ -28,7 +36,9 @@ fn passage(c: &Comparison, m: Model) -> ehl_core::Passage {
 
 #[test]
 fn a_flat_wave_rolls_on_the_steady_answer_and_stops_periodic_in_both_models() {
-    let c = wave(0.0);
+    // One step a cell: there the layer's steady start is its march's own steady state term for
+    // term (at four, its march settles 1.4 % above the direct solve's start: docs/layer.md).
+    let c = wave_stepped(0.0, Some(1.0));
     for e in &c.entries {
         let o = e.outcome.as_ref().unwrap();
         let h = o.history().unwrap();
@@ -47,28 +57,30 @@ fn a_flat_wave_rolls_on_the_steady_answer_and_stops_periodic_in_both_models() {
 }
 
 #[test]
-fn a_wave_through_the_seed_contact_is_flattened_by_the_reynolds_film_in_proportion() {
+fn a_wave_through_the_seed_contact_keeps_a_third_of_its_amplitude_in_the_reynolds_film_in_proportion()
+ {
     let (full, half) = (wave(5e-9), wave(2.5e-9));
     let (r, r_half) = (passage(&full, Model::Reynolds), passage(&half, Model::Reynolds));
-    // The seed's contact is a heavily loaded one (Moes M = 2223, L = 2.49): a wave of a/4 is
-    // long against it, the amplitude reduction's parameter ∇ = (λ/a) M^(3/4) / L^(1/2) = 51
-    // (reference/amplitude-reduction.json) puts A_d/A_i at its long-wave limit, 0: below
-    // 0.05 (a twentieth of the wave left; the fit's own floor on a flat wave is 1e-5 nm).
+    // The film's oscillation at the centre over a passage, per the wave's amplitude. Its time
+    // steps are second order: on 129² at 1, 2, 4 steps a cell 0.176, 0.306, 0.331 (observed
+    // order 2.4, limit 0.34); implicit Euler at one step a cell damped it to 0.009, which
+    // had read as the long-wave limit of the amplitude reduction (∇ = 51 here). The bounds
+    // hold the time-converged value to its grid and tolerance error and fail on a damped wave.
     let ratio = r.amplitude_ratio.unwrap();
-    assert!(ratio < 0.05, "Reynolds A_d/A_i = {ratio}");
+    assert!((0.2..0.5).contains(&ratio), "Reynolds A_d/A_i = {ratio}");
     // The films carry the wave in proportion to the surfaces' (the small-amplitude limit):
-    // halving A_i halves A_d, to 10 % here, where what is left of the wave (0.04 nm) is of
-    // the order of the film's step-to-step error and its phase against the grid at the end.
+    // halving A_i halves A_d, to 5 % (measured 4 %: the wave is half the central film here,
+    // not small, and a starved film's response is not linear to that order).
     let lin = r_half.deformed_amplitude_m.unwrap() / r.deformed_amplitude_m.unwrap();
-    assert!((lin - 0.5).abs() < 0.05, "Reynolds A_d(A_i/2) / A_d(A_i) = {lin}");
-    // The layer model keeps much of the wave: its layer is compressed where the wave's crest
-    // passes, it cannot flow around it.
+    assert!((lin - 0.5).abs() < 0.025, "Reynolds A_d(A_i/2) / A_d(A_i) = {lin}");
+    // The layer model keeps less of the wave than the Reynolds film: its layer is compressed
+    // into the pattern where the Reynolds film's flow lifts the surfaces over it.
     let l = passage(&full, Model::Layer);
     let l_half = passage(&half, Model::Layer);
     let (lr, lr_half) = (l.amplitude_ratio.unwrap(), l_half.amplitude_ratio.unwrap());
-    // (measured on 129²: 0.47 of a 5 nm wave, 0.40 of a 2.5 nm one: not proportional, the
+    // (measured on 129²: 0.19 of a 5 nm wave, 0.17 of a 2.5 nm one: not proportional, the
     // layer's stiffness rises as it is compressed).
-    assert!(lr > 10.0 * ratio, "layer A_d/A_i = {lr}, Reynolds {ratio}");
+    assert!(lr < ratio, "layer A_d/A_i = {lr}, Reynolds {ratio}");
     assert!(lr_half < lr, "layer A_d/A_i: {lr_half} at A_i/2, {lr} at A_i");
     // The layer's error estimate leaves out the quarter grid (33²), which would carry the wave
     // on 3.2 cells: an answer for another surface.
@@ -152,6 +164,8 @@ fn a_height_map_sampled_from_a_wave_rolls_through_the_layer_model_as_the_wave_do
     let dir = tempfile::tempdir().unwrap();
     let mut base = ehl_scene::builtin("waviness-compare").unwrap().for_model(Model::Layer);
     base.outputs.figures = false;
+    // One step a cell: the surfaces move by whole samples of the map.
+    base.run.as_mut().unwrap().time.steps_per_cell = 1.0;
     let base = base.with_points(65).unwrap();
     let a = ehl_core::HertzScales::new(&base.conditions.contact()).a;
     let g = base.grid();

@@ -197,10 +197,10 @@ enum Command {
         #[arg(long, default_value = "out/mixed")]
         out: PathBuf,
     },
-    /// The amplitude-reduction study: the sweep `waviness-reduction` (a wave through the seed's
-    /// contact over its wavelength at two speeds, both models), `A_d/A_i` against Venner's `∇`
-    /// and the collapse of the two speeds' curves; writes `docs/measured/waviness-reduction.md`
-    /// and the chart into `--out`.
+    /// The amplitude-reduction study: the sweep `waviness-reduction` (two waves through the
+    /// seed's contact over speed, both models), `A_d/A_i` against Venner's `∇` and the collapse
+    /// of the two wavelengths' curves; writes `docs/measured/waviness-reduction.md` and the
+    /// chart into `--out`.
     Waves {
         #[arg(long, default_value = "out/waves")]
         out: PathBuf,

@@ -1,8 +1,8 @@
 //! `cargo xtask waves`: the amplitude-reduction study. Runs the built-in sweep
-//! `waviness-reduction` (a transverse wave through the seed's contact, flooded, over its
-//! wavelength at two speeds, both models), sets each point's deformed amplitude `A_d/A_i`
+//! `waviness-reduction` (a transverse wave through the seed's contact, flooded, two wavelengths
+//! over speed, both models), sets each point's deformed amplitude `A_d/A_i`
 //! against Venner's parameter `∇ = (λ/a) M^(3/4) / L^(1/2)` (reference/amplitude-reduction.json),
-//! checks the collapse (the two speeds' curves at the same `∇`), charts it and writes
+//! checks the collapse (the two wavelengths' curves at the same `∇`), charts it and writes
 //! `docs/measured/waviness-reduction.md`.
 
 use crate::measured::{self, Table};
@@ -23,7 +23,7 @@ struct Row {
     ratio: Option<f64>,
 }
 
-/// The ratio of the curve `curve` (points `(∇, A_d/A_i)` of one speed, sorted by `∇`) at `x`,
+/// The ratio of the curve `curve` (points `(∇, A_d/A_i)` of one wavelength, sorted by `∇`) at `x`,
 /// linear in `log ∇` and `log A_d/A_i` between its points; `None` outside it.
 fn on_curve(curve: &[(f64, f64)], x: f64) -> Option<f64> {
     curve.windows(2).find(|w| w[0].0 <= x && x <= w[1].0).map(|w| {
@@ -35,8 +35,9 @@ fn on_curve(curve: &[(f64, f64)], x: f64) -> Option<f64> {
 pub fn run(out: &Path) -> Result<()> {
     let (mut s, dir_of) = ehl_scene::load_sweep("waviness-reduction")?;
     if crate::quick() {
-        // The code path on 65²: the waves its cells carry (4 a wave at least), both speeds.
-        s.parameters[1].values = Some(vec![3.0e-5, 4.4e-5, 6.7e-5]);
+        // The code path on 65² (both waves, 6.4 and 12.8 cells each), two speeds whose
+        // curves meet at one ∇.
+        s.parameters[0].values = Some(vec![0.1, 0.3]);
     }
     let (plan, ran, recs) = crate::sweep_page::run_afresh(&s, dir_of.as_deref(), out)?;
     let mut rows: BTreeMap<String, Vec<Row>> = BTreeMap::new();
@@ -71,7 +72,7 @@ pub fn run(out: &Path) -> Result<()> {
         "λ / a",
         "∇",
         "A_d / A_i",
-        "the other speed's curve at this ∇",
+        "the other wavelength's curve at this ∇",
         "difference",
     ]);
     let mut series = vec![];
@@ -87,37 +88,41 @@ pub fn run(out: &Path) -> Result<()> {
                 r.ratio.map_or("—".into(), |v| format!("{v:.4}")),
             ]);
         }
-        let mut speeds: Vec<f64> = rs.iter().map(|r| r.speed).collect();
-        speeds.sort_by(f64::total_cmp);
-        speeds.dedup();
-        let curve = |u: f64| {
+        // One curve a wavelength, over the speeds; λ/a is the same to rounding at every speed
+        // (one contact), so the curves are keyed by it to three places.
+        let key = |r: &Row| (r.wave_a * 1e3).round() as i64;
+        let mut waves: Vec<i64> = rs.iter().map(key).collect();
+        waves.sort();
+        waves.dedup();
+        let curve = |w: i64| {
             let mut c: Vec<(f64, f64)> = rs
                 .iter()
-                .filter(|r| r.speed == u)
+                .filter(|r| key(r) == w)
                 .filter_map(|r| r.ratio.map(|v| (r.nabla, v)))
                 .collect();
             c.sort_by(|x, y| x.0.total_cmp(&y.0));
             c
         };
-        for &u in &speeds {
-            series.push(Series::new(format!("{model}, {u} m/s"), curve(u), Mark::LinePoints));
+        for &w in &waves {
+            let label = format!("{model}, λ = {:.2} a", w as f64 / 1e3);
+            series.push(Series::new(label, curve(w), Mark::LinePoints));
         }
-        // The collapse: each point of one speed against the other speed's curve where it
-        // reaches the same ∇.
-        for &u in &speeds {
-            for &v in speeds.iter().filter(|&&v| v != u) {
+        // The collapse: each point of one wavelength against the other wavelength's curve
+        // where it reaches the same ∇ (at another speed: other M and L).
+        for &w in &waves {
+            for &v in waves.iter().filter(|&&v| v != w) {
                 let other = curve(v);
-                for r in rs.iter().filter(|r| r.speed == u) {
+                for r in rs.iter().filter(|r| key(r) == w) {
                     let (Some(here), Some(there)) = (r.ratio, on_curve(&other, r.nabla)) else {
                         continue;
                     };
                     collapse.rows.push(vec![
                         model.clone(),
-                        format!("{u}"),
+                        format!("{}", r.speed),
                         format!("{:.3}", r.wave_a),
                         format!("{:.2}", r.nabla),
                         format!("{here:.4}"),
-                        format!("{there:.4} ({v} m/s)"),
+                        format!("{there:.4} (λ = {:.2} a)", v as f64 / 1e3),
                         format!("{:+.0} %", 100.0 * (here / there - 1.0)),
                     ]);
                 }
@@ -145,13 +150,13 @@ pub fn run(out: &Path) -> Result<()> {
         "cargo xtask waves",
         &format!(
             "`ehl sweep waviness-reduction`: {}\n\n{} points on {}² in {:.0} s on {} cores. \
-             `A_d/A_i`: the film's harmonic at the wave's wavenumber along the line through the \
-             centre over the whole wavelengths within |x| ≤ a/2, over a quartic trend, at the end \
-             of the run (a passage that repeats, or the time limit), per the surfaces' amplitude; \
-             `∇` with the point's Moes `M` and `L` and the Hertz radius `a`. The collapse table \
-             sets each point against the other speed's curve at the same `∇` (interpolated in \
-             `log ∇`, `log A_d/A_i`); the principle says the difference is nil. The chart: \
-             `waviness-reduction.png` in the study's folder (`--out`).",
+             `A_d/A_i`: the amplitude of the film's oscillation at the contact's centre over \
+             the last passage (a passage that repeats, or the time limit), per the surfaces' \
+             amplitude; `∇` with the point's Moes `M` and `L` and the Hertz radius `a`. The \
+             collapse table sets each point against the other wavelength's curve at the same \
+             `∇` (interpolated in `log ∇`, `log A_d/A_i`), reached there at other `M` and `L`; \
+             the principle says the difference is nil. The chart: `waviness-reduction.png` in \
+             the study's folder (`--out`).",
             s.description,
             plan.points.len(),
             g.nx,

@@ -135,66 +135,96 @@ fn in_passage(t: f64, t_end: f64, duration_s: f64) -> bool {
     t > t_end - duration_s * (1.0 - 1e-9)
 }
 
-/// Terms of the smooth trend fitted beside the harmonic: a quartic, which holds a contact's
-/// central film (flat, rising to its side lobes) across a Hertz width without leaking into
-/// the harmonic.
-const TREND: usize = 5;
-/// Unknowns of the fit: the trend, then the harmonic's cosine and sine.
-const TERMS: usize = TREND + 2;
+/// Terms of the smooth trend fitted beside a harmonic along a line: a quartic, which holds a
+/// contact's central film (flat, rising to its side lobes) across a Hertz width without leaking
+/// into the harmonic.
+const LINE_TREND: usize = 5;
+/// Unknowns of the largest fit: the trend, then the harmonic's cosine and sine.
+const MAX_TERMS: usize = LINE_TREND + 2;
 
 /// The amplitude of the harmonic of wavenumber `k` [1/unit of `xs`] in `h(xs)`, fitted by least
 /// squares together with a polynomial trend (the smooth film's own shape across the window):
 /// `h ≈ Σ c_n xⁿ (n < 5) + A cos kx + B sin kx`, amplitude `√(A² + B²)`. `None` when the
 /// samples cannot separate the terms.
 pub fn harmonic_amplitude(xs: &[f64], h: &[f64], k: f64) -> Option<f64> {
+    harmonic_fit(xs, h, k, LINE_TREND)
+}
+
+/// The amplitude of the centre's film oscillating at angular frequency `omega` [rad/s] over the
+/// last `duration_s` [s] of `history` (the records [`Passage::over`] reads, its first instant
+/// left out): the deformed amplitude `A_d` as Venner and co-workers define it, the film's
+/// amplitude at the contact's centre as the pattern passes. Fitted over a constant alone: a
+/// periodic state has no trend, and a polynomial over one period would take part of the wave.
+/// `None` with fewer than four records in the passage.
+pub fn centre_amplitude(
+    history: &[(f64, Observables)],
+    duration_s: f64,
+    omega: f64,
+) -> Option<f64> {
+    let t_end = history.last()?.0;
+    let (ts, h): (Vec<f64>, Vec<f64>) = history
+        .iter()
+        .filter(|(t, _)| in_passage(*t, t_end, duration_s))
+        .map(|(t, o)| (*t, o.central_film_m))
+        .unzip();
+    (ts.len() >= 4).then(|| harmonic_fit(&ts, &h, omega, 1)).flatten()
+}
+
+/// [`harmonic_amplitude`] over a trend of `trend` terms (1: a constant; at most a quartic).
+fn harmonic_fit(xs: &[f64], h: &[f64], k: f64, trend: usize) -> Option<f64> {
+    let terms = trend + 2;
     // x scaled to [−1, 1] keeps the normal equations' columns of one size.
     let (lo, hi) =
         xs.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
     let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
-    if xs.len() < TERMS || xs.len() != h.len() || !(half > 0.0) {
+    if !(1..=LINE_TREND).contains(&trend)
+        || xs.len() < terms
+        || xs.len() != h.len()
+        || !(half > 0.0)
+    {
         return None;
     }
     let basis = |x: f64| {
         let s = (x - mid) / half;
-        let mut b = [0.0; TERMS];
+        let mut b = [0.0; MAX_TERMS];
         b[0] = 1.0;
-        for n in 1..TREND {
+        for n in 1..trend {
             b[n] = b[n - 1] * s;
         }
-        (b[TREND], b[TREND + 1]) = ((k * x).cos(), (k * x).sin());
+        (b[trend], b[trend + 1]) = ((k * x).cos(), (k * x).sin());
         b
     };
-    let mut m = [[0.0; TERMS + 1]; TERMS];
+    let mut m = [[0.0; MAX_TERMS + 1]; MAX_TERMS];
     for (&x, &v) in xs.iter().zip(h) {
         let b = basis(x);
-        for r in 0..TERMS {
-            for c in 0..TERMS {
+        for r in 0..terms {
+            for c in 0..terms {
                 m[r][c] += b[r] * b[c];
             }
-            m[r][TERMS] += b[r] * v;
+            m[r][terms] += b[r] * v;
         }
     }
     // Gaussian elimination with partial pivoting on the normal equations.
-    let scale = (0..TERMS).map(|r| m[r][r]).fold(0.0, f64::max);
-    for col in 0..TERMS {
-        let p = (col..TERMS).max_by(|&a, &b| m[a][col].abs().total_cmp(&m[b][col].abs()))?;
+    let scale = (0..terms).map(|r| m[r][r]).fold(0.0, f64::max);
+    for col in 0..terms {
+        let p = (col..terms).max_by(|&a, &b| m[a][col].abs().total_cmp(&m[b][col].abs()))?;
         if !(m[p][col].abs() > 1e-12 * scale) {
             return None;
         }
         m.swap(col, p);
-        for r in col + 1..TERMS {
+        for r in col + 1..terms {
             let f = m[r][col] / m[col][col];
-            for c in col..=TERMS {
+            for c in col..=terms {
                 m[r][c] -= f * m[col][c];
             }
         }
     }
-    let mut c = [0.0; TERMS];
-    for r in (0..TERMS).rev() {
-        let tail: f64 = (r + 1..TERMS).map(|j| m[r][j] * c[j]).sum();
-        c[r] = (m[r][TERMS] - tail) / m[r][r];
+    let mut c = [0.0; MAX_TERMS];
+    for r in (0..terms).rev() {
+        let tail: f64 = (r + 1..terms).map(|j| m[r][j] * c[j]).sum();
+        c[r] = (m[r][terms] - tail) / m[r][r];
     }
-    Some(c[TREND].hypot(c[TREND + 1]))
+    Some(c[trend].hypot(c[trend + 1]))
 }
 
 #[cfg(test)]
@@ -239,6 +269,11 @@ mod tests {
         );
         assert!((p.lambda.unwrap() - 2.0).abs() < 1e-12);
         assert!(Passage::over(&h[..5], 1.0, 2e-5, None).is_none(), "half a passage is none");
+        // The centre's oscillation over the same records: 2 nm, to rounding (eight samples of a
+        // whole period separate the constant from the harmonic exactly).
+        let a_d = centre_amplitude(&h, 1.0, std::f64::consts::TAU).unwrap();
+        assert!((a_d - 2e-9).abs() < 1e-20, "{a_d}");
+        assert!(centre_amplitude(&h[..3], 0.2, std::f64::consts::TAU).is_none(), "2 records");
         let p = p.with_amplitude(2e-9, 5e-9);
         assert!((p.amplitude_ratio.unwrap() - 0.4).abs() < 1e-15);
         // The solids' share over the same eight records: 0 before the last period, then k/100

@@ -190,8 +190,11 @@ pub trait Outcome: AsAny + Send + Sync + 'static {
 }
 
 /// [`Outcome::passage`]: the passage a periodic pattern's period long (else the domain's
-/// length), at the rolling speed; the deformed amplitude fitted along the line through the
-/// centre the wave varies most along, over the whole wavelengths within `|s| ≤ a/2`.
+/// length), at the rolling speed. A single wave's deformed amplitude is its film's at the
+/// contact's centre: the centre's oscillation over the passage where the wave moves through
+/// the contact (the amplitude-reduction literature's `A_d`, free of any window), else (a
+/// longitudinal wave, which stands) the harmonic fitted across the centre over the whole
+/// wavelengths within `|y| ≤ a/2`.
 fn passage_of<O: Outcome + ?Sized>(o: &O) -> Option<ehl_core::Passage> {
     let (scene, a, g) = (o.scene(), o.scales().a, *o.grid());
     scene.run.as_ref().filter(|r| r.motion == ehl_scene::Motion::Rolling)?;
@@ -201,36 +204,45 @@ fn passage_of<O: Outcome + ?Sized>(o: &O) -> Option<ehl_core::Passage> {
     let u = o.conditions_used().1;
     let travel_a = relief.period_a().unwrap_or(g.x_max - g.x_min);
     let duration = travel_a * a / u;
-    let p = ehl_core::Passage::over(o.history()?, duration, travel_a * a, Some(rms))?;
+    let history = o.history()?;
+    let p = ehl_core::Passage::over(history, duration, travel_a * a, Some(rms))?;
     let p = match o.contact_history() {
-        Some(c) => p.with_contact(o.history()?, &c, duration),
+        Some(c) => p.with_contact(history, &c, duration),
         None => p,
     };
     let [w] = relief.waves.as_slice() else { return Some(p) };
     if !(relief.dents.is_empty() && relief.roughness.is_empty()) {
         return Some(p);
     }
-    let (c, s) = (w.angle_rad.cos().abs(), w.angle_rad.sin().abs());
-    let along_x = c >= s;
-    let line_period = w.wavelength_a / if along_x { c } else { s };
-    let whole = (1.0 / line_period).floor();
-    if whole < 1.0 {
-        return Some(p);
-    }
-    let (film, delta) = (o.film(), o.scales().delta);
-    let reach = 0.5 * whole * line_period + 1e-9;
-    let (xs, h): (Vec<f64>, Vec<f64>) = if along_x {
-        let j = g.row_nearest(0.0);
-        (0..g.nx).filter(|&i| g.x(i).abs() <= reach).map(|i| (g.x(i), film[[j, i]] * delta)).unzip()
-    } else {
-        let i = g.col_nearest(0.0);
-        (0..g.ny).filter(|&j| g.y(j).abs() <= reach).map(|j| (g.y(j), film[[j, i]] * delta)).unzip()
+    let a_d = match relief.period_a() {
+        Some(period_a) => {
+            let omega = std::f64::consts::TAU * u / (period_a * a);
+            ehl_core::passage::centre_amplitude(history, duration, omega)
+        }
+        None => standing_amplitude(o, w.wavelength_a),
     };
-    let k = std::f64::consts::TAU / line_period;
-    match ehl_core::passage::harmonic_amplitude(&xs, &h, k) {
-        Some(a_d) => Some(p.with_amplitude(a_d, w.amplitude_m)),
-        None => Some(p),
+    Some(match a_d {
+        Some(a_d) => p.with_amplitude(a_d, w.amplitude_m),
+        None => p,
+    })
+}
+
+/// A standing (longitudinal) wave's amplitude in the film across the centre: the harmonic
+/// of wavelength `wavelength_a` [a] along `y` through the centre, fitted over a quartic trend
+/// on the whole wavelengths within `|y| ≤ a/2`; `None` for a wave longer than that.
+fn standing_amplitude<O: Outcome + ?Sized>(o: &O, wavelength_a: f64) -> Option<f64> {
+    let whole = (1.0 / wavelength_a).floor();
+    if whole < 1.0 {
+        return None;
     }
+    let (g, film, delta) = (o.grid(), o.film(), o.scales().delta);
+    let reach = 0.5 * whole * wavelength_a + 1e-9;
+    let i = g.col_nearest(0.0);
+    let (ys, h): (Vec<f64>, Vec<f64>) = (0..g.ny)
+        .filter(|&j| g.y(j).abs() <= reach)
+        .map(|j| (g.y(j), film[[j, i]] * delta))
+        .unzip();
+    ehl_core::passage::harmonic_amplitude(&ys, &h, std::f64::consts::TAU / wavelength_a)
 }
 
 impl dyn Outcome {
