@@ -12,7 +12,9 @@ use ehl_workbench::{compare, sweep};
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// One model's answer at one point: speed [m/s], `λ/a`, `M`, `L`, `∇`, `A_d/A_i`.
+/// One model's answer at one point: speed [m/s], `λ/a`, `M`, `L`, `∇`, `A_d/A_i`, on a grid of
+/// `n` points a side, with the estimated error of the ratio where a grid twice coarser ran the
+/// same point.
 #[derive(Clone, Copy)]
 struct Row {
     speed: f64,
@@ -20,37 +22,72 @@ struct Row {
     m: f64,
     l: f64,
     nabla: f64,
+    n: usize,
     ratio: Option<f64>,
+    error: Option<f64>,
 }
 
+impl Row {
+    /// The wavelength to three places: the same at every speed (one contact).
+    fn wave_key(&self) -> i64 {
+        (self.wave_a * 1e3).round() as i64
+    }
+}
+
+/// The order the error estimate assumes: the steps and the faces are second order, and the
+/// three-grid study of the flooded wave observed 1.75
+/// (docs/measured/convergence-waviness-flooded-compare.md).
+const ORDER: f64 = 2.0;
+
 /// The ratio of the curve `curve` (points `(∇, A_d/A_i)` of one wavelength, sorted by `∇`) at `x`,
-/// linear in `log ∇` and `log A_d/A_i` between its points; `None` outside it.
-fn on_curve(curve: &[(f64, f64)], x: f64) -> Option<f64> {
+/// linear in `log ∇` and `log A_d/A_i` between its points, with the larger error of the two
+/// points it lies between; `None` outside it.
+fn on_curve(curve: &[(f64, f64, f64)], x: f64) -> Option<(f64, f64)> {
     curve.windows(2).find(|w| w[0].0 <= x && x <= w[1].0).map(|w| {
         let t = (x.ln() - w[0].0.ln()) / (w[1].0.ln() - w[0].0.ln());
-        (w[0].1.ln() + t * (w[1].1.ln() - w[0].1.ln())).exp()
+        ((w[0].1.ln() + t * (w[1].1.ln() - w[0].1.ln())).exp(), w[0].2.max(w[1].2))
     })
 }
 
 pub fn run(out: &Path) -> Result<()> {
     let (mut s, dir_of) = ehl_scene::load_sweep("waviness-reduction")?;
+    // The sweep's own grid and the one twice finer, each point's error estimated from the two.
     if crate::quick() {
-        // The code path on 65² (both waves, 6.4 and 12.8 cells each), two speeds whose
+        // The code path on 65² alone (both waves, 6.4 and 12.8 cells each), two speeds whose
         // curves meet at one ∇.
         s.parameters[0].values = Some(vec![0.1, 0.3]);
     }
-    let (plan, ran, recs) = crate::sweep_page::run_afresh(&s, dir_of.as_deref(), out)?;
+    let planned = sweep::Plan::new(&s, dir_of.as_deref())?;
+    let n = planned.points.first().context("the sweep has points")?.scene.grid().nx;
+    let grids = if crate::quick() { vec![65] } else { vec![n, 2 * n - 1] };
+    let wave_axis = s
+        .parameters
+        .iter()
+        .position(|p| p.parameter == ehl_scene::sweep::Parameter::Wavelength)
+        .context("the sweep varies the wavelength")?;
+    let (mut points, mut recs, mut wall_time_s) = (vec![], vec![], 0.0);
+    for &n in &grids {
+        let mut plan = planned.clone();
+        plan.sweep.name = format!("{}-{n}", s.name);
+        for p in &mut plan.points {
+            p.scene = p.scene.with_points(n)?;
+        }
+        let (plan, ran, r) = crate::sweep_page::run_plan(plan, out)?;
+        points.extend(plan.points);
+        recs.extend(r);
+        wall_time_s += ran.wall_time_s;
+    }
     let mut rows: BTreeMap<String, Vec<Row>> = BTreeMap::new();
-    for (p, r) in plan.points.iter().zip(&recs) {
+    for (p, r) in points.iter().zip(&recs) {
         let sc = &p.scene;
         let u = sc.conditions.rolling_velocity_m_s.context("the sweep's scene rolls")?;
         let lub = sc.lubricant.context("the sweep's scene has a lubricant")?.lubricant();
         let contact = sc.conditions.contact();
         let moes = ehl_core::Moes::from_si(&contact, &lub, 2.0 * u);
         let a = ehl_core::HertzScales::new(&contact).a;
-        let wave_m = r.values[1];
-        let wave_a = wave_m / a;
+        let wave_a = r.values[wave_axis] / a;
         let nabla = wave_a * moes.m.powf(0.75) / moes.l.sqrt();
+        let n = sc.grid().nx;
         for m in &r.models {
             let ratio = m.passage.and_then(|q| q.amplitude_ratio);
             // An answer without its wave's amplitude is a broken study, not a point to skip.
@@ -61,11 +98,27 @@ pub fn run(out: &Path) -> Result<()> {
                     r.index
                 );
             }
-            let row = Row { speed: u, wave_a, m: moes.m, l: moes.l, nabla, ratio };
+            let row =
+                Row { speed: u, wave_a, m: moes.m, l: moes.l, nabla, n, ratio, error: None };
             rows.entry(compare::model_name(m.model)).or_default().push(row);
         }
     }
-    let mut t = Table::new(&["model", "u [m/s]", "λ / a", "M", "L", "∇", "A_d / A_i"]);
+    // Each point's error from its twin on the grid twice coarser (Richardson at ORDER).
+    for rs in rows.values_mut() {
+        let twins: Vec<(f64, i64, usize, Option<f64>)> =
+            rs.iter().map(|r| (r.speed, r.wave_key(), r.n, r.ratio)).collect();
+        for r in rs.iter_mut() {
+            let coarse = twins.iter().find(|t| {
+                t.0 == r.speed && t.1 == r.wave_key() && 2 * (t.2 - 1) == r.n - 1
+            });
+            if let (Some(&(_, _, _, Some(c))), Some(f)) = (coarse, r.ratio) {
+                r.error = Some((f - c).abs() / (2f64.powf(ORDER) - 1.0));
+            }
+        }
+    }
+    let finest = rows.values().flatten().map(|r| r.n).max().unwrap_or(0);
+    let mut t =
+        Table::new(&["model", "grid", "u [m/s]", "λ / a", "M", "L", "∇", "A_d / A_i", "± (est.)"]);
     let mut collapse = Table::new(&[
         "model",
         "u [m/s]",
@@ -74,47 +127,59 @@ pub fn run(out: &Path) -> Result<()> {
         "A_d / A_i",
         "the other wavelength's curve at this ∇",
         "difference",
+        "within the estimated errors",
     ]);
     let mut series = vec![];
     for (model, rs) in &rows {
         for r in rs {
             t.rows.push(vec![
                 model.clone(),
+                format!("{}²", r.n),
                 format!("{}", r.speed),
                 format!("{:.3}", r.wave_a),
                 format!("{:.0}", r.m),
                 format!("{:.2}", r.l),
                 format!("{:.2}", r.nabla),
                 r.ratio.map_or("—".into(), |v| format!("{v:.4}")),
+                r.error.map_or("—".into(), |e| format!("{e:.4}")),
             ]);
         }
-        // One curve a wavelength, over the speeds; λ/a is the same to rounding at every speed
-        // (one contact), so the curves are keyed by it to three places.
-        let key = |r: &Row| (r.wave_a * 1e3).round() as i64;
-        let mut waves: Vec<i64> = rs.iter().map(key).collect();
+        // One curve a wavelength over the speeds, on the finest grid.
+        let fine: Vec<&Row> = rs.iter().filter(|r| r.n == finest).collect();
+        let mut waves: Vec<i64> = fine.iter().map(|r| r.wave_key()).collect();
         waves.sort();
         waves.dedup();
         let curve = |w: i64| {
-            let mut c: Vec<(f64, f64)> = rs
+            let mut c: Vec<(f64, f64, f64)> = fine
                 .iter()
-                .filter(|r| key(r) == w)
-                .filter_map(|r| r.ratio.map(|v| (r.nabla, v)))
+                .filter(|r| r.wave_key() == w)
+                .filter_map(|r| r.ratio.map(|v| (r.nabla, v, r.error.unwrap_or(0.0))))
                 .collect();
             c.sort_by(|x, y| x.0.total_cmp(&y.0));
             c
         };
         for &w in &waves {
             let label = format!("{model}, λ = {:.2} a", w as f64 / 1e3);
-            series.push(Series::new(label, curve(w), Mark::LinePoints));
+            let c = curve(w).iter().map(|p| (p.0, p.1)).collect();
+            series.push(Series::new(label, c, Mark::LinePoints));
         }
         // The collapse: each point of one wavelength against the other wavelength's curve
         // where it reaches the same ∇ (at another speed: other M and L).
         for &w in &waves {
             for &v in waves.iter().filter(|&&v| v != w) {
                 let other = curve(v);
-                for r in rs.iter().filter(|r| key(r) == w) {
-                    let (Some(here), Some(there)) = (r.ratio, on_curve(&other, r.nabla)) else {
+                for r in fine.iter().filter(|r| r.wave_key() == w) {
+                    let (Some(here), Some((there, e_there))) =
+                        (r.ratio, on_curve(&other, r.nabla))
+                    else {
                         continue;
+                    };
+                    let within = match r.error {
+                        Some(e) => {
+                            let yes = (here - there).abs() <= e + e_there;
+                            format!("{} (±{:.4})", if yes { "yes" } else { "no" }, e + e_there)
+                        }
+                        None => "— (one grid)".into(),
                     };
                     collapse.rows.push(vec![
                         model.clone(),
@@ -124,6 +189,7 @@ pub fn run(out: &Path) -> Result<()> {
                         format!("{here:.4}"),
                         format!("{there:.4} (λ = {:.2} a)", v as f64 / 1e3),
                         format!("{:+.0} %", 100.0 * (here / there - 1.0)),
+                        within,
                     ]);
                 }
             }
@@ -143,24 +209,26 @@ pub fn run(out: &Path) -> Result<()> {
         "the sweep waviness-reduction: the seed's contact flooded (Reynolds) or fed 25 nm (layer)",
     )?;
     println!("wrote {}", png.display());
-    let g = plan.points[0].scene.grid();
     measured::write(
         "waviness-reduction",
         "The amplitude reduction of a wave through the contact",
         "cargo xtask waves",
         &format!(
-            "`ehl sweep waviness-reduction`: {}\n\n{} points on {}² in {:.0} s on {} cores. \
+            "`ehl sweep waviness-reduction`: {}\n\n{} points on {} in {:.0} s on {} cores. \
              `A_d/A_i`: the amplitude of the film's oscillation at the contact's centre over \
              the last passage (a passage that repeats, or the time limit), per the surfaces' \
-             amplitude; `∇` with the point's Moes `M` and `L` and the Hertz radius `a`. The \
-             collapse table sets each point against the other wavelength's curve at the same \
-             `∇` (interpolated in `log ∇`, `log A_d/A_i`), reached there at other `M` and `L`; \
-             the principle says the difference is nil. The chart: `waviness-reduction.png` in \
-             the study's folder (`--out`).",
+             amplitude; `∇` with the point's Moes `M` and `L` and the Hertz radius `a`; `±` the \
+             estimated error of a point from its twin on the grid twice coarser (Richardson at \
+             order {ORDER}). The curves and the collapse are the finest grid's ({finest}²): \
+             each point against the other wavelength's curve at the same `∇` (interpolated in \
+             `log ∇`, `log A_d/A_i`), reached there at other `M` and `L`; the principle says the \
+             difference is nil, and the last column says whether it is within the two points' \
+             estimated errors. The chart: `waviness-reduction.png` in the study's folder \
+             (`--out`).",
             s.description,
-            plan.points.len(),
-            g.nx,
-            ran.wall_time_s,
+            points.len(),
+            grids.iter().map(|n| format!("{n}²")).collect::<Vec<_>>().join(" and "),
+            wall_time_s,
             sweep::default_jobs(),
         ),
         &[("Every point", &t), ("The collapse", &collapse)],

@@ -211,7 +211,7 @@ fn passage_of<O: Outcome + ?Sized>(o: &O) -> Option<ehl_core::Passage> {
         None => p,
     };
     let [w] = relief.waves.as_slice() else { return Some(p) };
-    if !(relief.dents.is_empty() && relief.roughness.is_empty()) {
+    if !(relief.dents.is_empty() && relief.roughness.is_empty() && relief.maps.is_empty()) {
         return Some(p);
     }
     let a_d = match relief.period_a() {
