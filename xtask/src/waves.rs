@@ -98,8 +98,7 @@ pub fn run(out: &Path) -> Result<()> {
                     r.index
                 );
             }
-            let row =
-                Row { speed: u, wave_a, m: moes.m, l: moes.l, nabla, n, ratio, error: None };
+            let row = Row { speed: u, wave_a, m: moes.m, l: moes.l, nabla, n, ratio, error: None };
             rows.entry(compare::model_name(m.model)).or_default().push(row);
         }
     }
@@ -108,9 +107,9 @@ pub fn run(out: &Path) -> Result<()> {
         let twins: Vec<(f64, i64, usize, Option<f64>)> =
             rs.iter().map(|r| (r.speed, r.wave_key(), r.n, r.ratio)).collect();
         for r in rs.iter_mut() {
-            let coarse = twins.iter().find(|t| {
-                t.0 == r.speed && t.1 == r.wave_key() && 2 * (t.2 - 1) == r.n - 1
-            });
+            let coarse = twins
+                .iter()
+                .find(|t| t.0 == r.speed && t.1 == r.wave_key() && 2 * (t.2 - 1) == r.n - 1);
             if let (Some(&(_, _, _, Some(c))), Some(f)) = (coarse, r.ratio) {
                 r.error = Some((f - c).abs() / (2f64.powf(ORDER) - 1.0));
             }
@@ -169,8 +168,7 @@ pub fn run(out: &Path) -> Result<()> {
             for &v in waves.iter().filter(|&&v| v != w) {
                 let other = curve(v);
                 for r in fine.iter().filter(|r| r.wave_key() == w) {
-                    let (Some(here), Some((there, e_there))) =
-                        (r.ratio, on_curve(&other, r.nabla))
+                    let (Some(here), Some((there, e_there))) = (r.ratio, on_curve(&other, r.nabla))
                     else {
                         continue;
                     };
