@@ -87,6 +87,14 @@ fn a_wave_through_the_seed_contact_keeps_a_third_of_its_amplitude_in_the_reynold
     let layer = full.entries.iter().find(|e| e.model == Model::Layer).unwrap();
     let (est, _) = layer.outcome.as_ref().unwrap().estimate().unwrap();
     assert_eq!(est.grids, vec![129, 65], "{}", est.method);
+    // Its A_d/A_i carries the error of the same passage on 65²: with two grids, the change
+    // itself (the layer alone on 65² gives the coarse passage the estimate read).
+    let mut coarse = ehl_scene::builtin("waviness-compare").unwrap().for_model(Model::Layer);
+    coarse.outputs.figures = false;
+    let coarse = ehl_workbench::run_scene(&coarse.with_points(65).unwrap()).unwrap();
+    let r65 = coarse.passage().unwrap().amplitude_ratio.unwrap();
+    let bar = est.amplitude_ratio.expect("the wave's ratio has an error bar");
+    assert!((bar.absolute - (lr - r65).abs()).abs() < 1e-9, "{bar:?}: {lr} on 129², {r65} on 65²");
     // λ of the run: the passage's mean central film over the wave's RMS height A/√2.
     let rms = 5e-9 / 2f64.sqrt();
     assert!((r.lambda.unwrap() - r.central_film_mean_m / rms).abs() < 1e-12);

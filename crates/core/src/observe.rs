@@ -74,6 +74,11 @@ pub struct Estimate {
     pub method: String,
     /// The coarser runs' wall time [s].
     pub wall_time_s: f64,
+    /// A march through a single wave: the error of the last passage's `A_d/A_i` (relative to
+    /// it; `absolute` in the ratio's unit, 1), from the same passage on the coarser grids;
+    /// `None` where no coarser grid carried the wave through a passage.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub amplitude_ratio: Option<ErrorBar>,
 }
 
 impl Estimate {

@@ -244,6 +244,9 @@ impl Comparison {
                     "passage_minimum_film_m": passage.map(|p| p.minimum_film_m),
                     "passage_lambda": passage.and_then(|p| p.lambda),
                     "passage_amplitude_ratio": passage.and_then(|p| p.amplitude_ratio),
+                    "passage_amplitude_ratio_error": e.outcome.as_ref().ok()
+                        .and_then(|o| o.estimate()).and_then(|(est, _)| est.amplitude_ratio)
+                        .map(|b| b.absolute),
                     "passage_contact_load_share_mean": passage.and_then(|p| p.contact_load_share_mean),
                     "passage_contact_load_share_max": passage.and_then(|p| p.contact_load_share_max),
                     "passage_contact_area_mean_m2": passage.and_then(|p| p.contact_area_mean_m2),
@@ -285,10 +288,14 @@ impl Comparison {
             // A march through a patterned relief: its last passage, the answer to compare.
             if let Some(p) = o.passage() {
                 let lambda = p.lambda.map_or(String::new(), |l| format!(", λ {l:.2}"));
+                let bar = o.estimate().and_then(|(e, _)| e.amplitude_ratio);
                 let amp = match (p.deformed_amplitude_m, p.amplitude_ratio) {
-                    (Some(d), Some(r)) => {
-                        format!(", wave at the centre {:.3} nm (A_d/A_i {r:.3})", d * 1e9)
-                    }
+                    (Some(d), Some(r)) => format!(
+                        ", wave at the centre {:.3} nm (A_d/A_i {}{})",
+                        d * 1e9,
+                        crate::accuracy::with_bar(r, bar.as_ref(), 1.0, 3),
+                        if bar.is_none() { ", its error not estimated" } else { "" }
+                    ),
                     _ => String::new(),
                 };
                 let solids = match (p.contact_load_share_mean, p.contact_area_mean_m2) {

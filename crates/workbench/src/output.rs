@@ -382,6 +382,9 @@ fn accuracy(outcome: &dyn Outcome) -> Value {
         "method": e.method,
         "limit": limit,
         "within_limit": e.worst().is_some_and(|w| w <= limit),
+        "amplitude_ratio": e.amplitude_ratio.map(|b| serde_json::json!({
+            "error": b.absolute, "relative_error": b.relative, "observed_order": b.order,
+        })),
         "wall_time": q(e.wall_time_s, "s"),
     })
 }

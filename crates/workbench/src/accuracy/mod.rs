@@ -110,7 +110,8 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
         }
         (Err(why), None) => ([None; 5], format!("not estimated: {why}")),
         (Ok(h), _) => {
-            let mut es = grid_errors(&point, h, quarter.as_ref(), lubricated);
+            let q = quarter.as_ref().map(|q| &q.observables);
+            let mut es = grid_errors(&point, &h.observables, q, lubricated);
             let verified = model.and_then(|m| m.verified_order());
             let method = match (&quarter, verified) {
                 (Some(_), _) => format!(
@@ -152,7 +153,29 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
         ),
         None => method,
     };
-    Estimate { grids, errors, method, wall_time_s: t0.elapsed().as_secs_f64() }
+    let amplitude_ratio = amplitude_error(answer, half.as_ref().ok(), quarter.as_ref());
+    Estimate { grids, errors, method, wall_time_s: t0.elapsed().as_secs_f64(), amplitude_ratio }
+}
+
+/// The error of a wave's `A_d/A_i` over the last passage from the same passage on the coarser
+/// grids ([`gci::grid_error`]: three grids, or the half grid's change itself).
+fn amplitude_error(
+    answer: &dyn Outcome,
+    half: Option<&Coarse>,
+    quarter: Option<&Coarse>,
+) -> Option<ErrorBar> {
+    let ratio = |p: Option<ehl_core::Passage>| p.and_then(|p| p.amplitude_ratio);
+    let f1 = ratio(answer.passage())?;
+    let f2 = ratio(half?.passage)?;
+    let f3 = quarter.and_then(|q| ratio(q.passage));
+    let e = gci::grid_error(f1, f2, f3, f1)?;
+    Some(ErrorBar { relative: e.error, absolute: e.error * f1, order: e.order })
+}
+
+/// A coarser grid's answer: its observables, and its last passage where a pattern rolled.
+struct Coarse {
+    observables: Observables,
+    passage: Option<ehl_core::Passage>,
 }
 
 /// The answers of the same model on half and a quarter of the points per side (at once: neither
@@ -166,7 +189,7 @@ fn coarser_answers(
     scene: &Scene,
     model: Option<&'static dyn crate::model::ContactModel>,
     answer: &dyn Outcome,
-) -> (Vec<usize>, Result<Observables, String>, Option<Observables>) {
+) -> (Vec<usize>, Result<Coarse, String>, Option<Coarse>) {
     let (n, m) = (scene.grid.nx, scene.grid.ny);
     let coarser = |k: usize| -> Option<Scene> {
         let (mut a, mut b) = (n, m);
@@ -191,7 +214,7 @@ fn coarser_answers(
     };
     // A coarser grid that cannot carry the surfaces' pattern answers for another surface.
     let shortest = scene.relief(answer.scales().a).ok().and_then(|r| r.shortest_wave_a());
-    let run = |s: &Option<Scene>| -> Option<Result<Observables, String>> {
+    let run = |s: &Option<Scene>| -> Option<Result<Coarse, String>> {
         let s = s.as_ref()?;
         if cell(s) > exists_on * (1.0 + 1e-9) {
             return Some(Err(format!(
@@ -212,7 +235,9 @@ fn coarser_answers(
             Some(_) => crate::run::run_coarser(s, answer),
             None => crate::run::run_scene(s),
         };
-        Some(o.map(|o| o.observables()).map_err(|e| e.class().to_string()))
+        let coarse =
+            |o: Box<dyn Outcome>| Coarse { observables: o.observables(), passage: o.passage() };
+        Some(o.map(coarse).map_err(|e| e.class().to_string()))
     };
     let (s1, s2) = (coarser(1), coarser(2));
     let (r1, r2) = rayon::join(|| run(&s1), || run(&s2));
@@ -491,9 +516,10 @@ fn side_list(grids: &[usize]) -> String {
     grids.iter().map(|n| format!("{n}²")).collect::<Vec<_>>().join(", ")
 }
 
-/// The flags an answer carries: each error of the central and minimum film and the maximum
-/// pressure beyond `limit` (relative), with the grid that would meet it at the order observed
-/// (2 where none was); an error that could not be estimated; a film that went below zero.
+/// The flags an answer carries: each error of the central and minimum film, the maximum
+/// pressure and a wave's `A_d/A_i` beyond `limit` (relative), with the grid that would meet it
+/// at the order observed (2 where none was); an error that could not be estimated; a film that
+/// went below zero.
 /// Empty when the answer is within `limit`.
 pub fn flags(scene: &Scene, answer: &Observables, e: &Estimate, limit: f64) -> Vec<String> {
     let mut out = vec![];
@@ -501,14 +527,16 @@ pub fn flags(scene: &Scene, answer: &Observables, e: &Estimate, limit: f64) -> V
         out.push(format!("error {}", e.method));
     }
     let n = scene.grid.nx.max(scene.grid.ny);
-    for (k, bar) in e.errors.iter().enumerate().take(3) {
+    let named = e.errors.iter().take(3).enumerate().map(|(k, b)| (OBSERVED[k].0, b));
+    let amplitude = std::iter::once(("A_d/A_i of the last passage", &e.amplitude_ratio));
+    for (name, bar) in named.chain(amplitude) {
         let Some(b) = bar else { continue };
         if b.relative > limit {
             let p = b.order.unwrap_or(2.0).clamp(1.0, 2.0);
             let needed = ((n - 1) as f64 * (b.relative / limit).powf(1.0 / p)).ceil() as usize + 1;
             out.push(format!(
                 "{} ±{:.1} % (over the {:.1} % asked): about {}² would meet it",
-                OBSERVED[k].0,
+                name,
                 100.0 * b.relative,
                 100.0 * limit,
                 rule::multigrid_count(needed)
@@ -548,6 +576,7 @@ mod tests {
             errors: [bar(0.08, Some(2.0)), bar(0.01, Some(2.0)), bar(0.001, None), None, None],
             method: String::new(),
             wall_time_s: 0.0,
+            amplitude_ratio: None,
         };
         let ob = Observables::default();
         let f = flags(&scene, &ob, &e, 0.02);
