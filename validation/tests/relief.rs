@@ -1,7 +1,9 @@
 //! The surfaces' relief through both models: a wave rolled through the seed's contact until
 //! its passage repeats, each model's last passage against what must hold whatever the model
-//! (a flat wave is the steady answer; the wave the films carry is proportional to the wave
-//! the surfaces carry) and against the amplitude reduction's published limit.
+//! (a flat wave is the steady answer; the passage does not depend on where the run ends on the
+//! wave) and against what the Reynolds film must do (carry the wave in proportion to the
+//! surfaces', undamped by its time steps); a wave's ratio carries its error from the coarser
+//! grids' passages.
 
 use ehl_scene::Model;
 use ehl_workbench::compare::{self, Comparison};
