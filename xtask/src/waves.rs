@@ -35,7 +35,9 @@ impl Row {
 
 /// The order the error estimate assumes: the steps and the faces are second order, and the
 /// three-grid study of the flooded wave observed 1.75
-/// (docs/measured/convergence-waviness-flooded-compare.md).
+/// (docs/measured/convergence-waviness-flooded-compare.md). An answer's own estimate with two
+/// grids takes the change itself (`ehl_workbench::accuracy`: it knows no order for the scene);
+/// the study knows the wave's.
 const ORDER: f64 = 2.0;
 
 /// The relaxation's time-term switch of the finer grid's marches
@@ -146,7 +148,6 @@ fn collapse(rows: &BTreeMap<String, Vec<Row>>, finest: usize, form: &Form) -> (T
 
 pub fn run(out: &Path) -> Result<()> {
     let (mut s, dir_of) = ehl_scene::load_sweep("waviness-reduction")?;
-    // The sweep's own grid and the one twice finer, each point's error estimated from the two.
     if crate::quick() {
         // The code path on 65² alone (both waves, 6.4 and 12.8 cells each), two speeds whose
         // curves meet at one ∇.
@@ -154,6 +155,7 @@ pub fn run(out: &Path) -> Result<()> {
     }
     let planned = sweep::Plan::new(&s, dir_of.as_deref())?;
     let n = planned.points.first().context("the sweep has points")?.scene.grid().nx;
+    // The sweep's own grid and the one twice finer, each point's error estimated from the two.
     let grids = if crate::quick() { vec![65] } else { vec![n, 2 * n - 1] };
     let wave_axis = s
         .parameters

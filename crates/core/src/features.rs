@@ -270,10 +270,23 @@ impl Relief {
         g
     }
 
+    /// Whether the surfaces carry a pattern (waviness, roughness, a height map) and not only
+    /// dents: what covers the track and rolls through the contact without end.
+    pub fn has_pattern(&self) -> bool {
+        !(self.waves.is_empty() && self.roughness.is_empty() && self.maps.is_empty())
+    }
+    /// The relief's one wave when it is nothing else (no dent, roughness or map beside it).
+    pub fn single_wave(&self) -> Option<&Waviness> {
+        let alone = self.dents.is_empty() && self.roughness.is_empty() && self.maps.is_empty();
+        match self.waves.as_slice() {
+            [w] if alone => Some(w),
+            _ => None,
+        }
+    }
     /// The RMS height of the relief's patterns [m]: waves' `A/√2`, roughness' and height maps'
     /// `Rq`, combined as independent (`None`: no pattern, dents alone).
     pub fn rms_m(&self) -> Option<f64> {
-        if self.waves.is_empty() && self.roughness.is_empty() && self.maps.is_empty() {
+        if !self.has_pattern() {
             return None;
         }
         let waves = self.waves.iter().map(|w| 0.5 * w.amplitude_m * w.amplitude_m);

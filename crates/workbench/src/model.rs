@@ -202,7 +202,8 @@ fn passage_of<O: Outcome + ?Sized>(o: &O) -> Option<ehl_core::Passage> {
     // A pattern (waviness, roughness) has an RMS height; dents alone pass and are gone.
     let rms = relief.rms_m()?;
     let u = o.conditions_used().1;
-    let travel_a = relief.period_a().unwrap_or(g.x_max - g.x_min);
+    let period_a = relief.period_a();
+    let travel_a = period_a.unwrap_or(g.x_max - g.x_min);
     let duration = travel_a * a / u;
     let history = o.history()?;
     let p = ehl_core::Passage::over(history, duration, travel_a * a, Some(rms))?;
@@ -210,11 +211,8 @@ fn passage_of<O: Outcome + ?Sized>(o: &O) -> Option<ehl_core::Passage> {
         Some(c) => p.with_contact(history, &c, duration),
         None => p,
     };
-    let [w] = relief.waves.as_slice() else { return Some(p) };
-    if !(relief.dents.is_empty() && relief.roughness.is_empty() && relief.maps.is_empty()) {
-        return Some(p);
-    }
-    let a_d = match relief.period_a() {
+    let Some(w) = relief.single_wave() else { return Some(p) };
+    let a_d = match period_a {
         Some(period_a) => {
             let omega = std::f64::consts::TAU * u / (period_a * a);
             ehl_core::passage::centre_amplitude(history, duration, omega)

@@ -320,10 +320,7 @@ impl Outcome for ReynoldsOutcome {
             .reynolds
             .as_ref()
             .is_none_or(|r| r.solver.time_scheme == ehl_reynolds::TimeScheme::Bdf1);
-        let patterned = self
-            .scene
-            .relief(self.prm.scales.a)
-            .is_ok_and(|r| !(r.waves.is_empty() && r.roughness.is_empty() && r.maps.is_empty()));
+        let patterned = self.scene.relief(self.prm.scales.a).is_ok_and(|r| r.has_pattern());
         let damped = (self.transient.is_some() && first_order && patterned).then(|| {
             "the surfaces' pattern rolled through in implicit Euler steps, which damp what the film carries of it (a wave on 12.8 steps kept 0.04 of its amplitude where second-order steps keep 0.65): its passage's swings and contact are understated; reynolds.solver.time_scheme \"bdf2\" where its steps converge".to_string()
         });
