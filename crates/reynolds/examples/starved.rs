@@ -102,6 +102,18 @@ fn main() {
         let th = s.theta();
         let meniscus =
             (0..=i).rev().find(|&k| th[[j, k]] < 1.0).map_or(grid.x(0), |k| grid.x(k + 1));
+        if let Some(b) = s.oil_balance() {
+            let q = b.supplied;
+            println!(
+                "  oil (of the supply): carried out {:.4e}, pressed out {:.2e}, into the contact {:.4e}, stored {:.2e}, unaccounted {:.2e}; balance {:.2e}",
+                b.carried_out / q,
+                b.pressed_out / q,
+                b.into_contact / q,
+                b.stored / q,
+                b.unaccounted / q,
+                (q - b.carried_out - b.pressed_out - b.into_contact - b.stored - b.unaccounted) / q
+            );
+        }
         match &r {
             Ok(r) => println!(
                 "supply {h_oil_nm:?} nm: {} cycles, {:.2} s; h_c {:.3} nm, ρ̄ h_c {:.3} nm, meniscus {meniscus:.3} a",

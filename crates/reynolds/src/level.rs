@@ -28,6 +28,7 @@ use ehl_core::deformation::influence_coefficient;
 use ehl_core::{Deformation, Grid};
 use ndarray::{Array2, Zip};
 use rayon::prelude::*;
+use serde::Serialize;
 
 mod laws;
 mod operator;
@@ -146,6 +147,29 @@ impl Default for RelaxSettings {
             poiseuille_full_step: 30.0,
         }
     }
+}
+
+/// Where a mass-conserving answer's oil goes, per unit time, in the equations' flux units
+/// ([`Level::oil_balance`]): `supplied = carried_out + pressed_out + into_contact + stored +
+/// unaccounted`, to rounding.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct OilBalance {
+    /// The supply's flux through the inflow face.
+    pub supplied: f64,
+    /// The supply's flux at the reference speed (`speed` 1): what a step's flows are shares
+    /// of, at rest too.
+    pub reference_supply: f64,
+    /// What the surfaces carry out across the outlet column.
+    pub carried_out: f64,
+    /// What the pressure pushes out through the domain's edges (0 where it is 0 beside them).
+    pub pressed_out: f64,
+    /// What the touching points take: the oil arriving at the closed gap, and in a step what
+    /// it held before it closed (the discrete equations destroy it).
+    pub into_contact: f64,
+    /// The growth of the oil held in the open gap (0 in a steady answer).
+    pub stored: f64,
+    /// What the equations leave unmet (`−Σ r h²`: 0 at convergence).
+    pub unaccounted: f64,
 }
 
 /// One grid of the hierarchy: pressure, film, right-hand side, the kernel and the laws' cache; the discrete operator and its relaxation.

@@ -11,7 +11,7 @@ pub mod level;
 pub mod params;
 pub mod solver;
 
-pub use level::{Level, RelaxSettings};
+pub use level::{Level, OilBalance, RelaxSettings};
 pub use params::{DensityLaw, ReynoldsParams, ViscosityLaw};
 pub use solver::{
     CycleLog, Diagnosis, Divergence, FailureKind, ReynoldsError, ReynoldsReport, ReynoldsSettings,

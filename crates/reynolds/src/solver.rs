@@ -332,6 +332,11 @@ impl ReynoldsSolver {
         (load / f.load().max(f64::MIN_POSITIVE), area)
     }
 
+    /// Where the finest grid's oil goes ([`Level::oil_balance`]); `None` fully flooded.
+    pub fn oil_balance(&self) -> Option<crate::OilBalance> {
+        self.levels[0].oil_balance(&self.prm)
+    }
+
     /// The points of the finest grid where the solids touch.
     pub fn contact_points(&self) -> &Array2<bool> {
         &self.levels[0].contact

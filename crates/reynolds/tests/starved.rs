@@ -279,6 +279,37 @@ fn a_supply_thinner_than_the_grids_dry_gap_error_lets_the_solids_touch_at_the_ed
 }
 
 #[test]
+fn the_oil_the_solids_take_where_they_touch_closes_the_balance_and_is_the_coarse_grids_error() {
+    // 0.2 nm on the seed's contact. On 129² the oil makes a film (0.17 nm) and the edge rows
+    // touch; on 65² the discrete dry gap's error at the contact's edge (1.1 nm) is five times
+    // that film, and the answer is dry: the solids carry the whole load, and the touching
+    // points' faces take the oil that reaches them, which the equations then destroy (a
+    // touching point has the gap's equation, not the oil's).
+    for (n, taken) in [(65, 0.5..1.0), (129, -1e-2..1e-2)] {
+        let (prm, s) = seed_solve(n, Some(0.2));
+        let b = s.oil_balance().expect("fed");
+        // The balance's supply and edges are the fluxes' own, computed here independently:
+        // to rounding.
+        let (supplied, left) = common::edge_flows(&prm, &s);
+        assert!((b.supplied / supplied - 1.0).abs() < 1e-12, "{n}²: {b:?} against {supplied}");
+        let edges = b.carried_out + b.pressed_out;
+        assert!((edges / left - 1.0).abs() < 1e-12, "{n}²: {b:?} against {left}");
+        // What the edges miss is what the touching points took and what the equations leave
+        // unmet, to rounding (1e-16 measured): a contact's intake counted through other faces
+        // than the fluid's (as a touching point's own first-order faces once were, 78 % of the
+        // supply where the residuals summed to 1e-6) misses by the difference.
+        let rest = b.supplied - edges - b.into_contact - b.stored - b.unaccounted;
+        assert!(rest.abs() < 1e-12 * b.supplied, "{n}²: {rest:.3e} of {b:?}");
+        assert_eq!(b.stored, 0.0, "steady");
+        // Measured 81 % of the supply on 65², −0.37 % on 129² (the edge's films a few
+        // hundredths of a nanometre below zero send a little back) and 0.13 % on 257²: the
+        // bounds say which side of the oil tolerance (1 %) each grid is on.
+        let share = b.into_contact / b.supplied;
+        assert!(taken.contains(&share), "{n}²: the contact took {share:.3e} of the supply");
+    }
+}
+
+#[test]
 fn a_steady_solve_whose_film_stays_open_never_touches() {
     // 5 nm on the same contact: a film of 4 nm everywhere, nothing closed, nothing touching
     // (the lubricated cycles' answer, bit for bit that of a solver without contact).

@@ -46,6 +46,8 @@ pub struct ReynoldsOutcome {
     pub setup_time_s: f64,
     /// The dent's passage, for a transient scene (`p`, `film` are then its final state).
     pub transient: Option<TransientRecord>,
+    /// Where the answer's oil goes (mass conserving; `None` fully flooded).
+    pub oil: Option<ehl_reynolds::OilBalance>,
 }
 
 /// One time step of a transient run, SI.
@@ -71,6 +73,10 @@ pub struct TransientRow {
     pub contact_load_share: f64,
     /// The area where the solids touch [m²].
     pub contact_area_m2: f64,
+    /// The oil the touching points took in the step (arriving at the closed gap, and what the
+    /// gap held before it closed), over the supply's flux at the reference speed [-]; `None`
+    /// fully flooded ([`ehl_reynolds::OilBalance`]).
+    pub oil_into_contact: Option<f64>,
     /// `H00` [m].
     pub h00_m: f64,
     /// Multigrid cycles of the step.
@@ -324,7 +330,10 @@ impl Outcome for ReynoldsOutcome {
         let damped = (self.transient.is_some() && first_order && patterned).then(|| {
             "the surfaces' pattern rolled through in implicit Euler steps, which damp what the film carries of it (a wave on 12.8 steps kept 0.04 of its amplitude where second-order steps keep 0.65): its passage's swings and contact are understated; reynolds.solver.time_scheme \"bdf2\" where its steps converge".to_string()
         });
-        [settled, negative, damped].into_iter().flatten().reduce(|a, b| format!("{a}; {b}"))
+        [settled, negative, damped, self.oil_lost()]
+            .into_iter()
+            .flatten()
+            .reduce(|a, b| format!("{a}; {b}"))
     }
     fn scene(&self) -> &Scene {
         &self.scene
@@ -396,6 +405,15 @@ impl Outcome for ReynoldsOutcome {
                     f64::from(u8::from(self.report.from_dry)),
                     "1",
                     "1: the film is thinner than this grid tells from a closed gap; the answer started from the dry contact",
+                    false,
+                ),
+            ),
+            (
+                "oil_into_contact".into(),
+                Indicator::new(
+                    self.oil_into_contact().unwrap_or(0.0),
+                    "1",
+                    "the oil the touching points took, of the supply (a march: its largest step; 0: none, or flooded)",
                     false,
                 ),
             ),
@@ -591,10 +609,42 @@ fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<Reynol
         formulas,
         setup_time_s,
         transient,
+        oil: solver.oil_balance(),
     })
 }
 
 impl ReynoldsOutcome {
+    /// The oil the touching points took, as a share of the supply's flux at the reference
+    /// speed: a steady answer's, or a march's largest step's by size; `None` fully flooded.
+    pub fn oil_into_contact(&self) -> Option<f64> {
+        match &self.transient {
+            Some(t) => t
+                .rows
+                .iter()
+                .filter_map(|r| r.oil_into_contact)
+                .max_by(|a, b| a.abs().total_cmp(&b.abs())),
+            None => self.oil.map(|b| b.into_contact / b.reference_supply),
+        }
+    }
+
+    /// Where the touching points took more of the supplied oil than the solver's oil
+    /// tolerance: the discrete equations destroy it (a point in contact has the gap's equation),
+    /// so the film around the contact carries that much less: the contact edge's
+    /// discretisation error, falling as the grid resolves the gap's closing.
+    fn oil_lost(&self) -> Option<String> {
+        let share = self.oil_into_contact()?;
+        let tolerance = self.view.spec.solver.mass_tolerance;
+        (share.abs() > tolerance).then(|| {
+            format!(
+                "the solids took {:.2} % of the supplied oil where they touch{} (the oil tolerance is {:.1} %): the closed gap's edge on cells of {:.4} a, where the discrete gap cannot close more sharply; a finer grid loses less",
+                100.0 * share,
+                if self.transient.is_some() { " in a step" } else { "" },
+                100.0 * tolerance,
+                self.grid.dx()
+            )
+        })
+    }
+
     /// Central and minimum film [a²/R], maximum pressure [p_h]: the standard observables in
     /// Hertz units (one definition, `ehl_core::observe`).
     pub fn films(&self) -> (f64, f64, f64) {
@@ -625,6 +675,17 @@ impl ReynoldsOutcome {
                     "applied": true,
                     "cavitation": "mass conserving (film content θ, Elrod/JFO)",
                     "inlet_meniscus": self.meniscus_a().map(|x| q(s.x_si(x), "m")),
+                    "oil": self.oil.map(|b| {
+                        let share = |v: f64| v / b.reference_supply;
+                        json!({
+                            "what": "where the supplied oil goes, each a share of the supply's flux at the scene's speed (a march: its last step)",
+                            "carried_out": share(b.carried_out),
+                            "pressed_out_at_edges": share(b.pressed_out),
+                            "into_contact": share(b.into_contact),
+                            "stored": share(b.stored),
+                            "unaccounted": share(b.unaccounted),
+                        })
+                    }),
                 }),
                 None => json!({ "applied": false, "cavitation": "fully flooded, Reynolds' condition (P ≥ 0)" }),
             },

@@ -45,6 +45,17 @@ impl Level {
         prm: &ReynoldsParams,
         g: impl Fn(usize, usize, f64) -> f64 + Sync,
     ) -> Array2<f64> {
+        self.map_equations(prm, false, g)
+    }
+
+    /// [`Self::map_operator`]; `open`: Reynolds' operator at touching points too
+    /// ([`Self::op_reynolds`]), not the gap's equation.
+    fn map_equations(
+        &self,
+        prm: &ReynoldsParams,
+        open: bool,
+        g: impl Fn(usize, usize, f64) -> f64 + Sync,
+    ) -> Array2<f64> {
         let (eps, rho) = self.coefficients(prm);
         let (ny, nx) = self.p.dim();
         let mut out = self.grid.zeros();
@@ -58,7 +69,12 @@ impl Level {
             let t = row_of(&self.theta, j);
             let (p, film) = self.rows(j);
             for i in 1..nx - 1 {
-                row[i] = g(j, i, self.op_line(e, (r, t), p, film, i, j));
+                let l = if open {
+                    self.op_reynolds(e, (r, t), p, film, i, j)
+                } else {
+                    self.op_line(e, (r, t), p, film, i, j)
+                };
+                row[i] = g(j, i, l);
             }
         });
         out
@@ -126,6 +142,82 @@ impl Level {
             }
         });
         (load * h2, n as f64 * h2)
+    }
+
+    /// Where the supplied oil goes, per unit time [a²/R · a · u_ref/a, in flux units of the
+    /// equations: the supply's flux is `speed Σ H_oil h`]; `None` without a supply (the flooded
+    /// clamp makes and destroys oil where it cavitates).
+    ///
+    /// The contact's intake is Reynolds' operator at the touching points
+    /// ([`Self::op_reynolds`]): their faces are shut, so it is the oil the faces bring to the
+    /// closed gap and, in a step, what the gap held before it closed. The discrete equations
+    /// destroy that oil (a point in contact has the gap's equation, not the oil's), so it is the
+    /// contact edge's discretisation error on the oil, falling as the grid resolves the gap
+    /// closing (docs/reynolds.md, "Where the oil goes").
+    pub fn oil_balance(&self, prm: &ReynoldsParams) -> Option<OilBalance> {
+        let supply = self.supply.as_ref()?;
+        let (ny, nx) = self.p.dim();
+        let (h, h2) = (self.h, self.h * self.h);
+        let rows = 1..ny - 1;
+        let reference_supply = supply[rows.clone()].iter().sum::<f64>() * h;
+        let supplied = self.speed * reference_supply;
+        let (eps, rho_theta) = self.coefficients(prm);
+        // The surfaces carry out what the last interior face passes: the second-order upwind
+        // flux `(3q_i − q_(i−1))/2` its point's equation has (`upwind`, full or cavitated alike
+        // on the finest grid).
+        let q = |j: usize, i: usize| {
+            if self.shut(j, i) { 0.0 } else { rho_theta[[j, i]] * self.film[[j, i]] }
+        };
+        let last = nx - 2;
+        let carried_out = self.speed
+            * rows.clone().map(|j| 1.5 * q(j, last) - 0.5 * q(j, last - 1)).sum::<f64>()
+            * h;
+        // The pressure pushes oil out through the edges' faces, `ε̄ (P − 0)/h` over a face `h`
+        // long (none where the pressure beside the edge is 0).
+        let mut pressed_out = 0.0;
+        for j in rows.clone() {
+            let e = [row_of(&eps, j - 1), row_of(&eps, j), row_of(&eps, j + 1)];
+            for i in 1..nx - 1 {
+                if !(j == 1 || j == ny - 2 || i == 1 || i == last) {
+                    continue;
+                }
+                let (ee, ew, en, es) = self.half_points(e, j, i);
+                let pc = self.p[[j, i]];
+                let face = |c: f64, edge: bool| if edge { c * pc } else { 0.0 };
+                pressed_out += face(ee, i == last)
+                    + face(ew, i == 1)
+                    + face(en, j == ny - 2)
+                    + face(es, j == 1);
+            }
+        }
+        let touching = |j: usize, i: usize| self.touch && self.contact[[j, i]];
+        let into_contact = if self.contact.iter().any(|&c| c) && self.touch {
+            let taken =
+                self.map_equations(prm, true, |j, i, l| if touching(j, i) { l } else { 0.0 });
+            taken.sum() * h2
+        } else {
+            0.0
+        };
+        // The oil stored in the open gap grows at `Σ (∂(ρ̄θH)/∂T)` over the points that hold oil.
+        let mut stored = 0.0;
+        for j in rows {
+            for i in 1..nx - 1 {
+                if !touching(j, i) {
+                    stored +=
+                        self.time_a0 * rho_theta[[j, i]] * self.film[[j, i]] + self.history[[j, i]];
+                }
+            }
+        }
+        let unaccounted = -self.residual(prm).sum() * h2;
+        Some(OilBalance {
+            supplied,
+            reference_supply,
+            carried_out,
+            pressed_out,
+            into_contact,
+            stored: stored * h2,
+            unaccounted,
+        })
     }
 
     /// The residual a coarser grid is given: [`Self::residual`], but mass conserving only where
@@ -249,6 +341,24 @@ impl Level {
             // Where the solids touch the equation is the gap's: `H = 0` on the finest grid.
             return film[i];
         }
+        self.op_reynolds(eps, oil, p, film, i, j)
+    }
+
+    /// Reynolds' operator at `(i, j)` whether or not the solids touch there ([`Self::op_line`]
+    /// away from the contact). At a touching point its faces are shut and its own film content
+    /// sends nothing on, so what is left is the oil the faces bring in from upstream and, in a
+    /// step, what the gap held before it closed: the oil the contact takes
+    /// ([`Self::oil_balance`]).
+    #[inline]
+    pub(super) fn op_reynolds(
+        &self,
+        eps: [&[f64]; 3],
+        oil: (&[f64], &[f64]),
+        p: [&[f64]; 3],
+        film: &[f64],
+        i: usize,
+        j: usize,
+    ) -> f64 {
         let h = self.h;
         let (rho, theta) = oil;
         let (ee, ew, en, es) = self.half_points(eps, j, i);

@@ -147,6 +147,10 @@ impl Transient for ReynoldsMarch<'_> {
             central_pressure_pa: s.p_si(p[[jc, ic]]),
             contact_load_share: share,
             contact_area_m2: area * s.a * s.a,
+            oil_into_contact: self
+                .solver
+                .oil_balance()
+                .map(|b| b.into_contact / b.reference_supply),
             h00_m: s.h_si(self.solver.h00),
             cycles: step.iterations,
         }

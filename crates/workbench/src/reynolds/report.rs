@@ -92,6 +92,26 @@ pub(super) fn reynolds_report(o: &ReynoldsOutcome) -> String {
             c.load_share, c.area_m2, c.max_pressure_pa
         );
     }
+    // Where the supplied oil went: what the touching points took is oil the discrete
+    // equations lost.
+    if let Some(b) = o.oil {
+        let share = |v: f64| 100.0 * v / b.reference_supply;
+        let contact = match (&o.transient, o.oil_into_contact()) {
+            (Some(_), Some(c)) => {
+                format!("; the touching points took at most {:.3} % in a step", 100.0 * c)
+            }
+            (None, _) => format!(", into the contact {:.3} %", share(b.into_contact)),
+            _ => String::new(),
+        };
+        let _ = writeln!(
+            out,
+            "  oil (of the supply{}): carried out {:.3} %, pressed out at the edges {:.3} %{contact}, unaccounted {:.1e} %",
+            if o.transient.is_some() { ", the last step" } else { "" },
+            share(b.carried_out),
+            share(b.pressed_out),
+            share(b.unaccounted)
+        );
+    }
 
     out
 }
