@@ -66,7 +66,10 @@ pub fn check_out_dir(dir: &Path) -> Result<()> {
             .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
             .collect(),
     };
-    if entries.is_empty() {
+    // Between the look for the marker and the listing another run may have put its own output
+    // in place: a listing that holds the marker is an ehl output too (two runs racing into one
+    // folder refused each other about once in fifty).
+    if entries.is_empty() || entries.iter().any(|e| e == MARKER) {
         return Ok(());
     }
     let shown: Vec<&str> = entries.iter().take(3).map(String::as_str).collect();
