@@ -21,6 +21,12 @@ fn last_attempt_failure(text: &str) -> &'static str {
     why.map_or("failed", |(_, k)| k)
 }
 
+/// The share of the supply the touching points took (`–` flooded or without contact): oil the
+/// equations destroy, the contact edge's error on the grid.
+fn oil_taken(r: &ReynoldsOutcome) -> String {
+    r.oil_into_contact().map_or("–".into(), |v| format!("{v:.2e}"))
+}
+
 /// One solve: the seed's contact, the Reynolds model fed `h_oil` [m] on `n`², contact on or
 /// off; its row's cells and JSON.
 fn solve(h_oil: f64, n: usize, contact: bool) -> Result<(Vec<String>, serde_json::Value)> {
@@ -44,7 +50,8 @@ fn solve(h_oil: f64, n: usize, contact: bool) -> Result<(Vec<String>, serde_json
             let why = last_attempt_failure(&text);
             let mut row = head;
             row.extend([format!("failed: {why}"), String::new(), String::new(), String::new()]);
-            row.extend([String::new(), String::new(), String::new(), format!("{wall:.1}")]);
+            row.extend([String::new(), String::new(), String::new(), String::new()]);
+            row.push(format!("{wall:.1}"));
             let v = json!({"h_oil_m": h_oil, "points": n, "contact": contact,
                            "answered": false, "diagnosis": e.to_string(), "wall_s": wall});
             return Ok((row, v));
@@ -64,13 +71,15 @@ fn solve(h_oil: f64, n: usize, contact: bool) -> Result<(Vec<String>, serde_json
         format!("{:.3}", ob.film_overlap_m * 1e9),
         format!("{:.2e}", c.load_share),
         format!("{:.3e}", c.area_m2),
+        oil_taken(r),
         r.report.touched_from.map(|k| k.to_string()).unwrap_or_else(|| "–".into()),
         r.report.cycles.to_string(),
         format!("{wall:.1}"),
     ]);
     let v = json!({"h_oil_m": h_oil, "points": n, "contact": contact, "answered": true,
                    "central_film_m": ob.central_film_m, "carried_over_supply": carried,
-                   "solid_contact": c, "touched_from_cycle": r.report.touched_from,
+                   "solid_contact": c, "oil_into_contact": r.oil_into_contact(),
+                   "touched_from_cycle": r.report.touched_from,
                    "cycles": r.report.cycles, "wall_s": wall});
     Ok((row, v))
 }
@@ -111,7 +120,7 @@ fn dry_limit(u1: f64, h_oil: Option<f64>, n: usize) -> Result<(Vec<String>, serd
         Err(e) => {
             let text = e.to_string();
             row.push(format!("failed: {}", last_attempt_failure(&text)));
-            row.extend(["", "", "", ""].map(String::from));
+            row.extend(["", "", "", "", ""].map(String::from));
             json!({"u1_m_s": u1, "h_oil_m": h_oil, "points": n, "answered": false,
                    "diagnosis": text, "wall_s": wall})
         }
@@ -131,11 +140,13 @@ fn dry_limit(u1: f64, h_oil: Option<f64>, n: usize) -> Result<(Vec<String>, serd
                 format!("{:.6}", c.load_share),
                 format!("{diff:.1e}"),
                 format!("{:.4}", c.max_pressure_pa / r.prm.scales.p_h),
+                oil_taken(r),
                 r.report.cycles.to_string(),
             ]);
             json!({"u1_m_s": u1, "h_oil_m": h_oil, "points": n, "answered": true,
                    "from_dry": r.report.from_dry, "solid_contact": c,
                    "pressure_from_dry_contact_p_h": diff, "cycles": r.report.cycles,
+                   "oil_into_contact": r.oil_into_contact(),
                    "wall_s": wall})
         }
     };
@@ -144,7 +155,7 @@ fn dry_limit(u1: f64, h_oil: Option<f64>, n: usize) -> Result<(Vec<String>, serd
 }
 
 /// The dry-limit table's columns.
-const DRY_LIMIT_COLUMNS: [&str; 9] = [
+const DRY_LIMIT_COLUMNS: [&str; 10] = [
     "u1 [m/s]",
     "supply",
     "grid",
@@ -152,6 +163,7 @@ const DRY_LIMIT_COLUMNS: [&str; 9] = [
     "contact's share of the load",
     "largest P − P_dry, either sign [p_h]",
     "contact pressure max [p_h]",
+    "oil into the contact [of the supply]",
     "cycles",
     "wall [s]",
 ];
@@ -212,6 +224,7 @@ pub fn over_grids(out: &Path) -> Result<()> {
         "film below zero [nm]",
         "contact's share of the load",
         "contact area [m²]",
+        "oil into the contact [of the supply]",
         "cycles",
         "wall [s]",
     ]);
@@ -231,7 +244,7 @@ pub fn over_grids(out: &Path) -> Result<()> {
             Err(e) => {
                 let why = last_attempt_failure(&e.to_string());
                 let mut cells = vec![format!("{n}²"), format!("failed: {why}")];
-                cells.extend(std::iter::repeat_n(String::new(), 6));
+                cells.extend(std::iter::repeat_n(String::new(), 7));
                 (cells, json!({"points": n, "answered": false, "diagnosis": e.to_string()}))
             }
             Ok(checked) => {
@@ -252,11 +265,13 @@ pub fn over_grids(out: &Path) -> Result<()> {
                     format!("{:.3}", ob.film_overlap_m * 1e9),
                     format!("{:.2e}", c.load_share),
                     format!("{:.3e}", c.area_m2),
+                    oil_taken(r),
                     r.report.cycles.to_string(),
                 ];
                 let v = json!({"points": n, "answered": true, "state": state,
                                "central_film_m": ob.central_film_m, "central_film_error_m": bar,
                                "film_overlap_m": ob.film_overlap_m, "solid_contact": c,
+                               "oil_into_contact": r.oil_into_contact(),
                                "cycles": r.report.cycles});
                 (cells, v)
             }
@@ -273,7 +288,8 @@ pub fn over_grids(out: &Path) -> Result<()> {
         and the solids touch there. Each answer with its error estimate (the wall includes \
         it: the answer on half and a quarter of the points per side, where they answer). The \
         contact's share of the load and its area: where the solids touch, apart from the \
-        fluid. The film below zero: a touching point deeper than the grid's dry gap error, or \
+        fluid; the oil into the contact: the share of the supply the touching points took. \
+        The film below zero: a touching point deeper than the grid's dry gap error, or \
         a closure returned without contact.";
     let p = measured::write(
         "contact-grids",
@@ -320,6 +336,7 @@ pub fn run(out: &Path) -> Result<()> {
         "film below zero [nm]",
         "contact's share of the load",
         "contact area [m²]",
+        "oil into the contact [of the supply]",
         "touching from cycle",
         "cycles",
         "wall [s]",
@@ -348,7 +365,9 @@ pub fn run(out: &Path) -> Result<()> {
         closure; without, such a solve fails (\"the film closed\"). `ρ̄ h_c / h_oil`: the oil \
         crossing the contact at its own thickness (1 at the thin-supply limit). The \
         contact's share of the load and its area: where the solids touch, apart from the \
-        fluid (`solid_contact` in `summary.json`). The film below zero: how far the film \
+        fluid (`solid_contact` in `summary.json`); the oil into the contact: the share of the \
+        supply the touching points took, which the equations destroy (the contact edge's error \
+        on the grid; beyond the oil tolerance, 1 %, the answer is flagged). The film below zero: how far the film \
         went negative somewhere (the solids overlapping: a closure the answer was returned \
         with, flagged). A failed row gives what stopped its last attempt. The dry limits: the \
         same contact at vanishing speed, flooded, fed no oil, 1 and 10 nm, on 65² and 129²: where \

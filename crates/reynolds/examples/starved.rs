@@ -7,7 +7,7 @@
 //! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS` the cycle limit, the `H00` gain,
 //! the gap's under-relaxation and the slow mode's jump cap (0: none); `ROW=y,x0,x1` a row's
 //! state after the solve, `MINAT=1` where the film is thinnest; a failure prints the largest
-//! residuals and where.
+//! residuals and where. `DRY=1`: the attempt from the dry contact alone.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -61,12 +61,22 @@ fn main() {
         let mut logf = |c: &CycleLog| {
             if log {
                 println!(
-                    "  cycle {} on {}²: residual {:.3e}, load {:.2e}, h_c {:.5e}, oil {:.2e}",
-                    c.cycle, c.points, c.residual, c.load_error, c.central_film, c.mass_defect
+                    "  cycle {} on {}²: residual {:.3e}, load {:.2e}, h_c {:.5e}, h_min {:.4e}, oil {:.2e}",
+                    c.cycle,
+                    c.points,
+                    c.residual,
+                    c.load_error,
+                    c.central_film,
+                    c.minimum_film,
+                    c.mass_defect
                 )
             }
         };
-        let r = s.solve(&mut logf);
+        let r = if std::env::var("DRY").is_ok() {
+            s.solve_from_dry(&mut logf)
+        } else {
+            s.solve(&mut logf)
+        };
         // A point's place and state on the finest grid, in one line.
         let point = |j: usize, i: usize| {
             let f = s.finest();

@@ -413,7 +413,7 @@ impl Outcome for ReynoldsOutcome {
                 Indicator::new(
                     self.oil_into_contact().unwrap_or(0.0),
                     "1",
-                    "the oil the touching points took, of the supply (a march: its largest step; 0: none, or flooded)",
+                    "the oil the touching points took, of the oil supplied (a march: over its steps; 0: none, or flooded)",
                     false,
                 ),
             ),
@@ -614,17 +614,30 @@ fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<Reynol
 }
 
 impl ReynoldsOutcome {
-    /// The oil the touching points took, as a share of the supply's flux at the reference
-    /// speed: a steady answer's, or a march's largest step's by size; `None` fully flooded.
+    /// The oil the touching points took, as a share of the oil supplied: a steady answer's
+    /// flows, or over a march the oil its steps took (each step's rate over its duration)
+    /// against the oil the supply brought in over them; `None` fully flooded, or a march that
+    /// brought none in (at rest throughout).
     pub fn oil_into_contact(&self) -> Option<f64> {
-        match &self.transient {
-            Some(t) => t
-                .rows
-                .iter()
-                .filter_map(|r| r.oil_into_contact)
-                .max_by(|a, b| a.abs().total_cmp(&b.abs())),
-            None => self.oil.map(|b| b.into_contact / b.reference_supply),
+        let Some(t) = &self.transient else {
+            return self.oil.map(|b| b.into_contact / b.reference_supply);
+        };
+        // A step's rates are its end's (implicit steps); the supply's flux goes with the
+        // surfaces' speed, as a share of the flux at the reference speed.
+        let u_ref = 0.5 * self.view.sum_velocity_m_s;
+        let (mut taken, mut supplied) = (0.0, 0.0);
+        for w in t.rows.windows(2) {
+            let dt = w[1].t_s - w[0].t_s;
+            taken += dt * w[1].oil_into_contact?;
+            supplied += dt * w[1].speed_m_s / u_ref;
         }
+        (supplied > 0.0).then(|| taken / supplied)
+    }
+
+    /// A march's largest share of the supply's flux the touching points took in one step.
+    pub(crate) fn oil_into_contact_in_a_step(&self) -> Option<f64> {
+        let rows = &self.transient.as_ref()?.rows;
+        rows.iter().filter_map(|r| r.oil_into_contact).max_by(|a, b| a.abs().total_cmp(&b.abs()))
     }
 
     /// Where the touching points took more of the supplied oil than the solver's oil
@@ -638,7 +651,7 @@ impl ReynoldsOutcome {
             format!(
                 "the solids took {:.2} % of the supplied oil where they touch{} (the oil tolerance is {:.1} %): the closed gap's edge on cells of {:.4} a, where the discrete gap cannot close more sharply; a finer grid loses less",
                 100.0 * share,
-                if self.transient.is_some() { " in a step" } else { "" },
+                if self.transient.is_some() { " over the march" } else { "" },
                 100.0 * tolerance,
                 self.grid.dx()
             )

@@ -146,6 +146,20 @@ impl ReynoldsSolver {
         }
     }
 
+    /// A steady solve that is only the cascade's last attempt: from the dry contact, the solids
+    /// touching from the first cycle ([`Self::attempt_from_dry`]), where the film is known to be
+    /// thinner than the grid tells from a closed gap (the probes trace that attempt alone).
+    pub fn solve_from_dry(
+        &mut self,
+        log: &mut dyn FnMut(&CycleLog),
+    ) -> Result<ReynoldsReport, ReynoldsError> {
+        let t0 = Instant::now();
+        self.steady_setup();
+        let rep = self.attempt_from_dry(log, 0, t0);
+        self.rho_h = vec![self.levels[0].rho_film(&self.prm)];
+        converged(rep)
+    }
+
     /// Mass conserving, a steady solve that starts from the flooded answer: the same contact
     /// solved fully flooded first, then the supply switched on and cycles from that answer
     /// (what [`ReynoldsSettings::flooded_start_fallback`] does after failed attempts, here the

@@ -97,9 +97,11 @@ pub(super) fn reynolds_report(o: &ReynoldsOutcome) -> String {
     if let Some(b) = o.oil {
         let share = |v: f64| 100.0 * v / b.reference_supply;
         let contact = match (&o.transient, o.oil_into_contact()) {
-            (Some(_), Some(c)) => {
-                format!("; the touching points took at most {:.3} % in a step", 100.0 * c)
-            }
+            (Some(_), Some(c)) => format!(
+                "; the touching points took {:.3} % of the oil supplied over the march (at most {:.3} % of a step's)",
+                100.0 * c,
+                100.0 * o.oil_into_contact_in_a_step().unwrap_or(0.0)
+            ),
             (None, _) => format!(", into the contact {:.3} %", share(b.into_contact)),
             _ => String::new(),
         };
