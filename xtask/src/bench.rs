@@ -163,8 +163,7 @@ pub fn run(out: &Path, max: usize, only: Option<Part>) -> Result<()> {
     if wanted(Part::Starved) {
         println!(
             "wrote {}",
-            crate::starvation::bench(crate::seed_grid(max), if crate::quick() { 1 } else { 3 })?
-                .display()
+            crate::starvation::bench(max, if crate::quick() { 1 } else { 3 })?.display()
         );
     }
     if wanted(Part::Steps) {

@@ -71,6 +71,8 @@ pub struct ReynoldsSolver {
     /// Whether the coarser grids of a cycle solve for the film content too
     /// ([`ReynoldsSettings::coarse_film_content`]; only in a steady solve's first attempt).
     coarse_theta: bool,
+    /// Attempts the steady solve under way has run ([`ReynoldsReport::attempts`]).
+    attempts: usize,
 }
 
 /// What a time step changes, kept to return to when an error-controlled step is rejected
@@ -132,6 +134,7 @@ impl ReynoldsSolver {
             before: None,
             coarsest: usize::MAX,
             coarse_theta: false,
+            attempts: 0,
         };
         s.start();
         s

@@ -727,6 +727,7 @@ impl ReynoldsOutcome {
                 "from_flooded": self.report.from_flooded,
                 "touched_from_cycle": self.report.touched_from,
                 "from_dry": self.report.from_dry,
+                "attempts": self.report.attempts,
                 "settled": self.report.settled,
                 "final_residual": last.residual,
                 "final_load_error": last.load_error,

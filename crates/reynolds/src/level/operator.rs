@@ -146,7 +146,8 @@ impl Level {
 
     /// Where the supplied oil goes, per unit time [a²/R · a · u_ref/a, in flux units of the
     /// equations: the supply's flux is `speed Σ H_oil h`]; `None` without a supply (the flooded
-    /// clamp makes and destroys oil where it cavitates).
+    /// clamp makes and destroys oil where it cavitates) or with none to share out (a supply of
+    /// no oil).
     ///
     /// The contact's intake is Reynolds' operator at the touching points
     /// ([`Self::op_reynolds`]): their faces are shut, so it is the oil the faces bring to the
@@ -160,6 +161,9 @@ impl Level {
         let (h, h2) = (self.h, self.h * self.h);
         let rows = 1..ny - 1;
         let reference_supply = supply[rows.clone()].iter().sum::<f64>() * h;
+        if reference_supply <= 0.0 {
+            return None;
+        }
         let supplied = self.speed * reference_supply;
         let (eps, rho_theta) = self.coefficients(prm);
         // The surfaces carry out what the last interior face passes: the second-order upwind

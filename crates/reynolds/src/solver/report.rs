@@ -103,6 +103,9 @@ pub struct ReynoldsReport {
     /// its answer's cycles started from the dry contact, the solids touching from the first
     /// ([`ReynoldsSolver::solve`]).
     pub from_dry: bool,
+    /// The attempts the steady solve ran, the first included (the answer is the last that
+    /// converged or settled, or the first's where a later one failed): the cascade's cost.
+    pub attempts: usize,
 }
 
 /// How a stalled steady solve's answer settled over its last cycles ([`SETTLED_BOUND`]).

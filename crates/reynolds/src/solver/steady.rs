@@ -41,6 +41,7 @@ impl ReynoldsSolver {
             self.coarsest = self.film_holding_depth(COARSE_FILM_CELLS).max(self.fmg_top());
             self.set_coarse_theta(true);
         }
+        self.attempts = 1;
         let mut rep = self.cycles(log, 0, 0.0, f64::NAN);
         if coarse_theta {
             self.coarsest = usize::MAX;
@@ -118,7 +119,9 @@ impl ReynoldsSolver {
         }
         // A stall or a limit cycle whose answer has settled is returned, saying so.
         let window = self.stall_window();
+        let attempts = self.attempts;
         let rep = rep.map(|mut r| {
+            r.attempts = attempts;
             let stuck = r
                 .diagnosis
                 .as_ref()
@@ -138,6 +141,7 @@ impl ReynoldsSolver {
     /// the cycles stall with the film closed ([`ReynoldsSettings::contact`]).
     pub(super) fn steady_setup(&mut self) {
         self.active = ReynoldsSettings { contact: false, ..self.settings };
+        self.attempts = 0;
         for l in &mut self.levels {
             l.time_a0 = 0.0;
             l.history.fill(0.0);
@@ -204,6 +208,7 @@ impl ReynoldsSolver {
         t0: Instant,
     ) -> Result<ReynoldsReport, ReynoldsError> {
         self.start();
+        self.attempts += 1;
         let spent = t0.elapsed().as_secs_f64();
         match self.cycles(log, failed.1, spent, f64::NAN) {
             Ok(mut r) => {
@@ -238,6 +243,7 @@ impl ReynoldsSolver {
             l.set_supply(None);
         }
         self.start();
+        self.attempts += 1;
         let flooded = self.cycles(log, cycles_before, t0.elapsed().as_secs_f64(), f64::NAN);
         for (l, s) in self.levels.iter_mut().zip(kept) {
             l.set_supply(s);
@@ -345,6 +351,7 @@ impl ReynoldsSolver {
     ) -> Result<ReynoldsReport, ReynoldsError> {
         use ehl_core::{DryProblem, DrySettings, DrySolver, Start};
         self.start();
+        self.attempts += 1;
         let f = &self.levels[0];
         let problem =
             DryProblem { rigid_gap: f.rigid_film().view(), compliance: None, load: 2.0 * PI / 3.0 };
@@ -604,6 +611,7 @@ impl ReynoldsSolver {
             from_flooded: false,
             touched_from,
             from_dry: false,
+            attempts: self.attempts,
         }
     }
 }
