@@ -260,25 +260,37 @@ const STARVED_SUPPLIES: [f64; 3] = [5e-9, 10e-9, 25e-9];
 /// the flooded solve's on the same grid.
 const STARVED_TARGET: f64 = 1.5;
 
-/// One steady Reynolds solve's cost, the median of `reps` by wall time: `(wall [s], cycles,
-/// h_c [m], slow-mode jumps, attempts)`, or what stopped it.
-fn timed(
-    scene: &Scene,
-    reps: usize,
-) -> Result<std::result::Result<(f64, usize, f64, usize, usize), String>> {
+/// What one steady Reynolds solve cost and gave.
+#[derive(Clone, Copy)]
+struct Cost {
+    /// Wall time [s].
+    wall: f64,
+    cycles: usize,
+    /// Central film [m].
+    hc: f64,
+    /// Slow-mode jumps taken.
+    jumps: usize,
+    /// Attempts the cascade ran.
+    attempts: usize,
+}
+
+/// One steady Reynolds solve's cost, the median of `reps` by wall time, or what stopped it.
+fn timed(scene: &Scene, reps: usize) -> std::result::Result<Cost, String> {
     let mut runs = vec![];
     for _ in 0..reps {
-        match ehl_workbench::reynolds::run_reynolds(scene) {
-            Ok(o) => {
-                let hc = ehl_workbench::model::Outcome::observables(&o).central_film_m;
-                let r = &o.report;
-                runs.push((r.wall_time_s, r.cycles, hc, r.mode_jumps, r.attempts));
-            }
-            Err(e) => return Ok(Err(e.to_string())),
-        }
+        let o = ehl_workbench::reynolds::run_reynolds(scene).map_err(|e| e.to_string())?;
+        let hc = ehl_workbench::model::Outcome::observables(&o).central_film_m;
+        let r = &o.report;
+        runs.push(Cost {
+            wall: r.wall_time_s,
+            cycles: r.cycles,
+            hc,
+            jumps: r.mode_jumps,
+            attempts: r.attempts,
+        });
     }
-    runs.sort_by(|a, b| a.0.total_cmp(&b.0));
-    Ok(Ok(runs[runs.len() / 2]))
+    runs.sort_by(|a, b| a.wall.total_cmp(&b.wall));
+    Ok(runs[runs.len() / 2])
 }
 
 /// The starved steady solve's cost against the flooded one (cycles, wall time, the attempts
@@ -318,7 +330,7 @@ pub fn bench(max: usize, reps: usize) -> Result<PathBuf> {
             println!("{u1} m/s, {load} N on {n}²: flooded");
             let head =
                 |supply: String| vec![format!("{u1}"), format!("{load}"), format!("{n}²"), supply];
-            let flooded = match timed(&seed.for_model(Model::ReynoldsFlooded), reps)? {
+            let flooded = match timed(&seed.for_model(Model::ReynoldsFlooded), reps) {
                 Ok(f) => f,
                 Err(e) => {
                     let mut row = head("none (flooded)".into());
@@ -330,11 +342,11 @@ pub fn bench(max: usize, reps: usize) -> Result<PathBuf> {
             };
             let mut row = head("none (flooded)".into());
             row.extend([
-                format!("{:.2}", flooded.0),
-                flooded.1.to_string(),
-                flooded.4.to_string(),
+                format!("{:.2}", flooded.wall),
+                flooded.cycles.to_string(),
+                flooded.attempts.to_string(),
                 String::new(),
-                format!("{:.3}", flooded.2 * 1e9),
+                format!("{:.3}", flooded.hc * 1e9),
                 "1.0×".into(),
                 "1.0×".into(),
             ]);
@@ -347,9 +359,9 @@ pub fn bench(max: usize, reps: usize) -> Result<PathBuf> {
                     .map_err(anyhow::Error::msg)?;
                 let mut row = head(format!("{:.0} nm", h_oil * 1e9));
                 fed += 1;
-                match timed(&s, reps)? {
-                    Ok((w, c, hc, jumps, attempts)) => {
-                        let (rt, rc) = (w / flooded.0, c as f64 / flooded.1 as f64);
+                match timed(&s, reps) {
+                    Ok(Cost { wall: w, cycles: c, hc, jumps, attempts }) => {
+                        let (rt, rc) = (w / flooded.wall, c as f64 / flooded.cycles as f64);
                         within_time += usize::from(rt <= STARVED_TARGET);
                         within_cycles += usize::from(rc <= STARVED_TARGET);
                         cascades += usize::from(attempts > 1);
