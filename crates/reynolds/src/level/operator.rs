@@ -194,32 +194,31 @@ impl Level {
                     + face(es, j == 1);
             }
         }
-        let touching = |j: usize, i: usize| self.touch && self.contact[[j, i]];
-        let into_contact = if self.contact.iter().any(|&c| c) && self.touch {
-            let taken =
-                self.map_equations(prm, true, |j, i, l| if touching(j, i) { l } else { 0.0 });
-            taken.sum() * h2
-        } else {
-            0.0
-        };
-        // The oil stored in the open gap grows at `Σ (∂(ρ̄θH)/∂T)` over the points that hold oil.
-        let mut stored = 0.0;
+        // Reynolds' operator everywhere, touching points included, in one pass: at a touching
+        // point what it takes, elsewhere the residual (`f − L`) the equations leave.
+        let l = self.map_equations(prm, true, |_, _, l| l);
+        let (mut into_contact, mut unaccounted, mut stored) = (0.0, 0.0, 0.0);
         for j in rows {
             for i in 1..nx - 1 {
-                if !touching(j, i) {
+                if self.shut(j, i) {
+                    into_contact += l[[j, i]];
+                } else {
+                    unaccounted -= self.rhs[[j, i]] - l[[j, i]];
+                    // The oil stored in the open gap grows at `∂(ρ̄θH)/∂T` there.
                     stored +=
                         self.time_a0 * rho_theta[[j, i]] * self.film[[j, i]] + self.history[[j, i]];
                 }
             }
         }
-        let unaccounted = -self.residual(prm).sum() * h2;
+        let (into_contact, unaccounted, stored) =
+            (into_contact * h2, unaccounted * h2, stored * h2);
         Some(OilBalance {
             supplied,
             reference_supply,
             carried_out,
             pressed_out,
             into_contact,
-            stored: stored * h2,
+            stored,
             unaccounted,
         })
     }
