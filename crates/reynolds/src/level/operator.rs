@@ -150,7 +150,7 @@ impl Level {
     /// no oil).
     ///
     /// The contact's intake is Reynolds' operator at the touching points
-    /// ([`Self::op_reynolds`]): their faces are shut, so it is the oil the faces bring to the
+    /// (`op_reynolds`): their faces are shut, so it is the oil the faces bring to the
     /// closed gap and, in a step, what the gap held before it closed. The discrete equations
     /// destroy that oil (a point in contact has the gap's equation, not the oil's), so it is the
     /// contact edge's discretisation error on the oil, falling as the grid resolves the gap

@@ -151,7 +151,7 @@ impl ReynoldsSolver {
     }
 
     /// A steady solve that is only the cascade's last attempt: from the dry contact, the solids
-    /// touching from the first cycle ([`Self::attempt_from_dry`]), where the film is known to be
+    /// touching from the first cycle (`attempt_from_dry`), where the film is known to be
     /// thinner than the grid tells from a closed gap (the probes trace that attempt alone).
     pub fn solve_from_dry(
         &mut self,
