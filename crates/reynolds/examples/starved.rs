@@ -7,7 +7,8 @@
 //! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS` the cycle limit, the `H00` gain,
 //! the gap's under-relaxation and the slow mode's jump cap (0: none); `ROW=y,x0,x1` a row's
 //! state after the solve, `MINAT=1` where the film is thinnest; a failure prints the largest
-//! residuals and where. `DRY=1`: the attempt from the dry contact alone.
+//! residuals and where. `DRY=1`: the attempt from the dry contact alone; `FED=1`: no flooded
+//! solve first.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -141,7 +142,8 @@ fn main() {
         }
         hc
     };
-    let flooded = solve(None);
+    // `FED=1`: the fed solves alone (a profile of their cycles without the flooded one's).
+    let flooded = if std::env::var("FED").is_ok() { f64::NAN } else { solve(None) };
     for h in supplies {
         println!("  R = {:.4}", solve(Some(h)) / flooded);
     }
