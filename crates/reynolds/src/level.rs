@@ -425,16 +425,31 @@ impl Level {
         if !self.first_order_partial && !near_contact {
             return [1.5, -2.0, 0.5];
         }
-        // Face fluxes `F(i+½)`: second order, `(3q_i − q_(i−1))/2`, where the gap is full on
-        // both points the face reads; first order, `q_i`, where either is partly filled (on the
-        // coarser grids of the first attempt) or shut.
-        let partly = |k: usize| (self.first_order_partial && theta[k] < 1.0) || shut(k);
-        let east = partly(i) || partly(i - 1);
-        let west = partly(i - 1) || partly(i - 2);
+        let (east, west) =
+            (self.first_order_face(theta, j, i), self.first_order_face(theta, j, i - 1));
         let w0 = if east { 1.0 } else { 1.5 };
         let w1 = (if east { 0.0 } else { -0.5 }) - (if west { 1.0 } else { 1.5 });
         let w2 = if west { 0.0 } else { 0.5 };
         [w0, w1, w2]
+    }
+
+    /// Whether the Couette face `F(i+½)` (between points `i` and `i + 1`, read from `i` and
+    /// `i − 1`) is first order, `q_i`, rather than second order, `(3q_i − q_(i−1))/2`: where
+    /// either point it reads is shut, or partly filled on a grid that solves for the film content
+    /// with first-order faces ([`Self::upwind`] says why).
+    #[inline]
+    fn first_order_face(&self, theta: &[f64], j: usize, i: usize) -> bool {
+        let partly = |k: usize| {
+            (self.first_order_partial && theta[k] < 1.0) || (self.touch && self.contact[[j, k]])
+        };
+        partly(i) || partly(i - 1)
+    }
+
+    /// The Couette face flux `F(i+½)` on row `j` of the film contents `q` (the face
+    /// [`Self::upwind`]'s weights difference), `i ≥ 1`.
+    pub(super) fn face_flux(&self, q: impl Fn(usize) -> f64, j: usize, i: usize) -> f64 {
+        let theta = row_of(&self.theta, j);
+        if self.first_order_face(theta, j, i) { q(i) } else { 1.5 * q(i) - 0.5 * q(i - 1) }
     }
 
     /// `θ` on the inflow column from the supply and the film there (`P = 0`, `ρ̄ = 1`):

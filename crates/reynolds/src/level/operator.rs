@@ -166,15 +166,14 @@ impl Level {
         }
         let supplied = self.speed * reference_supply;
         let (eps, rho_theta) = self.coefficients(prm);
-        // The surfaces carry out what the last interior face passes: the second-order upwind
-        // flux `(3q_i − q_(i−1))/2` its point's equation has (`upwind`, full or cavitated alike
-        // on the finest grid).
+        // The surfaces carry out what the last interior face passes, the face its point's
+        // equation has.
         let q = |j: usize, i: usize| {
             if self.shut(j, i) { 0.0 } else { rho_theta[[j, i]] * self.film[[j, i]] }
         };
         let last = nx - 2;
         let carried_out = self.speed
-            * rows.clone().map(|j| 1.5 * q(j, last) - 0.5 * q(j, last - 1)).sum::<f64>()
+            * rows.clone().map(|j| self.face_flux(|i| q(j, i), j, last)).sum::<f64>()
             * h;
         // The pressure pushes oil out through the edges' faces, `ε̄ (P − 0)/h` over a face `h`
         // long (none where the pressure beside the edge is 0).
