@@ -181,6 +181,9 @@ pub(super) struct LineWork {
     pub(super) known: Vec<f64>,
     /// Which unknowns are film contents (`P = 0`, the gap partly filled).
     pub(super) partial: Vec<bool>,
+    /// The pressure a loaded point gives up where the solve made its film content the
+    /// unknown (`P` set to 0).
+    pub(super) released: Vec<f64>,
     /// Pressure changes made `(i, j, ΔP)`.
     pub(super) applied: Vec<(usize, usize, f64)>,
 }

@@ -361,6 +361,48 @@ impl Level {
         self.update_film(h00);
     }
 
+    /// Makes column `q` of the line Jacobian `band` (row `j`, the line's first point `lo`) a
+    /// film content's: `∂L_i/∂θ_q` for the rows `i = q, q+1, q+2` the upwind stencil reaches
+    /// (first order at the first point), none upstream; `mass` is the point's `ρ̄H`.
+    ///
+    /// A partly filled point's column from the start of a line solve; a loaded point's from the
+    /// pass after the solve drove its pressure below zero, where the Poiseuille term governs
+    /// (the open gap), the pressure given up. The complementarity `P ≥ 0`, `θ ≤ 1` is so decided
+    /// within the line, not a sweep later: held at `P = 0` with its gap full, such a point
+    /// stood for the sweep against its neighbour's film content, and beside the contact a front
+    /// of excess oil (a loaded point at 1e-6 `p_h`, the gap full behind it) moved a few cells a
+    /// sweep and took tens of cycles to leave by the outlet (docs/decisions.md, "A loaded
+    /// point's release within the line"). Not in contact nor beside a distributive change
+    /// (which would spread onto it), and not where the laws are lagged.
+    fn theta_column(
+        &self,
+        band: &mut [[f64; 5]],
+        (j, lo): (usize, usize),
+        q: usize,
+        theta: &[f64],
+        mass: f64,
+    ) {
+        let m = band.len();
+        // The rows upstream of the point do not see its film content.
+        for ahead in 1..=2 {
+            if q >= ahead {
+                band[q - ahead][2 + ahead] = 0.0;
+            }
+        }
+        for back in 0..3 {
+            let row = q + back;
+            if row >= m {
+                break;
+            }
+            if self.contact[[j, row + lo]] {
+                continue;
+            }
+            let weight = self.upwind(theta, j, row + lo)[back];
+            let own = if back == 0 { self.time_a0 * mass } else { 0.0 };
+            band[row][2 - back] = -self.speed * weight * mass / self.h - own;
+        }
+    }
+
     /// Relaxes line `j` of `rows`, then adds the near-field film change of its pressure changes
     /// to the rows `next` (the lines relaxed after it in this half).
     pub(super) fn relax_line(
@@ -458,36 +500,17 @@ impl Level {
             };
         }
         for q in (0..m).filter(|&q| w.partial[q]) {
-            // ∂L_i/∂θ_q for the rows i = q, q+1, q+2 the upwind stencil reaches (first order
-            // at the first point).
-            let mass = w.dens[q + lo] * film[q + lo];
-            // The rows upstream of the point do not see its film content.
-            for ahead in 1..=2 {
-                if q >= ahead {
-                    w.band[q - ahead][2 + ahead] = 0.0;
-                }
-            }
-            for back in 0..3 {
-                let row = q + back;
-                if row >= m {
-                    break;
-                }
-                if touching(row + lo) {
-                    continue;
-                }
-                let weight = self.upwind(&w.theta, j, row + lo)[back];
-                let own = if back == 0 { self.time_a0 * mass } else { 0.0 };
-                w.band[row][2 - back] = -self.speed * weight * mass / h - own;
-            }
+            self.theta_column(&mut w.band, (j, lo), q, &w.theta, w.dens[q + lo] * film[q + lo]);
         }
         // Complementarity on the line: points whose pressure the solve would drive negative
-        // are fixed at P = 0 (their row becomes δ = −P) and the line solved again, so that
+        // release it (below), or where they cannot (in contact, beside a distributive change,
+        // on a grid that holds `θ`) are fixed at P = 0 (their row becomes δ = −P), and the
+        // line is solved again, so that
         // the others' changes account for it; clamping afterwards instead makes the
         // cavitation boundary flip from cycle to cycle. Film contents the solve would take
         // above 1 or below 0 are fixed there the same way (a full gap becomes a pressure
         // unknown at the next sweep).
         let dist = &w.dist;
-        let partial = &w.partial;
         // Mass conserving, where the Poiseuille term outweighs the wedge's elastic coupling many
         // times (the open inlet and the sides) a full Gauss–Seidel step is stable, and the
         // pressures there (carrying the oil the menisci trade) settle twice as fast
@@ -499,7 +522,7 @@ impl Level {
                 4.0 * eps[1][i] / (h * h) > big * w.dens[i] * wedge_diag
             }
         };
-        let omega = |q: usize| {
+        let omega = |q: usize, partial: &[bool]| {
             if partial[q] {
                 1.0
             } else if touching(q + lo) {
@@ -515,15 +538,28 @@ impl Level {
         let p_line = p[1];
         w.fixed.clear();
         w.fixed.resize(m, false);
+        w.released.clear();
+        w.released.resize(m, 0.0);
         w.known.clear();
         w.known.resize(m, 0.0);
         w.solve.resize(m, [0.0; 5]);
         w.rhs.resize(m, 0.0);
-        if !self.theta_free && !self.coarse_theta {
-            for q in (0..m).filter(|&q| partial[q]) {
+        let theta_solved = self.theta_free || self.coarse_theta;
+        if !theta_solved {
+            for q in (0..m).filter(|&q| w.partial[q]) {
                 w.fixed[q] = true;
             }
         }
+        // A full point of the open gap that the solve drives below `P = 0` releases it: its
+        // film content is the unknown from the next pass on ([`Self::theta_column`] says why).
+        let switchable = |q: usize, dist: &[bool]| {
+            mass_conserving
+                && theta_solved
+                && poiseuille(q)
+                && s.coefficient_lag == 0.0
+                && !touching(q + lo)
+                && !(q.saturating_sub(1)..(q + 2).min(m)).any(|k| dist[k])
+        };
         let mut first = Some(0);
         for _pass in 0..5 {
             // The rows before the first newly fixed one eliminate as they did in the last
@@ -544,25 +580,39 @@ impl Level {
                 if w.fixed[q] {
                     continue;
                 }
-                let known = if partial[q] {
+                let known = if w.partial[q] {
                     let t = w.theta[q + lo] + w.delta[q];
                     (!(0.0..=1.0).contains(&t)).then(|| t.clamp(0.0, 1.0) - w.theta[q + lo])
                 } else {
                     let pq = p_line[q + lo];
-                    (pq + omega(q) * w.delta[q] < 0.0).then(|| -pq / omega(q))
+                    let om = omega(q, &w.partial);
+                    (pq + om * w.delta[q] < 0.0).then(|| -pq / om)
                 };
-                if let Some(k) = known {
-                    w.fixed[q] = true;
-                    w.known[q] = k;
-                    first.get_or_insert(q);
+                let Some(k) = known else { continue };
+                if !w.partial[q] && switchable(q, dist) {
+                    // The known change `−P` moves to the right-hand side of the rows it reaches.
+                    let pq = p_line[q + lo];
+                    for row in q.saturating_sub(2)..(q + 3).min(m) {
+                        w.r[row] += w.band[row][2 + q - row] * pq;
+                    }
+                    (w.released[q], w.partial[q]) = (pq, true);
+                    let mass = w.dens[q + lo] * film[q + lo];
+                    self.theta_column(&mut w.band, (j, lo), q, &w.theta, mass);
+                    let c = q.saturating_sub(2);
+                    first = Some(first.map_or(c, |f: usize| f.min(c)));
+                    continue;
                 }
+                w.fixed[q] = true;
+                w.known[q] = k;
+                first = Some(first.map_or(q, |f: usize| f.min(q)));
             }
         }
+        let partial = &w.partial;
         // Apply changes (cavitation: no negative pressures, film contents in [0, 1]).
         w.applied.clear();
         for q in 0..m {
             let i = q + lo;
-            let d = w.delta[q] * omega(q);
+            let d = w.delta[q] * omega(q, partial);
             if !d.is_finite() {
                 continue;
             }
@@ -570,6 +620,9 @@ impl Level {
                 let t = (w.theta[i] + d).clamp(0.0, 1.0);
                 w.theta[i] = t;
                 w.rho[i] = w.dens[i] * t;
+                if w.released[q] != 0.0 {
+                    w.applied.extend(rows.add_p(i, j, -w.released[q]));
+                }
             } else if dist[q] {
                 w.applied.extend(rows.add_p(i, j, d));
                 for (ii, jj) in [(i - 1, j), (i + 1, j), (i, j - 1), (i, j + 1)] {
