@@ -4,8 +4,8 @@
 //! meniscus on the centre line. `M20=1`: Moes' M = 20, L = 10 on [-4.5, 1.5] × [-3, 3] instead.
 //! `LOG=1` prints every cycle (residual, load error, central film, the oil unaccounted for);
 //! `POIS=ratio` sets `relax.poiseuille_full_step`; `U=m/s` the rolling speed `u1` of the seed's
-//! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS` the cycle limit, the `H00` gain,
-//! the gap's under-relaxation and the slow mode's jump cap (0: none); `ROW=y,x0,x1` a row's
+//! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS`, `MENP` the cycle limit, the `H00`
+//! gain, the gap's under-relaxation, the slow mode's jump cap (0: none) and the meniscus passes; `ROW=y,x0,x1` a row's
 //! state after the solve, `MINAT=1` where the film is thinnest; a failure prints the largest
 //! residuals and where. `DRY=1`: the attempt from the dry contact alone; `FED=1`: no flooded
 //! solve first.
@@ -49,6 +49,9 @@ fn main() {
         }
         if let Ok(v) = std::env::var("WC") {
             settings.relax.omega_contact = v.parse().expect("WC");
+        }
+        if let Ok(v) = std::env::var("MENP") {
+            settings.relax.meniscus_passes = v.parse().expect("MENP");
         }
         if let Ok(v) = std::env::var("JUMPS") {
             settings.mode_extrapolation = v.parse().expect("JUMPS: a cap");

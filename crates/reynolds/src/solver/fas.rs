@@ -184,7 +184,14 @@ impl ReynoldsSolver {
                 "the load error changes sign every cycle: a limit cycle, not slow convergence",
             )
         } else if stalled {
-            (FailureKind::Stalled, "stalled: the residual has not halved over the last cycles")
+            (
+                FailureKind::Stalled,
+                if f.mass_conserving() {
+                    "stalled: neither the residual nor the oil unaccounted for has halved over the last cycles"
+                } else {
+                    "stalled: the residual has not halved over the last cycles"
+                },
+            )
         } else {
             (FailureKind::CycleLimit, "still converging at the cycle limit")
         };

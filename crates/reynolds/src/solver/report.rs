@@ -36,7 +36,8 @@ pub enum FailureKind {
     FilmClosed,
     /// The load error changes sign every cycle.
     LimitCycle,
-    /// The residual has not halved over the stall window.
+    /// The residual has not halved over the stall window (nor, mass conserving, the oil
+    /// unaccounted for).
     Stalled,
     /// Still converging when the cycle limit came.
     CycleLimit,

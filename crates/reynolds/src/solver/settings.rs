@@ -53,8 +53,9 @@ pub struct ReynoldsSettings {
     /// ([`CycleLog::mass_defect`]), below this: the central film's change per cycle alone stops
     /// where a meniscus still creeps (docs/decisions.md, "The oil's own stop criterion").
     pub mass_tolerance: f64,
-    /// Stop, not converged, when the finest residual has not halved over this many cycles
-    /// (a stall or a limit cycle; 0: run to `max_cycles`).
+    /// Stop, not converged, when the finest residual has not halved over this many cycles,
+    /// nor, mass conserving, the oil unaccounted for (a stall or a limit cycle; 0: run to
+    /// `max_cycles`).
     pub stall_cycles: usize,
     /// Gain of the `H00` update per coarsest-grid sweep (times the Hertz compliance `1/π`).
     pub h00_gain: f64,

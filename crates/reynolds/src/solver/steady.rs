@@ -712,15 +712,20 @@ struct Touching {
     lubricated: Option<(SolverState, usize, usize)>,
 }
 
-/// Whether the finest-grid cycles of `history` on `points` have stalled: the residual not even
-/// halved over the last `window` against the best before it.
+/// Whether the finest-grid cycles of `history` on `points` have stalled: neither the residual
+/// nor the oil unaccounted for (mass conserving; zero otherwise) even halved over the last
+/// `window` against the best before it. A fed solve whose meniscus still creeps towards its
+/// place lowers the oil steadily while the residual stands (docs/decisions.md, "A loaded
+/// point's release within the line").
 fn stalled_over(history: &[CycleLog], points: usize, window: usize) -> bool {
-    let fine: Vec<f64> =
-        history.iter().filter(|c| c.points == points).map(|c| c.residual).collect();
-    if window == 0 || fine.len() <= 2 * window {
-        return false;
-    }
-    let (before, last) = fine.split_at(fine.len() - window);
-    let best = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
-    best(last) > 0.5 * best(before)
+    let halved = |of: fn(&CycleLog) -> f64| {
+        let fine: Vec<f64> = history.iter().filter(|c| c.points == points).map(of).collect();
+        if window == 0 || fine.len() <= 2 * window {
+            return true;
+        }
+        let (before, last) = fine.split_at(fine.len() - window);
+        let best = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
+        best(before) > 0.0 && best(last) <= 0.5 * best(before)
+    };
+    !halved(|c| c.residual) && !halved(|c| c.mass_defect)
 }
