@@ -718,6 +718,7 @@ struct Touching {
 /// place lowers the oil steadily while the residual stands (docs/decisions.md, "A loaded
 /// point's release within the line").
 fn stalled_over(history: &[CycleLog], points: usize, window: usize) -> bool {
+    // Too few cycles to judge count as halved: no stall yet.
     let halved = |of: fn(&CycleLog) -> f64| {
         let fine: Vec<f64> = history.iter().filter(|c| c.points == points).map(of).collect();
         if window == 0 || fine.len() <= 2 * window {
