@@ -5,6 +5,9 @@
 //! residuals. Environment: FLOODED=1 no supply; LOG=1 every cycle; DUMP=1 the centre line round
 //! the dent after each step; COARSEST (points: 129 on 129² is relaxation alone), PRE, MAXC,
 //! GAMMA, OMEGA (Gauss–Seidel), THR and TTHR (the relaxation switch's thresholds), EXTRA=1 (the steps' extra passes) override the settings.
+//! `WAVE=A_nm,λ_a`: a transverse wave instead of the dent (`STEPS_PER_CELL` and `STEPS` as
+//! for the dent; 0 steps: the steady solve alone); `ONE=1` the first attempt alone,
+//! `NOCONTACT=1` the lubricated cycles alone; `NEG=1` lists the closed and touching points.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -38,13 +41,58 @@ fn main() {
         settings.step_gamma = g;
     }
     let mut s = ReynoldsSolver::new(grid, prm, settings);
+    let dent = Dent { depth_m: amplitude * 25e-9, width_a: 0.1, x_start_a: -1.25, y_a: 0.0 };
+    // WAVE=A_nm,λ_a: transverse waviness instead of the dent (the march's start, as scenes
+    // solve it: the coarser grids holding the film content).
+    let wave: Option<(f64, f64)> = std::env::var("WAVE").ok().map(|v| {
+        let mut it = v.split(',').map(|x| x.parse::<f64>().expect("WAVE: A_nm,λ_a"));
+        (it.next().expect("A") * 1e-9 / delta, it.next().expect("λ"))
+    });
+    let wave_gap = move |x: f64, travel: f64| {
+        wave.map_or(0.0, |(a, l)| a * (std::f64::consts::TAU * (x - travel) / l).cos())
+    };
+    if wave.is_some() {
+        s.settings.coarse_film_content = false;
+        s.set_extra_gap(move |x, _| wave_gap(x, 0.0));
+    }
     if std::env::var("FLOODED").is_err() {
         let h_oil = 25e-9 / delta;
         s.set_supply(Some(&move |_y| h_oil));
     }
-    let dent = Dent { depth_m: amplitude * 25e-9, width_a: 0.1, x_start_a: -1.25, y_a: 0.0 };
-    let r = s.solve(&mut |_| {});
-    println!("steady: {:?}, films {:?} a²/R", r.map(|r| r.cycles), s.films());
+    if std::env::var("ONE").is_ok() {
+        s.settings.fallback_lag = 0.0;
+        s.settings.flooded_start_fallback = false;
+        s.settings.max_cycles = env("MAXC").unwrap_or(200);
+    }
+    if std::env::var("NOCONTACT").is_ok() {
+        s.settings.contact = false;
+        s.settings.max_cycles = env("MAXC").unwrap_or(60);
+    }
+    let r = s.solve(&mut |c| {
+        if std::env::var("LOG").is_ok() {
+            println!(
+                "   {:>3} on {}²: residual {:.3e}, load {:+.3e}, h_c {:.6}, oil {:.2e}, h00 {:.6}",
+                c.cycle, c.points, c.residual, c.load_error, c.central_film, c.mass_defect, c.h00
+            )
+        }
+    });
+    println!("steady: {:?}, films {:?} a²/R", r.as_ref().map(|r| r.cycles), s.films());
+    if std::env::var("NEG").is_ok() {
+        let l = s.finest();
+        for ((j, i), &h) in l.film.indexed_iter() {
+            if h < 0.0 || l.contact[[j, i]] {
+                println!(
+                    "  closed at x {:.3} y {:.3}: H {:.3e} P {:.3e} θ {:.3} contact {}",
+                    grid.x(i),
+                    grid.y(j),
+                    h,
+                    l.p[[j, i]],
+                    l.theta[[j, i]],
+                    l.contact[[j, i]]
+                );
+            }
+        }
+    }
     let (log, dump) = (std::env::var("LOG").is_ok(), std::env::var("DUMP").is_ok());
     let dt = grid.dx() / per_cell;
     let jc = grid.row_nearest(0.0);
@@ -63,7 +111,11 @@ fn main() {
     };
     for k in 1..=steps {
         let xc = -1.25 + k as f64 * dt;
-        s.set_extra_gap(move |x, y| dent.gap(x, y, xc, delta));
+        if wave.is_some() {
+            s.set_extra_gap(move |x, _| wave_gap(x, xc + 1.25));
+        } else {
+            s.set_extra_gap(move |x, y| dent.gap(x, y, xc, delta));
+        }
         let t = std::time::Instant::now();
         let r = s.step(dt, &mut |c| {
             if log {

@@ -5,7 +5,8 @@
 //! `LOG=1` prints every cycle (residual, load error, central film, the oil unaccounted for);
 //! `POIS=ratio` sets `relax.poiseuille_full_step`; `U=m/s` the rolling speed `u1` of the seed's
 //! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS`, `MENP` the cycle limit, the `H00`
-//! gain, the gap's under-relaxation, the slow mode's jump cap (0: none) and the meniscus passes; `ROW=y,x0,x1` a row's
+//! gain, the gap's under-relaxation, the slow mode's jump cap (0: none) and the meniscus passes; `MASS`,
+//! `FILMTOL` the stop rule's oil and film tolerances; `ROW=y,x0,x1` a row's
 //! state after the solve, `MINAT=1` where the film is thinnest; a failure prints the largest
 //! residuals and where. `DRY=1`: the attempt from the dry contact alone; `FED=1`: no flooded
 //! solve first.
@@ -52,6 +53,12 @@ fn main() {
         }
         if let Ok(v) = std::env::var("MENP") {
             settings.relax.meniscus_passes = v.parse().expect("MENP");
+        }
+        if let Ok(v) = std::env::var("MASS") {
+            settings.mass_tolerance = v.parse().expect("MASS: a share");
+        }
+        if let Ok(v) = std::env::var("FILMTOL") {
+            settings.film_tolerance = v.parse().expect("FILMTOL: relative");
         }
         if let Ok(v) = std::env::var("JUMPS") {
             settings.mode_extrapolation = v.parse().expect("JUMPS: a cap");

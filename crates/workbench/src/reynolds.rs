@@ -484,7 +484,13 @@ fn solver_for(v: &ReynoldsView) -> (ReynoldsParams, ReynoldsSolver) {
     let (spec, lub) = (&v.spec, &v.lubricant);
     let prm =
         ReynoldsParams::from_si(&v.contact, lub, v.sum_velocity_m_s, spec.viscosity, spec.density);
-    (prm, ReynoldsSolver::new(v.grid, prm, *spec.solver))
+    // Every grid of the hierarchy carries the surfaces' pattern (`ReynoldsSettings::carrying`).
+    let shortest = v.march.as_ref().and_then(|m| m.relief.shortest_wave_a());
+    let settings = match shortest {
+        Some(l) => spec.solver.carrying(&v.grid, l),
+        None => *spec.solver,
+    };
+    (prm, ReynoldsSolver::new(v.grid, prm, settings))
 }
 
 /// Solves a Reynolds scene: steady, then the march it asks for.

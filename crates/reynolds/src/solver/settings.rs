@@ -182,6 +182,27 @@ impl Default for ReynoldsSettings {
 }
 
 impl ReynoldsSettings {
+    /// These settings with the coarsest grid raised so that every grid of the hierarchy over
+    /// `grid` carries a wave `shortest_a` [a] long (a surface pattern's shortest) with two
+    /// cells a wavelength at least, Nyquist's limit.
+    ///
+    /// Why: a grid coarser than that samples the pattern into a longer wave of the same
+    /// amplitude that is not there, and where the pattern's crests touch, the coarsest grid's
+    /// force balance ran away on it (a 20 nm, 34 µm wave through the seed's contact on 129²:
+    /// on 17², 1.6 cells a wavelength, `H00` fell by 1.5e-3 a²/R in one visit, the whole
+    /// contact closed, and every attempt failed; from 33² on, converged).
+    pub fn carrying(mut self, grid: &Grid, shortest_a: f64) -> Self {
+        let mut g = *grid;
+        while let Some(c) = g.coarser(self.coarsest_points) {
+            if c.dx().max(c.dy()) > 0.5 * shortest_a {
+                break;
+            }
+            g = c;
+        }
+        self.coarsest_points = self.coarsest_points.max(g.nx.min(g.ny));
+        self
+    }
+
     /// Range checks, each naming its field (its path inside these settings): counts that end
     /// (a cycle on 4097² takes seconds: 10⁴ of them is hours), gains and factors where the
     /// iteration they steer can converge, tolerances a double can meet, and the coarsest grid
