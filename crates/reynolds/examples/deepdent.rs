@@ -7,7 +7,8 @@
 //! GAMMA, OMEGA (Gauss–Seidel), THR and TTHR (the relaxation switch's thresholds), EXTRA=1 (the steps' extra passes) override the settings.
 //! `WAVE=A_nm,λ_a`: a transverse wave instead of the dent (`STEPS_PER_CELL` and `STEPS` as
 //! for the dent; 0 steps: the steady solve alone); `ONE=1` the first attempt alone,
-//! `NOCONTACT=1` the lubricated cycles alone; `NEG=1` lists the closed and touching points.
+//! `NOCONTACT=1` the lubricated cycles alone; `BDF2=1` second-order steps; `NEG=1` lists the
+//! closed and touching points; `AROUND=1`, on a failure, the points round the largest residuals.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -39,6 +40,9 @@ fn main() {
     }
     if let Some(g) = env("GAMMA") {
         settings.step_gamma = g;
+    }
+    if std::env::var("BDF2").is_ok() {
+        settings.time_scheme = TimeScheme::Bdf2;
     }
     let mut s = ReynoldsSolver::new(grid, prm, settings);
     let dent = Dent { depth_m: amplitude * 25e-9, width_a: 0.1, x_start_a: -1.25, y_a: 0.0 };
@@ -150,6 +154,23 @@ fn main() {
                         grid.x(i),
                         grid.y(j)
                     );
+                    if std::env::var("AROUND").is_ok() {
+                        let l = s.finest();
+                        for jj in j - 1..=j + 1 {
+                            for ii in i - 2..=i + 2 {
+                                println!(
+                                    "    ({:.3},{:.3}) P {:.2e} θ {:.3} H {:+.2e} c {} res {:+.2e}",
+                                    grid.x(ii),
+                                    grid.y(jj),
+                                    l.p[[jj, ii]],
+                                    l.theta[[jj, ii]],
+                                    l.film[[jj, ii]],
+                                    u8::from(l.contact[[jj, ii]]),
+                                    r[[jj, ii]]
+                                );
+                            }
+                        }
+                    }
                 }
                 break;
             }
