@@ -33,9 +33,10 @@ impl Row {
     }
 }
 
-/// The order the error estimate assumes: the steps and the faces are second order, and the
-/// three-grid study of the flooded wave observed 1.75
-/// (docs/measured/convergence-waviness-flooded-compare.md). An answer's own estimate with two
+/// The order the error estimate assumes: the steps and the faces are second order (the fed
+/// wave's three-grid study observed 1.3 from a 65² film closed at the crests,
+/// docs/measured/convergence-waviness-compare.md; the flooded wave's has no 65² answer with its
+/// steps converged to 1e-6). An answer's own estimate with two
 /// grids takes the change itself (`ehl_workbench::accuracy`: it knows no order for the scene);
 /// the study knows the wave's.
 const ORDER: f64 = 2.0;
