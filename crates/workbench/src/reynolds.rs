@@ -490,7 +490,6 @@ pub fn build_solver(scene: &Scene) -> Result<(ReynoldsParams, ReynoldsSolver)> {
     Ok(solver_for(&scene.reynolds_view()?))
 }
 
-/// The dimensionless parameters and a solver for a resolved Reynolds case.
 /// The steps' film tolerance a pattern's march needs for its amplitude in the film and the
 /// solids' share to carry no more than a few tenths of a per cent of iteration error: measured
 /// on a 0.25 a wave through the seed's contact on 129² (flooded, 0.1 m/s), `A_d/A_i` 0.596 at
@@ -498,6 +497,7 @@ pub fn build_solver(scene: &Scene) -> Result<(ReynoldsParams, ReynoldsSolver)> {
 /// 0.643, 0.566, 0.551 (docs/decisions.md, "The steps' film tolerance under a pattern").
 pub const PATTERN_FILM_TOLERANCE: f64 = 1e-6;
 
+/// The dimensionless parameters and a solver for a resolved Reynolds case.
 fn solver_for(v: &ReynoldsView) -> (ReynoldsParams, ReynoldsSolver) {
     let (spec, lub) = (&v.spec, &v.lubricant);
     let prm =

@@ -190,7 +190,7 @@ impl ReynoldsSettings {
     /// amplitude that is not there, and where the pattern's crests touch, the coarsest grid's
     /// force balance ran away on it (a 20 nm, 34 µm wave through the seed's contact on 129²:
     /// on 17², 1.6 cells a wavelength, `H00` fell by 1.5e-3 a²/R in one visit, the whole
-    /// contact closed, and every attempt failed; from 33² on, converged).
+    /// contact closed, and every attempt failed; stopping at 33², it answered, settled).
     pub fn carrying(mut self, grid: &Grid, shortest_a: f64) -> Self {
         let mut g = *grid;
         while let Some(c) = g.coarser(self.coarsest_points) {
