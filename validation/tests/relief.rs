@@ -122,7 +122,10 @@ fn a_wave_started_half_a_wavelength_on_gives_the_same_passage() {
         };
         w.phase_deg = phase_deg;
         let o = ehl_workbench::run_scene(&scene).unwrap();
-        assert!(!o.caveat().unwrap_or_default().contains("implicit Euler"), "{:?}", o.caveat());
+        let caveat = o.caveat().unwrap_or_default();
+        // Second-order steps, each converged to the pattern's tolerance: neither caveat.
+        assert!(!caveat.contains("implicit Euler"), "{caveat}");
+        assert!(!caveat.contains("iteration error"), "{caveat}");
         o.passage().expect("a march through a wave has a passage")
     };
     let (p0, p1) = (run(0.0), run(180.0));
@@ -141,6 +144,8 @@ fn a_wave_started_half_a_wavelength_on_gives_the_same_passage() {
     let first = ehl_scene::Scene::from_json(&json.to_string(), "the test").unwrap();
     let c = ehl_workbench::run_scene(&first).unwrap().caveat().unwrap_or_default();
     assert!(c.contains("implicit Euler steps, which damp"), "{c}");
+    // … and that steps stopped at the default tolerance leave the wave an iteration error.
+    assert!(c.contains("1e-4 a cycle") && c.contains("iteration error"), "{c}");
     let (a0, a1) = (p0.deformed_amplitude_m.unwrap(), p1.deformed_amplitude_m.unwrap());
     assert!((a1 / a0 - 1.0).abs() < 1e-2, "A_d {a0} against {a1} half a wavelength on");
     let (h0, h1) = (p0.central_film_mean_m, p1.central_film_mean_m);
