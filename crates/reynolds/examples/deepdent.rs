@@ -72,14 +72,17 @@ fn main() {
         s.settings.contact = false;
         s.settings.max_cycles = env("MAXC").unwrap_or(60);
     }
-    let r = s.solve(&mut |c| {
-        if std::env::var("LOG").is_ok() {
+    let (log, dump) = (std::env::var("LOG").is_ok(), std::env::var("DUMP").is_ok());
+    // One line a cycle, the steady solve's and the steps' alike.
+    let show = |c: &CycleLog| {
+        if log {
             println!(
                 "   {:>3} on {}²: residual {:.3e}, load {:+.3e}, h_c {:.6}, oil {:.2e}, h00 {:.6}",
                 c.cycle, c.points, c.residual, c.load_error, c.central_film, c.mass_defect, c.h00
             )
         }
-    });
+    };
+    let r = s.solve(&mut |c| show(c));
     println!("steady: {:?}, films {:?} a²/R", r.as_ref().map(|r| r.cycles), s.films());
     if std::env::var("NEG").is_ok() {
         let l = s.finest();
@@ -97,7 +100,6 @@ fn main() {
             }
         }
     }
-    let (log, dump) = (std::env::var("LOG").is_ok(), std::env::var("DUMP").is_ok());
     let dt = grid.dx() / per_cell;
     let jc = grid.row_nearest(0.0);
     let line = |s: &ReynoldsSolver, xc: f64, r: Option<&ndarray::Array2<f64>>| {
@@ -121,14 +123,7 @@ fn main() {
             s.set_extra_gap(move |x, y| dent.gap(x, y, xc, delta));
         }
         let t = std::time::Instant::now();
-        let r = s.step(dt, &mut |c| {
-            if log {
-                println!(
-                    "   {:>3} on {}²: residual {:.3e}, load {:+.3e}, h_c {:.6}, oil {:.2e}",
-                    c.cycle, c.points, c.residual, c.load_error, c.central_film, c.mass_defect
-                )
-            }
-        });
+        let r = s.step(dt, &mut |c| show(c));
         let (hc, hm) = s.films();
         match r {
             Ok(r) => {
