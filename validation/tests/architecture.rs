@@ -297,13 +297,8 @@ const UNWRAP_ALLOWED: &[(&str, usize, &str)] = &[
     ("crates/reynolds/src/level.rs", 1, "a row of the level's own arrays (standard layout)"),
     (
         "crates/reynolds/src/level/rows.rs",
-        5,
-        "slices of the level's own arrays (standard layout); the ghost row checked present just before",
-    ),
-    (
-        "crates/reynolds/src/level/smoother.rs",
-        4,
-        "the level's own arrays split at the seam (standard layout)",
+        6,
+        "slices of the level's own arrays (standard layout), and the seam's split of them; the ghost row checked present just before",
     ),
     (
         "crates/core/src/deformation.rs",

@@ -7,7 +7,8 @@
 //! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS`, `MENP` the cycle limit, the `H00`
 //! gain, the gap's under-relaxation, the slow mode's jump cap (0: none) and the meniscus passes; `MASS`,
 //! `FILMTOL` the stop rule's oil and film tolerances; `ROW=y,x0,x1` a row's
-//! state after the solve, `MINAT=1` where the film is thinnest; a failure prints the largest
+//! state after the solve, `MINAT=1` where the film is thinnest, `DUMP=path` every finest-grid
+//! point's `j i P θ H residual` as text; a failure prints the largest
 //! residuals and where. `DRY=1`: the attempt from the dry contact alone; `FED=1`: no flooded
 //! solve first.
 #[path = "../tests/common/mod.rs"]
@@ -107,6 +108,23 @@ fn main() {
             let (j, r) = (grid.row_nearest(v[0]), s.finest().residual(&prm));
             for i in grid.col_nearest(v[1])..=grid.col_nearest(v[2]) {
                 println!("  {}, residual {:+.2e}", point(j, i), r[[j, i]]);
+            }
+        }
+        if let Ok(path) = std::env::var("DUMP") {
+            use std::io::Write;
+            let f = s.finest();
+            let r = f.residual(&prm);
+            let mut out = std::io::BufWriter::new(std::fs::File::create(&path).expect("DUMP"));
+            for ((j, i), v) in r.indexed_iter() {
+                writeln!(
+                    out,
+                    "{j} {i} {:.6e} {:.6e} {:.6e} {:.6e}",
+                    f.p[[j, i]],
+                    f.theta[[j, i]],
+                    f.film[[j, i]],
+                    v
+                )
+                .unwrap();
             }
         }
         if std::env::var("MINAT").is_ok() {

@@ -35,7 +35,7 @@ mod operator;
 mod rows;
 mod smoother;
 use laws::laws_at;
-use rows::{Ghost, Lent, Line, LineWork, Rows};
+use rows::{ColumnHalf, Ghost, Lent, Line, LineWork, Rows, split_rows};
 
 /// Pressure [p_h] below which a point counts as cavitated.
 pub const CAVITATION_FLOOR: f64 = 1e-10;

@@ -131,6 +131,12 @@ impl<'a> Rows<'a> {
     }
 }
 
+/// A grid array's rows before `row` and from `row` on, as two slices (the halves of a sweep).
+pub(super) fn split_rows<T>(a: &mut Array2<T>, row: usize) -> (&mut [T], &mut [T]) {
+    let nx = a.ncols();
+    a.as_slice_mut().expect("grid arrays are in standard layout").split_at_mut(row * nx)
+}
+
 /// A level's arrays lent out while its rows are relaxed (the level itself read-only meanwhile).
 pub(super) struct Lent {
     pub(super) p: Array2<f64>,
@@ -186,4 +192,37 @@ pub(super) struct LineWork {
     pub(super) released: Vec<f64>,
     /// Pressure changes made `(i, j, ΔP)`.
     pub(super) applied: Vec<(usize, usize, f64)>,
+    /// A row's windows `(lo, hi)` around its menisci ([`Level::relax_menisci`]).
+    pub(super) windows: Vec<(usize, usize)>,
+}
+
+/// One half of the column pass's rows ([`Level::relax_columns`]): the level's pressure, film
+/// content, film and `ρ̄θ` from row `first` on, the rows `rows` (inclusive) it solves, and the
+/// other half's pressure row beside them as it was when the pass began.
+pub(super) struct ColumnHalf<'a> {
+    pub(super) first: usize,
+    pub(super) nx: usize,
+    pub(super) rows: (usize, usize),
+    pub(super) p: &'a mut [f64],
+    pub(super) theta: &'a mut [f64],
+    pub(super) film: &'a mut [f64],
+    pub(super) rt: &'a mut [f64],
+    pub(super) seam: (usize, &'a [f64]),
+}
+
+impl ColumnHalf<'_> {
+    /// The index of point `(j, i)` in this half's slices.
+    pub(super) fn at(&self, j: usize, i: usize) -> usize {
+        (j - self.first) * self.nx + i
+    }
+
+    /// Row `j` of one of this half's slices.
+    pub(super) fn row<'b>(&self, v: &'b [f64], j: usize) -> &'b [f64] {
+        &v[self.at(j, 0)..self.at(j, 0) + self.nx]
+    }
+
+    /// Row `j` of the pressure: the seam's where it is the other half's.
+    pub(super) fn p_row(&self, j: usize) -> &[f64] {
+        if j == self.seam.0 { self.seam.1 } else { self.row(self.p, j) }
+    }
 }

@@ -3,6 +3,13 @@
 
 use super::*;
 
+/// A column-pass point's kind: its pressure the unknown …
+const FULL: u8 = 0;
+/// … its film content (`P = 0`, the gap partly filled) …
+const PARTIAL: u8 = 1;
+/// … or neither (touching, or loaded where its change distributes: left to the row pass).
+const HELD: u8 = 2;
+
 /// Forward elimination (no pivoting) of the pentadiagonal system `band · x = r` (row q holds
 /// columns q−2 … q+2), in place, for rows `from` on: rows before `from` must hold their
 /// eliminated state already, rows from `from` on their original one.
@@ -54,64 +61,16 @@ pub(super) fn back_substitute_banded(band: &[[f64; 5]], r: &[f64], x: &mut [f64]
 impl Level {
     /// One sweep of line relaxation over all lines, then the film recomputed.
     ///
-    /// Order: the centre line first, then outward in both directions at once (lines above the
-    /// centre upward, lines below downward: the sweep is symmetric, as the contact is, and the
-    /// two halves run on two threads). Each line sees at once the pressure changes of the lines
-    /// relaxed before it in its own half and their near-field film change. The first line below
-    /// the centre reads the centre row as the centre line left it; the distributive changes it
-    /// makes on the centre row are added when both halves are done. The result does not depend
-    /// on the number of threads.
+    /// Order: the centre line first, then outward in both directions at once
+    /// ([`Self::sweep_halves`]: the sweep is symmetric, as the contact is, and the two halves
+    /// run on two threads). Each line sees at once the pressure changes of the lines relaxed
+    /// before it in its own half and their near-field film change.
     pub fn relax(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
-        let (ny, nx) = self.p.dim();
         self.update_contact();
         self.laws_for(prm);
         self.lagged = s.coefficient_lag > 0.0;
-        self.lend(|this, lent| {
-            let Lent { p, film, laws, theta, work } = lent;
-            let mut whole = Rows::whole(p, film, laws, theta);
-            let mid = ny / 2;
-            this.relax_line(
-                prm,
-                s,
-                &mut whole,
-                Line::whole(mid, &[mid - 1, mid + 1]),
-                &mut work[0],
-            );
-            // The lower half keeps a frozen copy of the centre row; its changes there wait.
-            let ghost = Ghost {
-                j: mid,
-                p: whole.p_row(mid).to_vec(),
-                film: whole.film_row(mid).to_vec(),
-                laws: whole.laws[mid * nx..(mid + 1) * nx].to_vec(),
-                theta: whole.theta_row(mid).to_vec(),
-                deferred: Vec::new(),
-            };
-            let (p_lo, p_hi) = p.as_slice_mut().expect("standard layout").split_at_mut(mid * nx);
-            let (f_lo, f_hi) = film.as_slice_mut().expect("standard layout").split_at_mut(mid * nx);
-            let (l_lo, l_hi) = laws.as_slice_mut().expect("standard layout").split_at_mut(mid * nx);
-            let (t_lo, t_hi) =
-                theta.as_slice_mut().expect("standard layout").split_at_mut(mid * nx);
-            let mut below =
-                Rows { ghost: Some(ghost), ..Rows::from_slices(0, nx, p_lo, f_lo, l_lo, t_lo) };
-            let mut above = Rows::from_slices(mid, nx, p_hi, f_hi, l_hi, t_hi);
-            let [w_lo, w_hi] = work;
-            let upper = || {
-                for j in mid + 1..ny - 1 {
-                    this.relax_line(prm, s, &mut above, Line::whole(j, &[j + 1]), w_hi);
-                }
-            };
-            let lower = || {
-                for j in (1..mid).rev() {
-                    this.relax_line(prm, s, &mut below, Line::whole(j, &[j - 1]), w_lo);
-                }
-            };
-            // Even on the coarsest grids the halves gain from two threads: its many sweeps a
-            // visit are a noticeable share of a solve when run on one.
-            rayon::join(upper, lower);
-            let deferred = below.ghost.take().map(|g| g.deferred).unwrap_or_default();
-            for (i, d) in deferred {
-                above.add_p(i, mid, d);
-            }
+        self.sweep_halves(|this, rows, j, next, w| {
+            this.relax_line(prm, s, rows, Line::whole(j, next), w);
         });
         self.update_film(h00);
         if self.mass_conserving() && self.theta_free {
@@ -123,6 +82,60 @@ impl Level {
         if self.lagged {
             self.follow_laws(prm, s.coefficient_lag);
         }
+    }
+
+    /// Relaxes every interior row through `row(level, rows, j, next, work)`: the centre row
+    /// first, then outward in both directions at once (rows above the centre upward, rows below
+    /// downward, on two threads; `next` is the row relaxed after `j` in its half). The first row
+    /// below the centre reads the centre row as it was when the halves began (the ghost); the
+    /// pressure changes it makes there are added when both halves are done. The result does not
+    /// depend on the number of threads.
+    pub(super) fn sweep_halves(
+        &mut self,
+        row: impl Fn(&Self, &mut Rows, usize, &[usize], &mut LineWork) + Sync,
+    ) {
+        let (ny, nx) = self.p_dim();
+        self.lend(|this, lent| {
+            let Lent { p, film, laws, theta, work } = lent;
+            let mut whole = Rows::whole(p, film, laws, theta);
+            let mid = ny / 2;
+            row(this, &mut whole, mid, &[mid - 1, mid + 1], &mut work[0]);
+            // The lower half keeps a frozen copy of the centre row; its changes there wait.
+            let ghost = Ghost {
+                j: mid,
+                p: whole.p_row(mid).to_vec(),
+                film: whole.film_row(mid).to_vec(),
+                laws: whole.laws[mid * nx..(mid + 1) * nx].to_vec(),
+                theta: whole.theta_row(mid).to_vec(),
+                deferred: Vec::new(),
+            };
+            let (p_lo, p_hi) = split_rows(p, mid);
+            let (f_lo, f_hi) = split_rows(film, mid);
+            let (l_lo, l_hi) = split_rows(laws, mid);
+            let (t_lo, t_hi) = split_rows(theta, mid);
+            let mut below =
+                Rows { ghost: Some(ghost), ..Rows::from_slices(0, nx, p_lo, f_lo, l_lo, t_lo) };
+            let mut above = Rows::from_slices(mid, nx, p_hi, f_hi, l_hi, t_hi);
+            let [w_lo, w_hi] = work;
+            let row = &row;
+            let upper = || {
+                for j in mid + 1..ny - 1 {
+                    row(this, &mut above, j, &[j + 1], w_hi);
+                }
+            };
+            let lower = || {
+                for j in (1..mid).rev() {
+                    row(this, &mut below, j, &[j - 1], w_lo);
+                }
+            };
+            // Even on the coarsest grids the halves gain from two threads: its many sweeps a
+            // visit are a noticeable share of a solve when run on one.
+            rayon::join(upper, lower);
+            let deferred = below.ghost.take().map(|g| g.deferred).unwrap_or_default();
+            for (i, d) in deferred {
+                above.add_p(i, mid, d);
+            }
+        });
     }
 
     /// Lends the pressure, film, laws, film content and line buffers to `f`, with the level
@@ -143,56 +156,65 @@ impl Level {
 
     /// Mass conserving: `meniscus_passes` passes of line relaxation over windows of each row
     /// around the boundaries between full and partly filled gap (7 cells, the neighbours held),
-    /// the rows in turn. A meniscus moves by the oil its neighbours' pressures push into it,
-    /// a little each sweep, and where the supply fills part of the inlet that was the slow
-    /// part of the whole solve, a relaxation-bound mode (docs/decisions.md, "Passes around the
-    /// menisci"). Windows cost a few cells a row.
+    /// the rows in the order of a sweep ([`Self::sweep_halves`], on two threads). A meniscus
+    /// moves by the oil its neighbours' pressures push into it, a little each sweep, and where
+    /// the supply fills part of the inlet that was the slow part of the whole solve, a
+    /// relaxation-bound mode (docs/decisions.md, "Passes around the menisci"). Windows cost a
+    /// few cells a row.
     pub(super) fn relax_menisci(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
-        if s.meniscus_passes == 0 {
-            return;
+        for _ in 0..s.meniscus_passes {
+            self.sweep_halves(|this, rows, j, next, w| {
+                this.relax_windows(prm, s, rows, j, next, w)
+            });
         }
-        let (ny, nx) = self.p_dim();
-        let mut windows: Vec<(usize, usize)> = Vec::new();
-        self.lend(|this, lent| {
-            let Lent { p, film, laws, theta, work } = lent;
-            let mut rows = Rows::whole(p, film, laws, theta);
-            for _ in 0..s.meniscus_passes {
-                for j in 1..ny - 1 {
-                    windows.clear();
-                    let (pr, tr) = (rows.p_row(j), rows.theta_row(j));
-                    let full = |i: usize| pr[i] > 0.0 || tr[i] >= 1.0;
-                    for i in 1..nx - 2 {
-                        if full(i) != full(i + 1) {
-                            let (lo, hi) = (i.saturating_sub(3).max(1), (i + 4).min(nx - 2));
-                            match windows.last_mut() {
-                                Some(w) if w.1 + 1 >= lo => w.1 = hi,
-                                _ => windows.push((lo, hi)),
-                            }
-                        }
-                    }
-                    // A window stops short of the points where the solids touch: their gap's
-                    // changes, relaxed again in each pass, overshot (the line solve sees a
-                    // part of the contact's elastic response) and a start from the dry
-                    // contact ran away.
-                    let touching = |i: usize| this.touch && this.contact[[j, i]];
-                    for &(lo, hi) in &windows {
-                        let mut from = lo;
-                        for i in lo..=hi + 1 {
-                            if i <= hi && !touching(i) {
-                                continue;
-                            }
-                            if from < i {
-                                let line =
-                                    Line { j, next: &[j - 1, j + 1], span: Some((from, i - 1)) };
-                                this.relax_line(prm, s, &mut rows, line, &mut work[0]);
-                            }
-                            from = i + 1;
-                        }
-                    }
+        if s.meniscus_passes > 0 {
+            self.update_film(h00);
+        }
+    }
+
+    /// Relaxes the windows of row `j` around its boundaries between full and partly filled
+    /// gap ([`Self::relax_menisci`]); `next` as for a whole line.
+    fn relax_windows(
+        &self,
+        prm: &ReynoldsParams,
+        s: &RelaxSettings,
+        rows: &mut Rows,
+        j: usize,
+        next: &[usize],
+        w: &mut LineWork,
+    ) {
+        let nx = self.p_dim().1;
+        let mut windows = std::mem::take(&mut w.windows);
+        windows.clear();
+        let (pr, tr) = (rows.p_row(j), rows.theta_row(j));
+        let full = |i: usize| pr[i] > 0.0 || tr[i] >= 1.0;
+        for i in 1..nx - 2 {
+            if full(i) != full(i + 1) {
+                let (lo, hi) = (i.saturating_sub(3).max(1), (i + 4).min(nx - 2));
+                match windows.last_mut() {
+                    Some(w) if w.1 + 1 >= lo => w.1 = hi,
+                    _ => windows.push((lo, hi)),
                 }
             }
-        });
-        self.update_film(h00);
+        }
+        // A window stops short of the points where the solids touch: their gap's changes,
+        // relaxed again in each pass, overshot (the line solve sees a part of the contact's
+        // elastic response) and a start from the dry contact ran away.
+        let touching = |i: usize| self.touch && self.contact[[j, i]];
+        for &(lo, hi) in &windows {
+            let mut from = lo;
+            for i in lo..=hi + 1 {
+                if i <= hi && !touching(i) {
+                    continue;
+                }
+                if from < i {
+                    let line = Line { j, next, span: Some((from, i - 1)) };
+                    self.relax_line(prm, s, rows, line, w);
+                }
+                from = i + 1;
+            }
+        }
+        w.windows = windows;
     }
 
     /// A point's own wedge coefficient through its elastic self-influence, and in a time step
@@ -229,74 +251,78 @@ impl Level {
     /// the other, and the side meniscus crept a little each sweep, for tens of cycles. The
     /// column Jacobian keeps the Poiseuille stencil, the film-content columns and
     /// the elastic coupling along the column; the film is recomputed after the pass.
+    ///
+    /// The columns are solved in two halves at once, the rows below the centre and the rest,
+    /// each holding the other's row beside it as the pass found it: a fed cycle's column pass
+    /// ran on one thread and took a third of its time beside the row sweep's two (the seed's
+    /// contact fed 10 nm on 513²), and the halves solve their own columns as the whole did,
+    /// one row of coupling less.
     pub(super) fn relax_columns(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
         let (ny, nx) = self.p_dim();
-        let h = self.h;
         let (eps, mut rt) = self.coefficients(prm);
-        let m = ny - 2;
+        let mid = ny / 2;
+        let mut p = std::mem::take(&mut self.p);
+        let mut theta = std::mem::take(&mut self.theta);
+        let mut film = std::mem::take(&mut self.film);
+        // Each half reads the other's row beside its own as it was when the pass began: the
+        // result does not depend on the number of threads.
+        let seam = [row_of(&p, mid).to_vec(), row_of(&p, mid - 1).to_vec()];
+        {
+            let (p_lo, p_hi) = split_rows(&mut p, mid);
+            let (t_lo, t_hi) = split_rows(&mut theta, mid);
+            let (f_lo, f_hi) = split_rows(&mut film, mid);
+            let (r_lo, r_hi) = split_rows(&mut rt, mid);
+            let lower = ColumnHalf {
+                first: 0,
+                nx,
+                rows: (1, mid - 1),
+                p: p_lo,
+                theta: t_lo,
+                film: f_lo,
+                rt: r_lo,
+                seam: (mid, &seam[0]),
+            };
+            let upper = ColumnHalf {
+                first: mid,
+                nx,
+                rows: (mid, ny - 2),
+                p: p_hi,
+                theta: t_hi,
+                film: f_hi,
+                rt: r_hi,
+                seam: (mid - 1, &seam[1]),
+            };
+            let this = &*self;
+            rayon::join(
+                || this.relax_column_half(prm, s, &eps, lower),
+                || this.relax_column_half(prm, s, &eps, upper),
+            );
+        }
+        (self.p, self.theta, self.film) = (p, theta, film);
+        self.update_film(h00);
+    }
+
+    /// [`Self::relax_columns`] over one half's rows: each column from the inflow on, solved
+    /// over the half's rows with the other half's row beside them held.
+    fn relax_column_half(
+        &self,
+        prm: &ReynoldsParams,
+        s: &RelaxSettings,
+        eps: &Array2<f64>,
+        c: ColumnHalf,
+    ) {
+        let (ny, nx) = self.p_dim();
+        let (j0, j1) = c.rows;
+        let m = j1 + 1 - j0;
         let mut band = vec![[0.0; 5]; m];
         let mut solve = vec![[0.0; 5]; m];
         let (mut r, mut rhs, mut delta) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
         let (mut kind, mut fixed, mut known) = (vec![0u8; m], vec![false; m], vec![0.0; m]);
         let switch_diag = self.switch_diag(s);
-        const FULL: u8 = 0;
-        const PARTIAL: u8 = 1;
-        const HELD: u8 = 2;
+        // The film rows this half may add near-field changes to.
+        let film_rows = c.first.max(1)..(c.first + c.p.len() / nx).min(ny - 1);
         for i in 1..nx - 1 {
-            for q in 0..m {
-                let j = q + 1;
-                let e = [row_of(&eps, j - 1), row_of(&eps, j), row_of(&eps, j + 1)];
-                let (p, film) = self.rows(j);
-                let t = row_of(&self.theta, j);
-                r[q] = self.rhs[[j, i]] - self.op_line(e, (row_of(&rt, j), t), p, film, i, j);
-                let dens = prm.density.rho(self.p[[j, i]]);
-                kind[q] = if self.contact[[j, i]] {
-                    HELD
-                } else if self.p[[j, i]] <= 0.0 && (self.theta[[j, i]] < 1.0 || r[q] > 0.0) {
-                    PARTIAL
-                } else if 4.0 * e[1][i] / (h * h) < dens * switch_diag {
-                    HELD
-                } else {
-                    FULL
-                };
-            }
-            for q in 0..m {
-                let j = q + 1;
-                let e = [row_of(&eps, j - 1), row_of(&eps, j), row_of(&eps, j + 1)];
-                let (ee, ew, en, es) = self.half_points(e, j, i);
-                let rtj = |ii: usize| rt[[j, ii]];
-                let [w0, w1, w2] = self.upwind(row_of(&self.theta, j), j, i);
-                let (r0, r1, r2) =
-                    (w0 * rtj(i) / h, w1 * rtj(i - 1) / h, w2 * rtj(i.max(2) - 2) / h);
-                let mut row = [0.0; 5];
-                for dj in -1i64..=1 {
-                    let qc = q as i64 + dj;
-                    if qc < 0 || qc >= m as i64 {
-                        continue;
-                    }
-                    let c = (dj + 2) as usize;
-                    row[c] = match kind[qc as usize] {
-                        PARTIAL if dj == 0 => {
-                            -(self.speed * w0 / h + self.time_a0)
-                                * prm.density.rho(self.p[[j, i]])
-                                * self.film[[j, i]]
-                        }
-                        PARTIAL => 0.0,
-                        _ => {
-                            let pois = match dj {
-                                0 => -(ee + ew + en + es) / (h * h),
-                                1 => en / (h * h),
-                                _ => es / (h * h),
-                            };
-                            let elastic = self.speed
-                                * (r0 * self.k(0, dj) + r1 * self.k(1, dj) + r2 * self.k(2, dj))
-                                + self.time_a0 * rtj(i) * self.k(0, dj);
-                            pois - elastic
-                        }
-                    };
-                }
-                band[q] = row;
-            }
+            self.column_system(prm, eps, &c, (i, switch_diag), (&mut kind, &mut r, &mut band));
             let omega = |k: u8| if k == PARTIAL { 1.0 } else { s.omega_gs };
             fixed.iter_mut().zip(&kind).for_each(|(f, &k)| *f = k == HELD);
             known.fill(0.0);
@@ -318,12 +344,12 @@ impl Level {
                     if fixed[q] {
                         continue;
                     }
-                    let j = q + 1;
+                    let at = c.at(q + j0, i);
                     let k = if kind[q] == PARTIAL {
-                        let t = self.theta[[j, i]] + delta[q];
-                        (!(0.0..=1.0).contains(&t)).then(|| t.clamp(0.0, 1.0) - self.theta[[j, i]])
+                        let t = c.theta[at] + delta[q];
+                        (!(0.0..=1.0).contains(&t)).then(|| t.clamp(0.0, 1.0) - c.theta[at])
                     } else {
-                        let pq = self.p[[j, i]];
+                        let pq = c.p[at];
                         (pq + omega(kind[q]) * delta[q] < 0.0).then(|| -pq / omega(kind[q]))
                     };
                     if let Some(k) = k {
@@ -334,31 +360,112 @@ impl Level {
                 }
             }
             for q in 0..m {
-                let j = q + 1;
+                let j = q + j0;
                 let d = delta[q] * omega(kind[q]);
                 if !d.is_finite() || kind[q] == HELD {
                     continue;
                 }
+                let at = c.at(j, i);
                 if kind[q] == PARTIAL {
-                    let t = (self.theta[[j, i]] + d).clamp(0.0, 1.0);
-                    self.theta[[j, i]] = t;
-                    rt[[j, i]] = prm.density.rho(self.p[[j, i]]) * t;
+                    let t = (c.theta[at] + d).clamp(0.0, 1.0);
+                    c.theta[at] = t;
+                    c.rt[at] = prm.density.rho(c.p[at]) * t;
                 } else {
-                    let old = self.p[[j, i]];
+                    let old = c.p[at];
                     let new = if old + d > CAVITATION_FLOOR { old + d } else { 0.0 };
-                    self.p[[j, i]] = new;
+                    c.p[at] = new;
                     // The film nearby follows at once (the kernel's nearest field, what the
-                    // column Jacobian reads).
-                    for jj in j.saturating_sub(2).max(1)..(j + 3).min(ny - 1) {
+                    // column Jacobian reads), on this half's rows.
+                    let jj_range =
+                        j.saturating_sub(2).max(film_rows.start)..(j + 3).min(film_rows.end);
+                    for jj in jj_range {
                         for ii in i.saturating_sub(2)..=(i + 2).min(nx - 1) {
-                            self.film[[jj, ii]] +=
-                                (new - old) * self.k(ii as i64 - i as i64, jj as i64 - j as i64);
+                            let k = self.k(ii as i64 - i as i64, jj as i64 - j as i64);
+                            c.film[c.at(jj, ii)] += (new - old) * k;
                         }
                     }
                 }
             }
         }
-        self.update_film(h00);
+    }
+
+    /// Column `i` of a [`ColumnHalf`]: each point's kind, its residual and its row of the
+    /// column Jacobian (none for a held point: its row is the identity in the solve).
+    fn column_system(
+        &self,
+        prm: &ReynoldsParams,
+        eps: &Array2<f64>,
+        c: &ColumnHalf,
+        (i, switch_diag): (usize, f64),
+        (kind, r, band): (&mut [u8], &mut [f64], &mut [[f64; 5]]),
+    ) {
+        let h = self.h;
+        let (j0, m) = (c.rows.0, kind.len());
+        for q in 0..m {
+            let j = q + j0;
+            let e = [row_of(eps, j - 1), row_of(eps, j), row_of(eps, j + 1)];
+            let pj = c.p[c.at(j, i)];
+            let dens = prm.density.rho(pj);
+            let distributive = 4.0 * e[1][i] / (h * h) < dens * switch_diag;
+            // A touching point, and a loaded one whose change distributes, is held whatever
+            // its residual: neither the residual nor its Jacobian row is read (inside the
+            // contact that is most of a column).
+            if self.contact[[j, i]] || pj > 0.0 && distributive {
+                kind[q] = HELD;
+                continue;
+            }
+            let rows = [c.p_row(j - 1), c.p_row(j), c.p_row(j + 1)];
+            let oil = (c.row(&*c.rt, j), c.row(&*c.theta, j));
+            r[q] = self.rhs[[j, i]] - self.op_line(e, oil, rows, c.row(&*c.film, j), i, j);
+            kind[q] = if pj <= 0.0 && (c.theta[c.at(j, i)] < 1.0 || r[q] > 0.0) {
+                PARTIAL
+            } else if distributive {
+                HELD
+            } else {
+                FULL
+            };
+        }
+        for q in 0..m {
+            if kind[q] == HELD {
+                // Its row is the identity in the solve.
+                continue;
+            }
+            let j = q + j0;
+            let e = [row_of(eps, j - 1), row_of(eps, j), row_of(eps, j + 1)];
+            let (ee, ew, en, es) = self.half_points(e, j, i);
+            let rt_row = c.row(&*c.rt, j);
+            let [w0, w1, w2] = self.upwind(c.row(&*c.theta, j), j, i);
+            let (r0, r1, r2) =
+                (w0 * rt_row[i] / h, w1 * rt_row[i - 1] / h, w2 * rt_row[i.max(2) - 2] / h);
+            let mut row = [0.0; 5];
+            for dj in -1i64..=1 {
+                let qc = q as i64 + dj;
+                if qc < 0 || qc >= m as i64 {
+                    continue;
+                }
+                let col = (dj + 2) as usize;
+                row[col] = match kind[qc as usize] {
+                    PARTIAL if dj == 0 => {
+                        -(self.speed * w0 / h + self.time_a0)
+                            * prm.density.rho(c.p[c.at(j, i)])
+                            * c.film[c.at(j, i)]
+                    }
+                    PARTIAL => 0.0,
+                    _ => {
+                        let pois = match dj {
+                            0 => -(ee + ew + en + es) / (h * h),
+                            1 => en / (h * h),
+                            _ => es / (h * h),
+                        };
+                        let elastic = self.speed
+                            * (r0 * self.k(0, dj) + r1 * self.k(1, dj) + r2 * self.k(2, dj))
+                            + self.time_a0 * rt_row[i] * self.k(0, dj);
+                        pois - elastic
+                    }
+                };
+            }
+            band[q] = row;
+        }
     }
 
     /// Makes column `q` of the line Jacobian `band` (row `j`, the line's first point `lo`) a
