@@ -10,6 +10,26 @@ const PARTIAL: u8 = 1;
 /// … or neither (touching, or loaded where its change distributes: left to the row pass).
 const HELD: u8 = 2;
 
+/// `film[ii] += d K(|ii − i|)` for the points within `NEAR` cells of `i` on a row, `krow` the
+/// kernel's row at the change's distance across the rows: the near-field film change of a
+/// pressure change `d` at `i` that the lines relaxed after it see at once (the full film is
+/// recomputed by FFT after a sweep). Within 8 cells the kernel carries what the line
+/// Jacobian needs; beyond, the change is smooth and small.
+fn add_near_field(film: &mut [f64], krow: &[f64], i: usize, d: f64) {
+    const NEAR: usize = 8;
+    let (lo, hi) = (i.saturating_sub(NEAR), (i + NEAR).min(film.len() - 1));
+    // Two slices (upstream, the kernel read backwards; from `i` on, forwards): the same sums,
+    // bit for bit, vectorised and without an index check per point. Measured over the seed's
+    // dent passage (257²): this loop held ~30 % of the line relaxation's samples, and the
+    // relaxation's share of the run fell from 44 % to 40 % (steps ~3 % faster).
+    for (f, &k) in film[lo..i].iter_mut().zip(krow[1..=i - lo].iter().rev()) {
+        *f += d * k;
+    }
+    for (f, &k) in film[i..=hi].iter_mut().zip(&krow[..=hi - i]) {
+        *f += d * k;
+    }
+}
+
 /// Forward elimination (no pivoting) of the pentadiagonal system `band · x = r` (row q holds
 /// columns q−2 … q+2), in place, for rows `from` on: rows before `from` must hold their
 /// eliminated state already, rows from `from` on their original one.
@@ -156,16 +176,32 @@ impl Level {
 
     /// Mass conserving: `meniscus_passes` passes of line relaxation over windows of each row
     /// around the boundaries between full and partly filled gap (7 cells, the neighbours held),
-    /// the rows in the order of a sweep ([`Self::sweep_halves`], on two threads). A meniscus
-    /// moves by the oil its neighbours' pressures push into it, a little each sweep, and where
-    /// the supply fills part of the inlet that was the slow part of the whole solve, a
-    /// relaxation-bound mode (docs/decisions.md, "Passes around the menisci"). Windows cost a
-    /// few cells a row.
+    /// the passes in turn from one edge to the other and outward from the centre on two
+    /// threads ([`Self::sweep_halves`]). A meniscus moves by the oil its neighbours' pressures push into it, a
+    /// little each sweep, and where the supply fills part of the inlet that was the slow part
+    /// of the whole solve, a relaxation-bound mode (docs/decisions.md, "Passes around the
+    /// menisci"). Windows cost a few cells a row.
     pub(super) fn relax_menisci(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
-        for _ in 0..s.meniscus_passes {
-            self.sweep_halves(|this, rows, j, next, w| {
+        for pass in 0..s.meniscus_passes {
+            let windows = |this: &Self, rows: &mut Rows, j, next: &[usize], w: &mut LineWork| {
                 this.relax_windows(prm, s, rows, j, next, w)
-            });
+            };
+            // The rows in turn from one edge to the other on one thread, then outward from the
+            // centre on two: outward alone, a meniscus's change never reached the rows between
+            // it and the centre within a sweep (docs/decisions.md, "The fed solve's cost on the
+            // finest grids").
+            if pass % 2 == 1 {
+                self.sweep_halves(windows);
+            } else {
+                let ny = self.p_dim().0;
+                self.lend(|this, lent| {
+                    let Lent { p, film, laws, theta, work } = lent;
+                    let mut rows = Rows::whole(p, film, laws, theta);
+                    for j in 1..ny - 1 {
+                        windows(this, &mut rows, j, &[j - 1, j + 1], &mut work[0]);
+                    }
+                });
+            }
         }
         if s.meniscus_passes > 0 {
             self.update_film(h00);
@@ -745,25 +781,11 @@ impl Level {
             rows.theta_row_mut(j).copy_from_slice(&w.theta);
         }
         // The next lines see the near-field film change of these changes at once (the full
-        // film is recomputed by FFT after the sweep): within NEAR cells the kernel carries
-        // what the line Jacobian needs; beyond, the change is smooth and small.
-        const NEAR: usize = 8;
+        // film is recomputed by FFT after the sweep).
         for &jn in next.iter().filter(|&&jn| jn >= 1 && jn < ny - 1) {
             let film = rows.film_row_mut(jn);
             for &(i, jj, d) in &w.applied {
-                let krow = &self.kernel[jn.abs_diff(jj)];
-                let (lo, hi) = (i.saturating_sub(NEAR), (i + NEAR).min(nx - 1));
-                // `film[ii] += d K(|ii − i|)` for `ii` in `lo ..= hi`, as two slices (upstream,
-                // the kernel read backwards; from `i` on, forwards): the same sums, bit for bit,
-                // vectorised and without an index check per point. Measured over the seed's dent
-                // passage (257²): this loop held ~30 % of the line relaxation's samples, and the
-                // relaxation's share of the run fell from 44 % to 40 % (steps ~3 % faster).
-                for (f, &k) in film[lo..i].iter_mut().zip(krow[1..=i - lo].iter().rev()) {
-                    *f += d * k;
-                }
-                for (f, &k) in film[i..=hi].iter_mut().zip(&krow[..=hi - i]) {
-                    *f += d * k;
-                }
+                add_near_field(film, &self.kernel[jn.abs_diff(jj)], i, d);
             }
         }
     }
