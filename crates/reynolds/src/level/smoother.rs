@@ -177,10 +177,10 @@ impl Level {
     /// Mass conserving: `meniscus_passes` passes of line relaxation over windows of each row
     /// around the boundaries between full and partly filled gap (7 cells, the neighbours held),
     /// the passes in turn from one edge to the other and outward from the centre on two
-    /// threads ([`Self::sweep_halves`]). A meniscus moves by the oil its neighbours' pressures push into it, a
-    /// little each sweep, and where the supply fills part of the inlet that was the slow part
-    /// of the whole solve, a relaxation-bound mode (docs/decisions.md, "Passes around the
-    /// menisci"). Windows cost a few cells a row.
+    /// threads ([`Self::sweep_halves`]). A meniscus moves by the oil its neighbours' pressures
+    /// push into it, a little each sweep, and where the supply fills part of the inlet that
+    /// was the slow part of the whole solve, a relaxation-bound mode (docs/decisions.md,
+    /// "Passes around the menisci"). Windows cost a few cells a row.
     pub(super) fn relax_menisci(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
         for pass in 0..s.meniscus_passes {
             let windows = |this: &Self, rows: &mut Rows, j, next: &[usize], w: &mut LineWork| {
@@ -289,10 +289,9 @@ impl Level {
     /// the elastic coupling along the column; the film is recomputed after the pass.
     ///
     /// The columns are solved in two halves at once, the rows below the centre and the rest,
-    /// each holding the other's row beside it as the pass found it: a fed cycle's column pass
-    /// ran on one thread and took a third of its time beside the row sweep's two (the seed's
-    /// contact fed 10 nm on 513²), and the halves solve their own columns as the whole did,
-    /// one row of coupling less.
+    /// each holding the other's row beside it as the pass found it: on one thread the column
+    /// pass took a fifth of a fed solve's time (the seed's contact fed 10 nm on 513²), and the
+    /// halves solve their own columns as the whole did, one row of coupling less.
     pub(super) fn relax_columns(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
         let (ny, nx) = self.p_dim();
         let (eps, mut rt) = self.coefficients(prm);
