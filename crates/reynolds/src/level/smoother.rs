@@ -81,10 +81,10 @@ pub(super) fn back_substitute_banded(band: &[[f64; 5]], r: &[f64], x: &mut [f64]
 impl Level {
     /// One sweep of line relaxation over all lines, then the film recomputed.
     ///
-    /// Order: the centre line first, then outward in both directions at once
-    /// ([`Self::sweep_halves`]: the sweep is symmetric, as the contact is, and the two halves
-    /// run on two threads). Each line sees at once the pressure changes of the lines relaxed
-    /// before it in its own half and their near-field film change.
+    /// Order: the centre line first, then outward in both directions at once (the sweep is
+    /// symmetric, as the contact is, and the two halves run on two threads; the result does not
+    /// depend on the number of threads). Each line sees at once the pressure changes of the
+    /// lines relaxed before it in its own half and their near-field film change.
     pub fn relax(&mut self, prm: &ReynoldsParams, h00: f64, s: &RelaxSettings) {
         self.update_contact();
         self.laws_for(prm);
