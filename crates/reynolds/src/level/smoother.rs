@@ -346,7 +346,7 @@ impl Level {
         eps: &Array2<f64>,
         c: ColumnHalf,
     ) {
-        let (ny, nx) = self.p_dim();
+        let nx = self.p_dim().1;
         let (j0, j1) = c.rows;
         let m = j1 + 1 - j0;
         let mut band = vec![[0.0; 5]; m];
@@ -354,8 +354,6 @@ impl Level {
         let (mut r, mut rhs, mut delta) = (vec![0.0; m], vec![0.0; m], vec![0.0; m]);
         let (mut kind, mut fixed, mut known) = (vec![0u8; m], vec![false; m], vec![0.0; m]);
         let switch_diag = self.switch_diag(s);
-        // The film rows this half may add near-field changes to.
-        let film_rows = c.first.max(1)..(c.first + c.p.len() / nx).min(ny - 1);
         for i in 1..nx - 1 {
             self.column_system(prm, eps, &c, (i, switch_diag), (&mut kind, &mut r, &mut band));
             let omega = |k: u8| if k == PARTIAL { 1.0 } else { s.omega_gs };
@@ -411,9 +409,7 @@ impl Level {
                     c.p[at] = new;
                     // The film nearby follows at once (the kernel's nearest field, what the
                     // column Jacobian reads), on this half's rows.
-                    let jj_range =
-                        j.saturating_sub(2).max(film_rows.start)..(j + 3).min(film_rows.end);
-                    for jj in jj_range {
+                    for jj in j.saturating_sub(2).max(j0)..=(j + 2).min(j1) {
                         for ii in i.saturating_sub(2)..=(i + 2).min(nx - 1) {
                             let k = self.k(ii as i64 - i as i64, jj as i64 - j as i64);
                             c.film[c.at(jj, ii)] += (new - old) * k;
