@@ -61,6 +61,12 @@ fn main() {
         if let Ok(v) = std::env::var("FILMTOL") {
             settings.film_tolerance = v.parse().expect("FILMTOL: relative");
         }
+        if let Ok(v) = std::env::var("CFC") {
+            settings.coarse_film_content = v == "1";
+        }
+        if let Ok(v) = std::env::var("COARSEST") {
+            settings.coarsest_points = v.parse().expect("COARSEST: points");
+        }
         if let Ok(v) = std::env::var("JUMPS") {
             settings.mode_extrapolation = v.parse().expect("JUMPS: a cap");
         }

@@ -102,6 +102,13 @@ const DRY_START_OMEGA_CONTACT: f64 = 0.4;
 /// Mass conserving, the full-multigrid start begins on the coarsest grid with at least this
 /// many points per side ([`ReynoldsSolver::fmg_top`]) …
 const STARVED_FMG_POINTS: usize = 129;
+/// … whose cells are at most this many times the grid rule's ([`formulas::cell_needed`]): the
+/// film's existence was measured to end at twice the rule's cell ([`formulas::CELLS_PER_FILM`]).
+/// A start on a grid that closes the film hands the next grid a meniscus far from its own and a
+/// third of the supply unaccounted for, drained about a cell a cycle (5 mm/s, 40 N fed 10 nm:
+/// 43 cycles on 513² from 129², 17 from 257²; docs/decisions.md, "The full-multigrid start on
+/// a grid that holds the film") …
+const STARVED_FMG_CELLS: f64 = 2.0;
 /// … and gives each grid of the start at most this many cycles to settle.
 const STARVED_FMG_MAX_CYCLES: usize = 40;
 
@@ -160,9 +167,10 @@ impl ReynoldsSolver {
     }
 
     /// The grid a solve starts on: the coarsest for a full-multigrid start, the finest without.
-    /// Mass conserving, the coarsest with at least [`STARVED_FMG_POINTS`] per side: coarser
-    /// grids do not resolve a starved film, and the meniscus they give leads the finer grids
-    /// into a flooded-like state the supply cannot sustain, drained one sweep at a time.
+    /// Mass conserving, the coarsest with at least [`STARVED_FMG_POINTS`] per side, and, where the
+    /// finest grid holds the film, the coarsest whose cells do ([`STARVED_FMG_CELLS`]): coarser grids do not resolve a starved film, and
+    /// the meniscus they give leads the finer grids into a flooded-like state the supply cannot
+    /// sustain, drained one sweep at a time.
     fn fmg_top(&self) -> usize {
         if self.active.fmg_cycles == 0 {
             return 0;
@@ -170,10 +178,19 @@ impl ReynoldsSolver {
         if !self.levels[0].mass_conserving() {
             return self.levels.len() - 1;
         }
-        (0..self.levels.len())
+        let by_points = (0..self.levels.len())
             .rev()
             .find(|&l| self.levels[l].grid.nx >= STARVED_FMG_POINTS)
-            .unwrap_or(0)
+            .unwrap_or(0);
+        // On a grid too coarse for the film itself (the solids may touch) the start keeps the
+        // coarser grids: the finest alone, from the Hertz pressure, diverged there.
+        let finest_holds =
+            self.levels[0].grid.dx() <= STARVED_FMG_CELLS * formulas::cell_needed(self.nvm_film());
+        if finest_holds {
+            by_points.min(self.film_holding_depth(STARVED_FMG_CELLS))
+        } else {
+            by_points
+        }
     }
 
     /// Whether the coarser grids of the cycles solve for the film content, and with it whether
