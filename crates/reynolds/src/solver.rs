@@ -184,13 +184,17 @@ impl ReynoldsSolver {
             .unwrap_or(0);
         // On a grid too coarse for the film itself (the solids may touch) the start keeps the
         // coarser grids: the finest alone, from the Hertz pressure, diverged there.
-        let finest_holds =
-            self.levels[0].grid.dx() <= STARVED_FMG_CELLS * formulas::cell_needed(self.nvm_film());
-        if finest_holds {
+        if self.finest_holds_film() {
             by_points.min(self.film_holding_depth(STARVED_FMG_CELLS))
         } else {
             by_points
         }
+    }
+
+    /// Whether the finest grid's cells hold the contact's film: at most [`STARVED_FMG_CELLS`]
+    /// times the grid rule's, the cell at which the film's existence was measured to end.
+    pub(super) fn finest_holds_film(&self) -> bool {
+        self.levels[0].grid.dx() <= STARVED_FMG_CELLS * formulas::cell_needed(self.nvm_film())
     }
 
     /// Whether the coarser grids of the cycles solve for the film content, and with it whether

@@ -515,7 +515,7 @@ impl ReynoldsSolver {
                 return Ok(self.attempt_report(None, cycle, history, t0, jumps, touching.at));
             }
             prev = now;
-            let w = self.stall_window();
+            let w = self.judged_stall_window(touching.at.is_some(), closed);
             if stalled_over(&history[touching.judged_from..], rec.points, w) {
                 if closed && settled_round_closure(&history[history.len() - w..]) {
                     self.let_touch(&mut touching, cycle, history.len(), false);
