@@ -167,10 +167,10 @@ impl ReynoldsSolver {
     }
 
     /// The grid a solve starts on: the coarsest for a full-multigrid start, the finest without.
-    /// Mass conserving, the coarsest with at least [`STARVED_FMG_POINTS`] per side, and, where the
-    /// finest grid holds the film, the coarsest whose cells do ([`STARVED_FMG_CELLS`]): coarser grids do not resolve a starved film, and
-    /// the meniscus they give leads the finer grids into a flooded-like state the supply cannot
-    /// sustain, drained one sweep at a time.
+    /// Mass conserving, the coarsest with at least [`STARVED_FMG_POINTS`] per side and, where
+    /// the finest grid holds the film, whose cells hold it too ([`STARVED_FMG_CELLS`]): coarser
+    /// grids do not resolve a starved film, and the meniscus they give leads the finer grids
+    /// into a flooded-like state the supply cannot sustain, drained one sweep at a time.
     fn fmg_top(&self) -> usize {
         if self.active.fmg_cycles == 0 {
             return 0;
@@ -483,5 +483,49 @@ mod tests {
         let d = s.diagnose(&falling, false);
         let g = s.levels[0].grid;
         assert_eq!((d.kind, d.at), (FailureKind::FilmClosed, Some((g.x(7), g.y(5)))), "{d}");
+    }
+
+    /// The seed's contact at `u1` [m/s] under `load` [N] on `n`² over its ±1.25 a, fed 10 nm.
+    fn fed_seed(u1: f64, load: f64, n: usize) -> ReynoldsSolver {
+        let contact = ehl_core::Contact { load, ..SEED_CONTACT };
+        let lub = &ehl_core::SEED_LUBRICANT;
+        let (visc, dens) = (ViscosityLaw::Roelands, DensityLaw::DowsonHigginson);
+        let prm = ReynoldsParams::from_si(&contact, lub, 2.0 * u1, visc, dens);
+        let grid = Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
+        let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
+        let hd = 10e-9 / prm.scales.delta;
+        s.set_supply(Some(&move |_y| hd));
+        s
+    }
+
+    #[test]
+    fn a_fed_start_begins_on_the_coarsest_grid_that_holds_the_film() {
+        let top = |s: &ReynoldsSolver| s.levels[s.fmg_top()].grid.nx;
+        // 5 mm/s, 40 N: 129² closes the film (cells 3.8× the grid rule's), 257² holds it (1.9×).
+        assert_eq!(top(&fed_seed(0.005, 40.0, 513)), 257);
+        assert_eq!(top(&fed_seed(0.005, 40.0, 257)), 257);
+        // The seed's 10 mm/s, 20 N: 129² holds it (2.0×).
+        assert_eq!(top(&fed_seed(0.01, 20.0, 513)), 129);
+        // 2 mm/s, 80 N on 257² (the rule asks for 1153²): the finest does not hold the film, and
+        // the start keeps the coarser grids, down to 129 points.
+        assert_eq!(top(&fed_seed(0.002, 80.0, 257)), 129);
+    }
+
+    #[test]
+    fn a_first_attempt_on_a_grid_that_holds_the_film_is_judged_over_half_the_stall_window() {
+        let mut s = fed_seed(0.005, 40.0, 257);
+        let (full, half) = (s.stall_window(), s.active.stall_cycles / 2);
+        assert!(half > 0 && half < full);
+        s.set_coarse_theta(true);
+        assert_eq!(s.judged_stall_window(false, false), half);
+        // Touching, or closed, the whole window, as in every later attempt.
+        assert_eq!(s.judged_stall_window(true, false), full);
+        assert_eq!(s.judged_stall_window(false, true), full);
+        s.set_coarse_theta(false);
+        assert_eq!(s.judged_stall_window(false, false), full);
+        // On a grid too coarse for the film the first attempt's film closes late: whole window.
+        let mut coarse = fed_seed(0.002, 80.0, 257);
+        coarse.set_coarse_theta(true);
+        assert_eq!(coarse.judged_stall_window(false, false), full);
     }
 }
