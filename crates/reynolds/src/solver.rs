@@ -512,7 +512,7 @@ mod tests {
     }
 
     #[test]
-    fn a_first_attempt_on_a_grid_that_holds_the_film_is_judged_over_half_the_stall_window() {
+    fn a_first_attempt_on_a_grid_that_holds_the_film_is_judged_over_a_quarter_of_its_window() {
         let mut s = fed_seed(0.005, 40.0, 257);
         let (full, half) = (s.stall_window(), s.active.stall_cycles / 2);
         assert!(half > 0 && half < full);
