@@ -46,8 +46,8 @@ pub fn run(name: &str, map: bool, from: Option<&Path>, out: &Path) -> Result<()>
          rule's refinement or the checks: the map, not each answer's error (a film thinner than \
          the cells resolve fails as closed)"
     } else {
-        "Every point on the grid and domain its rule gives it, each answer checked against half \
-         and a quarter of its points per side and a longer inlet"
+        "Every point on the domain its rule gives it, each model on the cells it needs there, each \
+         answer checked against half and a quarter of its points per side and a longer inlet"
     };
     let mut intro = format!(
         "`ehl sweep {name}`: {}\n\n{how}, {} points {time}. The table is the sweep's own \

@@ -6,7 +6,7 @@
 //! `POIS=ratio` sets `relax.poiseuille_full_step`; `U=m/s` the rolling speed `u1` of the seed's
 //! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS`, `MENP` the cycle limit, the `H00`
 //! gain, the gap's under-relaxation, the slow mode's jump cap (0: none) and the meniscus passes; `MASS`,
-//! `FILMTOL` the stop rule's oil and film tolerances; `ROW=y,x0,x1` a row's
+//! `FILMTOL` the stop rule's oil and film tolerances; `DOMAIN=x0,x1,y0,y1` the domain [a]; `ROW=y,x0,x1` a row's
 //! state after the solve, `MINAT=1` where the film is thinnest, `DUMP=path` every finest-grid
 //! point's `j i P θ H residual` as text; a failure prints the largest
 //! residuals and where. `DRY=1`: the attempt from the dry contact alone; `FED=1`: no flooded
@@ -31,7 +31,12 @@ fn main() {
         ),
         (false, None) => common::seed(),
     };
-    let grid = if m20 {
+    let domain: Option<Vec<f64>> = std::env::var("DOMAIN")
+        .ok()
+        .map(|v| v.split(',').map(|t| t.parse().expect("DOMAIN: x0,x1,y0,y1 [a]")).collect());
+    let grid = if let Some(d) = domain {
+        Grid::new(n, n, (d[0], d[1]), (d[2], d[3]))
+    } else if m20 {
         Grid::new(n, n, (-4.5, 1.5), (-3.0, 3.0))
     } else {
         Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25))

@@ -38,7 +38,7 @@
 //! estimated errors and the domain's relative changes of `h_c`, `h_min`, `p_max` are reported,
 //! and a point is flagged when one exceeds the sweep's `flag_change_above`.
 
-use ehl_scene::{Domain, GridSpec, Scene};
+use ehl_scene::{Domain, GridSpec, Model, Scene};
 
 /// The inlet distance [a] the models of `scene` need: the largest any of them asks for
 /// ([`crate::model::ContactModel::inlet_distance`]); 0 when none does.
@@ -91,8 +91,24 @@ pub fn cell_needed(scene: &Scene, error: f64) -> f64 {
 /// `resolve`, for answers within `error`: the sweep's flag limit), and what changed (`None`
 /// when the scene's own already suffice).
 pub fn adapt(scene: &Scene, resolve: bool, error: f64) -> (Scene, Option<String>) {
-    let inlet = inlet_needed(scene);
     let cell = if resolve { cell_needed(scene, error) } else { f64::INFINITY };
+    adapt_to(scene, inlet_needed(scene), cell, error)
+}
+
+/// The one-model scene `m` runs a point of `scene` on: the point's domain (the inlet every
+/// model of `scene` needs, so that all answer over the same rectangle) with the cells `m`
+/// itself needs (the grid rule when `resolve`, for answers within `error`), never coarser
+/// than the scene's. A model that needs no finer cells than the scene's (the layer, the dry
+/// contact) is not run on the grid a thin Reynolds film asks for: its own checks say how good
+/// its answer is there.
+pub fn adapt_model(scene: &Scene, m: Model, resolve: bool, error: f64) -> Scene {
+    let one = scene.for_model(m);
+    let cell = if resolve { cell_needed(&one, error) } else { f64::INFINITY };
+    adapt_to(&one, inlet_needed(scene), cell, error).0
+}
+
+/// `scene` with its inlet at least `inlet` [a] upstream and its cells at most `cell` [a].
+fn adapt_to(scene: &Scene, inlet: f64, cell: f64, error: f64) -> (Scene, Option<String>) {
     let (d, g) = (scene.domain, scene.grid);
     let dx = (d.x_a[1] - d.x_a[0]) / (g.nx - 1) as f64;
     let dy = (d.y_a[1] - d.y_a[0]) / (g.ny - 1) as f64;

@@ -60,8 +60,9 @@ pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
             put("hamrock_dowson_central_m", json!(f.map(|f| f[0])));
             put("hamrock_dowson_minimum_m", json!(f.map(|f| f[1])));
             put("nvm_central_m", json!(f.map(|f| f[2])));
-            put("nx", json!(r.nx));
-            put("ny", json!(r.ny));
+            let grid = m.grid.unwrap_or(ehl_scene::GridSpec { nx: r.nx, ny: r.ny });
+            put("nx", json!(grid.nx));
+            put("ny", json!(grid.ny));
             put("x_min_a", json!(r.x_a[0]));
             put("x_max_a", json!(r.x_a[1]));
             put("y_min_a", json!(r.y_a[0]));
@@ -99,8 +100,9 @@ pub fn cost_csv(plan: &Plan, recs: &[PointRecord]) -> String {
                 row.insert(a.parameter.name(), json!(v));
             }
             row.insert("model".into(), json!(model_name(m.model)));
-            row.insert("nx".into(), json!(r.nx));
-            row.insert("ny".into(), json!(r.ny));
+            let g = m.grid.unwrap_or(ehl_scene::GridSpec { nx: r.nx, ny: r.ny });
+            row.insert("nx".into(), json!(g.nx));
+            row.insert("ny".into(), json!(g.ny));
             row.insert("wall_time_s".into(), json!(m.wall_time_s));
             row.insert("check_wall_time_s".into(), json!(m.check_wall_time_s));
             rows.push(Value::Object(row));
@@ -135,7 +137,7 @@ pub fn results_json(plan: &Plan, recs: &[PointRecord]) -> Value {
         "definitions": {
             "film": "separation of the solid surfaces (see comparison.json of `ehl compare`)",
             "grid_change": "(this point - the same domain at half the points per side) / the half-points run (h_min: over its central film)",
-            "grid_order": "the order of convergence observed on the point's grid, half and a quarter of its points per side (empty: the changes alternate, or the quarter grid failed)",
+            "grid_order": "the order of convergence observed on the model's grid at the point, half and a quarter of its points per side (empty: the changes alternate, or the quarter grid failed)",
             "grid_error": "the point's estimated relative discretisation error, Roache's grid convergence index: 1.25 |f_half - f| / (2^p - 1) over f (h_min: over h_c), p the observed order held to [0.5, 2]; without an observed order, |f_half - f| over the same",
             "domain_change": "(larger domain - the half-points run) / the half-points run, same cells (h_min: over its central film)",
             "flag": format!("an estimated grid error or a domain change beyond {} (relative), or a check that failed", plan.sweep.flag_change_above),
@@ -180,7 +182,7 @@ pub fn table(plan: &Plan, recs: &[PointRecord]) -> String {
         }
         t.push('\n');
     }
-    t += "  (±: h_c's estimated grid error, from the point's grid, half and a quarter of its points per side)\n";
+    t += "  (±: h_c's estimated grid error, from each model's grid, half and a quarter of its points per side)\n";
     t += "  (* flagged: the solver returned an unconverged answer that had settled, or its estimated grid error or the domain check's change exceeds the limit; failures and flags in results.csv)\n";
     for r in robustness(plan, recs) {
         t += &format!("  {r}\n");
