@@ -53,8 +53,14 @@ impl ReynoldsSolver {
             if let Some(failed) = given_up(&rep) {
                 self.active.relax.coefficient_lag = theta;
                 let said = format!("first attempt, laws following at once: {}", failed.0);
-                rep =
-                    self.attempt(log, &format!("with lagged laws (θ = {theta})"), failed, said, t0);
+                rep = self.attempt(
+                    log,
+                    Begin::Afresh,
+                    &format!("with lagged laws (θ = {theta})"),
+                    failed,
+                    said,
+                    t0,
+                );
             }
         }
         let omega = self.active.fallback_omega_gs;
@@ -71,7 +77,7 @@ impl ReynoldsSolver {
                     "with lagged laws (θ = {}) and Gauss–Seidel changes × {omega}",
                     self.active.relax.coefficient_lag
                 );
-                rep = self.attempt(log, &what, failed, said, t0);
+                rep = self.attempt(log, Begin::Afresh, &what, failed, said, t0);
             }
         }
         if self.active.flooded_start_fallback && self.levels[0].mass_conserving() {
@@ -203,7 +209,7 @@ impl ReynoldsSolver {
         if let Some(failed) = stalled_open(&rep, near) {
             let said = format!("{first}: {}", failed.0);
             let what = "continued with the coarser grids holding the film content";
-            rep = self.continued(log, what, failed, said, t0);
+            rep = self.attempt(log, Begin::WhereLeft, what, failed, said, t0);
         }
         // Failed: once more with the coarser grids holding the film content, every grid
         // down to the coarsest.
@@ -213,6 +219,7 @@ impl ReynoldsSolver {
                 if self.attempts > 1 { failed.0.clone() } else { format!("{first}: {}", failed.0) };
             rep = self.attempt(
                 log,
+                Begin::Afresh,
                 "with the coarser grids holding the film content",
                 failed,
                 said,
@@ -222,51 +229,31 @@ impl ReynoldsSolver {
         rep
     }
 
-    /// One more attempt of a steady solve, from the start, with the settings now in force
-    /// (`self.active`): `what` names them, `failed` is the attempt before's failure (its text
-    /// and its cycles, counted on) and `said` what the attempts before were and how they ended.
-    /// Its report, or its divergence, says which attempt it is and quotes `said`.
+    /// One more attempt of a steady solve, with the settings now in force (`self.active`),
+    /// from the start or from where the attempt before stopped (`begin`): `what` names them,
+    /// `failed` is the attempt before's failure (its text and its cycles, counted on) and
+    /// `said` what the attempts before were and how they ended. Its report, or its divergence,
+    /// says which attempt it is and quotes `said`.
     pub(super) fn attempt(
         &mut self,
         log: &mut dyn FnMut(&CycleLog),
+        begin: Begin,
         what: &str,
         failed: (String, usize),
         said: String,
         t0: Instant,
     ) -> Result<ReynoldsReport, ReynoldsError> {
-        self.start();
-        self.attempt_from_here(log, what, failed, said, t0)
-    }
-
-    /// One more attempt from the state the attempt before left, no full-multigrid start:
-    /// otherwise as [`Self::attempt`].
-    pub(super) fn continued(
-        &mut self,
-        log: &mut dyn FnMut(&CycleLog),
-        what: &str,
-        failed: (String, usize),
-        said: String,
-        t0: Instant,
-    ) -> Result<ReynoldsReport, ReynoldsError> {
-        let fmg = std::mem::replace(&mut self.active.fmg_cycles, 0);
-        let rep = self.attempt_from_here(log, what, failed, said, t0);
-        self.active.fmg_cycles = fmg;
-        rep
-    }
-
-    /// The cycles of one more attempt from the state as it stands, counted on from `failed`'s,
-    /// its report or divergence annotated as [`Self::attempt`] says.
-    fn attempt_from_here(
-        &mut self,
-        log: &mut dyn FnMut(&CycleLog),
-        what: &str,
-        failed: (String, usize),
-        said: String,
-        t0: Instant,
-    ) -> Result<ReynoldsReport, ReynoldsError> {
+        let fmg = self.active.fmg_cycles;
+        match begin {
+            Begin::Afresh => self.start(),
+            // No full-multigrid start: the cycles go on from the state as it stands.
+            Begin::WhereLeft => self.active.fmg_cycles = 0,
+        }
         self.attempts += 1;
         let spent = t0.elapsed().as_secs_f64();
-        match self.cycles(log, failed.1, spent, f64::NAN) {
+        let rep = self.cycles(log, failed.1, spent, f64::NAN);
+        self.active.fmg_cycles = fmg;
+        match rep {
             Ok(mut r) => {
                 if let Some(d) = r.diagnosis.as_mut() {
                     d.text = format!("{what}: {}; {said}", d.text);
@@ -689,6 +676,15 @@ pub(super) fn given_up(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option<(S
             .filter(|_| r.settled.is_none())
             .map(|d| (d.text.clone(), r.cycles)),
     }
+}
+
+/// Where one more attempt of a steady solve begins ([`ReynoldsSolver::attempt`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Begin {
+    /// From the start: the Hertz pressure and the full-multigrid start.
+    Afresh,
+    /// From the state the attempt before left, no full-multigrid start.
+    WhereLeft,
 }
 
 /// How many times the oil's tolerance a fed solve's first attempt may leave unaccounted for
