@@ -6,8 +6,8 @@
 //! `POIS=ratio` sets `relax.poiseuille_full_step`; `U=m/s` the rolling speed `u1` of the seed's
 //! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS`, `MENP` the cycle limit, the `H00`
 //! gain, the gap's under-relaxation, the slow mode's jump cap (0: none) and the meniscus passes; `MASS`,
-//! `FILMTOL` the stop rule's oil and film tolerances; `DOMAIN=x0,x1,y0,y1` the domain [a]; `ROW=y,x0,x1` a row's
-//! state after the solve, `MINAT=1` where the film is thinnest, `DUMP=path` every finest-grid
+//! `FILMTOL` the stop rule's oil and film tolerances; `DOMAIN=x0,x1,y0,y1` the domain [a]
+//! (square cells); `ROW=y,x0,x1` a row's state after the solve, `MINAT=1` where the film is thinnest, `DUMP=path` every finest-grid
 //! point's `j i P θ H residual` as text; a failure prints the largest
 //! residuals and where. `DRY=1`: the attempt from the dry contact alone; `FED=1`: no flooded
 //! solve first.

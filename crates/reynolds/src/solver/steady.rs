@@ -694,8 +694,8 @@ pub(super) enum Begin {
 const CONTINUE_WITHIN: f64 = 2.0;
 
 /// The failure of an attempt that stalled (or settled into a limit cycle) unconverged, with
-/// its film open and the solids apart: a state to go on from.
-/// … and at most `oil` of its supply unaccounted for at its last cycle.
+/// its film open, the solids apart and at most `oil` of its supply unaccounted for at its last
+/// cycle: a state to go on from.
 fn stalled_open(rep: &Result<ReynoldsReport, ReynoldsError>, oil: f64) -> Option<(String, usize)> {
     match rep {
         Ok(r)

@@ -60,7 +60,7 @@ pub fn results_csv(plan: &Plan, recs: &[PointRecord]) -> String {
             put("hamrock_dowson_central_m", json!(f.map(|f| f[0])));
             put("hamrock_dowson_minimum_m", json!(f.map(|f| f[1])));
             put("nvm_central_m", json!(f.map(|f| f[2])));
-            let grid = m.grid.unwrap_or(ehl_scene::GridSpec { nx: r.nx, ny: r.ny });
+            let grid = r.grid_of(m);
             put("nx", json!(grid.nx));
             put("ny", json!(grid.ny));
             put("x_min_a", json!(r.x_a[0]));
@@ -100,7 +100,7 @@ pub fn cost_csv(plan: &Plan, recs: &[PointRecord]) -> String {
                 row.insert(a.parameter.name(), json!(v));
             }
             row.insert("model".into(), json!(model_name(m.model)));
-            let g = m.grid.unwrap_or(ehl_scene::GridSpec { nx: r.nx, ny: r.ny });
+            let g = r.grid_of(m);
             row.insert("nx".into(), json!(g.nx));
             row.insert("ny".into(), json!(g.ny));
             row.insert("wall_time_s".into(), json!(m.wall_time_s));

@@ -155,6 +155,13 @@ pub struct PointRecord {
     pub models: Vec<ModelRecord>,
 }
 
+impl PointRecord {
+    /// The grid model `m` ran on at this point (the point's, in records without one).
+    pub fn grid_of(&self, m: &ModelRecord) -> ehl_scene::GridSpec {
+        m.grid.unwrap_or(ehl_scene::GridSpec { nx: self.nx, ny: self.ny })
+    }
+}
+
 impl Plan {
     /// Builds every point's scene (adapted when the sweep says so) and checks it.
     pub fn new(sweep: &Sweep, sweep_dir: Option<&Path>) -> Result<Plan> {
@@ -382,7 +389,7 @@ fn point_line(sweep: &Sweep, r: &PointRecord) -> String {
         .map(|m| {
             let name = crate::compare::model_name(m.model);
             // A model on a grid of its own says which.
-            let time = match m.grid.filter(|g| (g.nx, g.ny) != (r.nx, r.ny)) {
+            let time = match Some(r.grid_of(m)).filter(|g| (g.nx, g.ny) != (r.nx, r.ny)) {
                 Some(g) => format!("{:.1} s on {}x{}", m.wall_time_s, g.nx, g.ny),
                 None => format!("{:.1} s", m.wall_time_s),
             };
@@ -768,8 +775,8 @@ mod tests {
     /// 0.0024 a, over 1025 points per side; the layer and the dry contact ask for no finer
     /// cells than the scene's. They run on the scene's 257² over the same rectangle (the
     /// thin film's inlet lies within the scene's), where a 2561² layer solve cost 480 s
-    /// against 2 s for the same film within 0.8 %. A plan that ran every model on the point's grid, or
-    /// gave a model its own domain, fails here.
+    /// against 2 s for the same film within 0.8 %. A plan that ran every model on the point's
+    /// grid, or gave a model its own domain, fails here.
     #[test]
     fn a_model_that_needs_no_finer_cells_runs_on_the_scene_s_cells_over_the_point_s_domain() {
         let sweep = Sweep::from_json(
