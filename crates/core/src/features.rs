@@ -53,6 +53,9 @@ pub struct Waviness {
     pub angle_rad: f64,
     /// Phase `φ` at the origin at `t = 0` [rad].
     pub phase_rad: f64,
+    /// Where the wavy surface ends downstream at the start [a] (`None`: wavy everywhere): a
+    /// wavy patch rolling in over a smooth surface ([`Self::entering_at`]).
+    pub edge_a: Option<f64>,
 }
 
 impl Waviness {
@@ -60,9 +63,26 @@ impl Waviness {
     /// `delta` [m].
     #[inline]
     pub fn gap(&self, x: f64, y: f64, travel_a: f64, delta: f64) -> f64 {
-        let s = (x - travel_a) * self.angle_rad.cos() + y * self.angle_rad.sin();
+        let xs = x - travel_a;
+        let s = xs * self.angle_rad.cos() + y * self.angle_rad.sin();
         self.amplitude_m / delta
             * (std::f64::consts::TAU * s / self.wavelength_a + self.phase_rad).cos()
+            * self.taper(xs)
+    }
+
+    /// The same wave only upstream of `x_a` [a] at the start, the edge moving with the
+    /// surfaces and blended over half a wavelength (`½ (1 − tanh((x' − x_a)/(λ/2)))` of the
+    /// heights, `x'` on the moving surface), so that a march starts from the smooth contact's
+    /// steady state: a wave whose crests close the film needs the time steps' contact, and a
+    /// steady solve with the crests already in the contact has none to start from.
+    pub fn entering_at(self, x_a: f64) -> Self {
+        Self { edge_a: Some(x_a), ..self }
+    }
+
+    /// The share of the amplitude kept at `x'` [a] on the moving surface (1 without an edge).
+    #[inline]
+    fn taper(&self, xs: f64) -> f64 {
+        self.edge_a.map_or(1.0, |e| 0.5 * (1.0 - ((xs - e) / (0.5 * self.wavelength_a)).tanh()))
     }
 }
 
@@ -321,6 +341,15 @@ impl Relief {
         let p = periods.next()?;
         periods.all(|q| (q / p - 1.0).abs() < 1e-9).then_some(p)
     }
+
+    /// The travel [a] after which every wave rolling in over a smooth surface fills a domain
+    /// ending at `x_max` [a] downstream: its blended edge past `x_max` by seven half
+    /// wavelengths (the smooth surface's share then below `e^(−14)`, 1e-6 of the amplitude).
+    /// Zero without such a wave: a periodic state cannot be judged before it.
+    pub fn filled_after_a(&self, x_max: f64) -> f64 {
+        let edges = self.waves.iter().filter_map(|w| w.edge_a.map(|e| (e, w.wavelength_a)));
+        edges.map(|(e, l)| x_max - e + 3.5 * l).fold(0.0, f64::max)
+    }
 }
 
 /// A circular hole in the supplied oil (no oil inside), carried with the surfaces.
@@ -408,7 +437,13 @@ mod tests {
 
     #[test]
     fn transverse_waviness_travels_with_the_surfaces_and_repeats_after_a_wavelength() {
-        let w = Waviness { amplitude_m: 1e-8, wavelength_a: 0.25, angle_rad: 0.0, phase_rad: 0.0 };
+        let w = Waviness {
+            amplitude_m: 1e-8,
+            wavelength_a: 0.25,
+            angle_rad: 0.0,
+            phase_rad: 0.0,
+            edge_a: None,
+        };
         assert_eq!(w.gap(0.3, 0.7, 0.3, 1e-9), 10.0); // a crest carried to x = 0.3
         assert!(w.gap(0.3 + 0.125, 0.0, 0.3, 1e-9) + 10.0 < 1e-12); // a trough half a wave on
         for x in [-1.0, -0.37, 0.0, 0.81] {
@@ -419,6 +454,38 @@ mod tests {
         let l = Waviness { angle_rad: std::f64::consts::FRAC_PI_2, ..w };
         assert!((l.gap(0.1, 0.3, 0.0, 1e-9) - l.gap(0.1, 0.3, 0.77, 1e-9)).abs() < 1e-12);
         assert!((l.gap(0.1, 0.125, 0.0, 1e-9) + 10.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_wavy_patch_rolls_in_over_a_smooth_surface_with_its_edge() {
+        let whole = Waviness {
+            amplitude_m: 1e-8,
+            wavelength_a: 0.25,
+            angle_rad: 0.2,
+            phase_rad: 0.4,
+            edge_a: None,
+        };
+        let patch = whole.entering_at(-1.0);
+        // Upstream the patch is the whole wave (to tanh's 1e-17 at 20 half-waves); far
+        // downstream smooth; at the edge half the wave, the edge carried with the surfaces.
+        for &(x, y) in &[(-7.0, 0.3), (-6.1, -0.2)] {
+            assert!((patch.gap(x, y, 0.0, 1e-9) - whole.gap(x, y, 0.0, 1e-9)).abs() < 1e-12);
+        }
+        assert!(patch.gap(5.0, 0.1, 0.0, 1e-9).abs() < 1e-12);
+        for (x, travel) in [(-1.0, 0.0), (-0.4, 0.6)] {
+            let (p, w) = (patch.gap(x, 0.1, travel, 1e-9), whole.gap(x, 0.1, travel, 1e-9));
+            assert!((p - 0.5 * w).abs() < 1e-12, "at the edge: {p} against half of {w}");
+        }
+        // Half a wavelength past the edge, tanh(1): 12 % of the wave, not a cell's step.
+        let (p, w) = (patch.gap(-0.875, 0.0, 0.0, 1e-9), whole.gap(-0.875, 0.0, 0.0, 1e-9));
+        assert!((p / w - 0.5 * (1.0 - 1f64.tanh())).abs() < 1e-12);
+        // A domain ending at 1.25 a is filled once the edge is 7 half-waves past it.
+        let relief = Relief { waves: vec![patch], ..Relief::default() };
+        let travel = relief.filled_after_a(1.25);
+        assert!((travel - (2.25 + 3.5 * 0.25)).abs() < 1e-12, "{travel}");
+        let smooth = 1.0 - patch.taper(1.25 - travel); // the share still missing at the outlet
+        assert!(smooth < 1e-6 && smooth > 1e-7, "{smooth}");
+        assert_eq!(Relief { waves: vec![whole], ..Relief::default() }.filled_after_a(1.25), 0.0);
     }
 
     /// The surface sampled on a square of `n²` points spaced `h` [a], in units of `Rq`.
@@ -474,7 +541,13 @@ mod tests {
     fn smooth_surfaces_add_no_gap_and_a_relief_adds_its_parts() {
         assert_eq!(Relief::default().gap(0.1, 0.2, 0.3, 1e-9), 0.0);
         let d = Dent { depth_m: 2e-8, width_a: 0.1, x_start_a: -1.0, y_a: 0.0 };
-        let w = Waviness { amplitude_m: 1e-8, wavelength_a: 0.25, angle_rad: 0.3, phase_rad: 1.0 };
+        let w = Waviness {
+            amplitude_m: 1e-8,
+            wavelength_a: 0.25,
+            angle_rad: 0.3,
+            phase_rad: 1.0,
+            edge_a: None,
+        };
         let r = Roughness::new(5e-9, 0.1, 0.1, 1);
         let all =
             Relief { dents: vec![d], waves: vec![w], roughness: vec![r.clone()], maps: vec![] };
@@ -487,7 +560,13 @@ mod tests {
     #[test]
     fn a_relief_on_a_grid_is_its_gap_at_every_point() {
         let d = Dent { depth_m: 2e-8, width_a: 0.1, x_start_a: -1.0, y_a: 0.0 };
-        let w = Waviness { amplitude_m: 1e-8, wavelength_a: 0.25, angle_rad: 0.3, phase_rad: 1.0 };
+        let w = Waviness {
+            amplitude_m: 1e-8,
+            wavelength_a: 0.25,
+            angle_rad: 0.3,
+            phase_rad: 1.0,
+            edge_a: None,
+        };
         let r = Roughness::new(5e-9, 0.1, 0.2, 7);
         let entering = Roughness::new(3e-9, 0.15, 0.15, 2).entering_at(-0.4);
         let heights = Array2::from_shape_fn((5, 7), |(j, i)| 1e-9 * ((i * i + 3 * j) % 5) as f64);

@@ -819,6 +819,14 @@ mod tests {
         let t = Scene::from_json(&wavy(rough, |_| {}), "test").unwrap().relief(a).unwrap();
         assert_eq!(t.roughness[0], ehl_core::Roughness::new(2e-9, 2e-5 / a, 2e-5 / a, 3));
         assert_eq!(t.period_a(), None, "roughness never repeats");
+        // A wave rolling in: its edge in m, resolved in a; out of range, named.
+        let entering = serde_json::json!({"waviness": {"amplitude_m": 5e-9, "wavelength_m": 3.4e-5, "enters_at_x_m": -1.7e-4}});
+        let t = Scene::from_json(&wavy(entering, |_| {}), "test").unwrap().relief(a).unwrap();
+        assert_eq!(t.waves[0].edge_a, Some(-1.7e-4 / a));
+        assert_eq!(t.period_a(), Some(3.4e-5 / a), "it repeats once it fills the contact");
+        let far = serde_json::json!({"waviness": {"amplitude_m": 5e-9, "wavelength_m": 3.4e-5, "enters_at_x_m": -2.0}});
+        let m = refused(&wavy(far, |_| {}));
+        assert!(m.contains("features[0].waviness.enters_at_x_m"), "{m}");
     }
 
     #[test]

@@ -75,16 +75,27 @@ pub struct WavinessSpec {
     /// Phase `φ` at the origin at `t = 0` [deg].
     #[serde(default)]
     pub phase_deg: f64,
+    /// Where the wavy surface ends downstream at the start, `x` [m] (absent: wavy everywhere):
+    /// a wavy patch rolling in over a smooth surface, its edge blended over half a wavelength,
+    /// so that a march starts from the smooth contact's steady state (crests that close the
+    /// film need the time steps' contact, which a steady solve with them in place lacks).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub enters_at_x_m: Option<f64>,
 }
 
 impl WavinessSpec {
     /// The waviness on a contact of half-width `a_m` [m].
     pub fn resolved(&self, a_m: f64) -> Waviness {
-        Waviness {
+        let w = Waviness {
             amplitude_m: self.amplitude_m,
             wavelength_a: self.wavelength_m / a_m,
             angle_rad: self.angle_deg.to_radians(),
             phase_rad: self.phase_deg.to_radians(),
+            edge_a: None,
+        };
+        match self.enters_at_x_m {
+            Some(x) => w.entering_at(x / a_m),
+            None => w,
         }
     }
 }

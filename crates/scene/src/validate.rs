@@ -711,6 +711,9 @@ impl Scene {
                     let deg = "degrees";
                     ck.own("", within(&f("angle_deg"), w.angle_deg, -360.0, 360.0, deg))?;
                     ck.own("", within(&f("phase_deg"), w.phase_deg, -360.0, 360.0, deg))?;
+                    if let Some(x) = w.enters_at_x_m {
+                        ck.own("", within(&f("enters_at_x_m"), x, -1.0, 1.0, "m"))?;
+                    }
                     let need = MIN_CELLS_PER_WAVELENGTH;
                     resolved(&f("wavelength_m"), w.wavelength_m, need, "a wavelength")?;
                 }

@@ -279,7 +279,7 @@ pub fn run_layer(scene: &Scene) -> Result<LayerOutcome> {
             let plan =
                 Plan::from_run(r, &view.march.passing, &grid, m.scales.a, m.motion(), controlled)
                     .within(|| fail("run"))?
-                    .per_passage(view.march.relief.period_a(), m.scales.a, m.motion());
+                    .per_passage(&view.march.relief, &grid, m.scales.a, m.motion());
             let mut march = LayerMarch { m: &m, state, stepper };
             let mut rec = drive::drive(&mut march, &plan, &mut |t| {
                 spin.set_message(format!("layer {label}: t = {t:.4} s"))

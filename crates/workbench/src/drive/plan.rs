@@ -235,10 +235,18 @@ impl Plan {
     /// The steady rule of surfaces carrying a pattern that repeats every `period_a` [a] of
     /// travel: a passage is periodic when the state repeats after whole passages, so the
     /// window grows to the fewest whole passages that cover it (on a contact of half-width
-    /// `a` [m]). Without a period, or without a steady rule, the plan as it is.
-    pub fn per_passage(mut self, period_a: Option<f64>, a: f64, motion: &Kinematics) -> Self {
+    /// `a` [m]); and a pattern rolling in over a smooth surface is judged only once it fills
+    /// the grid `g` (the smooth contact before it repeats too). Without a period, or without a
+    /// steady rule, the plan as it is.
+    pub fn per_passage(
+        mut self,
+        relief: &ehl_core::Relief,
+        g: &Grid,
+        a: f64,
+        motion: &Kinematics,
+    ) -> Self {
         let u = motion.final_speed();
-        let (Some(p), Some(rule)) = (period_a, self.steady.as_mut()) else { return self };
+        let (Some(p), Some(rule)) = (relief.period_a(), self.steady.as_mut()) else { return self };
         if !(u > 0.0 && p > 0.0) {
             return self;
         }
@@ -246,6 +254,8 @@ impl Plan {
         rule.window_s = n * p * a / u;
         rule.window_text = format!("{n} passages of the pattern ({:.4} a of travel)", n * p);
         rule.periodic = true;
+        let filled_s = motion.settled_from() + relief.filled_after_a(g.x_max) * a / u;
+        rule.min_time_s = rule.min_time_s.max(filled_s + rule.window_s);
         self
     }
 }

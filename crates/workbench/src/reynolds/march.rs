@@ -191,7 +191,7 @@ pub(super) fn march_plan(
     let controlled = Some((g.dx() * a / motion.reference_speed(), 2.0));
     let plan = drive::Plan::from_run(&march.run, &march.passing, g, a, motion, controlled)
         .within(|| format!("scene `{name}`: run"))?;
-    Ok(plan.per_passage(march.relief.period_a(), a, motion))
+    Ok(plan.per_passage(&march.relief, g, a, motion))
 }
 
 /// Marches the scene's run from the steady solution on `plan` ([`march_plan`]: steps per cell,
