@@ -304,3 +304,25 @@ fn a_wave_rolling_in_over_a_smooth_surface_is_judged_periodic_only_once_it_fills
     assert!(in_place > 0.05, "the wave at the centre: A_d/A_i {in_place}");
     assert!((rolled_in / in_place - 1.0).abs() < 0.03, "{rolled_in} against {in_place}");
 }
+
+#[test]
+fn a_wave_whose_crests_close_the_film_beyond_what_the_grid_resolves_fails_saying_so() {
+    // waviness-compare's wave at 20 nm (the fed film is 11 nm) rolling in, through the
+    // Reynolds solver on 65²: its crests close the film at the side lobes, and the step's
+    // cycles stall with the solids overlapping by 1.1e-3 a²/R (2 nm), beyond the 7.6e-4 a²/R
+    // that cells of 0.039 a tell from a film. The failure must say where the solids overlap
+    // and that a finer grid is the remedy (129² carries this wave through: its caveats say
+    // the rest), not only that the cycles stalled.
+    let mut scene = ehl_scene::builtin("waviness-compare").unwrap().for_model(Model::Reynolds);
+    scene.outputs.figures = false;
+    let r = scene.run.as_mut().unwrap();
+    r.stop.max_time_s = Some(0.1);
+    if let ehl_scene::Feature::Waviness(w) = &mut r.features[0] {
+        w.amplitude_m = 2e-8;
+        w.enters_at_x_m = Some(-1.684e-4);
+    }
+    let e = ehl_workbench::run_scene(&scene.with_points(65).unwrap()).err().expect("a failure");
+    let m = e.to_string();
+    assert!(m.contains("the solids overlap by") && m.contains("a finer grid"), "{m}");
+    assert!(m.contains("surfaces moved"), "where the march was: {m}");
+}

@@ -5,8 +5,9 @@
 //! residuals. Environment: FLOODED=1 no supply; LOG=1 every cycle; DUMP=1 the centre line round
 //! the dent after each step; COARSEST (points: 129 on 129² is relaxation alone), PRE, MAXC,
 //! GAMMA, OMEGA (Gauss–Seidel), THR and TTHR (the relaxation switch's thresholds), EXTRA=1 (the steps' extra passes) override the settings.
-//! `WAVE=A_nm,λ_a`: a transverse wave instead of the dent (`STEPS_PER_CELL` and `STEPS` as
-//! for the dent; 0 steps: the steady solve alone); `ONE=1` the first attempt alone,
+//! `WAVE=A_nm,λ_a[,edge_a]`: a transverse wave instead of the dent, rolling in over the smooth
+//! contact from `edge_a` when given (`STEPS_PER_CELL` and `STEPS` as for the dent; 0 steps: the
+//! steady solve alone); `FILMTOL` the steps' film tolerance; `ONE=1` the first attempt alone,
 //! `NOCONTACT=1` the lubricated cycles alone; `BDF2=1` second-order steps; `NEG=1` lists the
 //! closed and touching points; `AROUND=1`, on a failure, the points round the largest residuals.
 #[path = "../tests/common/mod.rs"]
@@ -48,13 +49,22 @@ fn main() {
     let dent = Dent { depth_m: amplitude * 25e-9, width_a: 0.1, x_start_a: -1.25, y_a: 0.0 };
     // WAVE=A_nm,λ_a: transverse waviness instead of the dent (the march's start, as scenes
     // solve it: the coarser grids holding the film content).
-    let wave: Option<(f64, f64)> = std::env::var("WAVE").ok().map(|v| {
-        let mut it = v.split(',').map(|x| x.parse::<f64>().expect("WAVE: A_nm,λ_a"));
-        (it.next().expect("A") * 1e-9 / delta, it.next().expect("λ"))
+    let wave: Option<ehl_core::Waviness> = std::env::var("WAVE").ok().map(|v| {
+        let mut it = v.split(',').map(|x| x.parse::<f64>().expect("WAVE: A_nm,λ_a[,edge_a]"));
+        let (amplitude_m, wavelength_a) = (it.next().expect("A") * 1e-9, it.next().expect("λ"));
+        let w = ehl_core::Waviness {
+            amplitude_m,
+            wavelength_a,
+            angle_rad: 0.0,
+            phase_rad: 0.0,
+            edge_a: None,
+        };
+        it.next().map_or(w, |e| w.entering_at(e))
     });
-    let wave_gap = move |x: f64, travel: f64| {
-        wave.map_or(0.0, |(a, l)| a * (std::f64::consts::TAU * (x - travel) / l).cos())
-    };
+    let wave_gap = move |x: f64, travel: f64| wave.map_or(0.0, |w| w.gap(x, 0.0, travel, delta));
+    if let Some(t) = std::env::var("FILMTOL").ok().and_then(|v| v.parse().ok()) {
+        s.settings.film_tolerance = t;
+    }
     if wave.is_some() {
         s.settings.coarse_film_content = false;
         s.set_extra_gap(move |x, _| wave_gap(x, 0.0));

@@ -236,15 +236,35 @@ impl ReynoldsSolver {
         } else {
             (FailureKind::CycleLimit, "still converging at the cycle limit")
         };
-        let text = format!(
-            "after {} cycles: force balance off by {:.2e} (tolerance {:.0e}), residual {:.2e}, central film {:.5e} a²/R; {how}",
+        let oil = if f.supply().is_some() {
+            format!(", {:.1} % of the supply's oil unaccounted for", 100.0 * last.mass_defect)
+        } else {
+            String::new()
+        };
+        let mut text = format!(
+            "after {} cycles: force balance off by {:.2e} (tolerance {:.0e}), residual {:.2e}{oil}, central film {:.5e} a²/R; {how}",
             last.cycle,
             last.load_error,
             self.active.load_tolerance,
             last.residual,
             last.central_film
         );
-        Diagnosis { kind, cycle: last.cycle, at: None, text }
+        // Touching, the solids overlapping deeper than the grid tells a closed gap from a film:
+        // the equations between the touching points are the grid's, not the film's (a wave's
+        // crests closing the film at the side lobes stalled so on 65² and 129²).
+        let resolved = crate::formulas::dry_gap_error(f.grid.dx());
+        let mut at = None;
+        if f.touch && hmin < -resolved {
+            at = Some((f.grid.x(i), f.grid.y(j)));
+            text += &format!(
+                "; the solids overlap by {:.3e} a²/R at (x = {:.3} a, y = {:.3} a), deeper than cells of {:.4} a tell a closed gap from a film ({resolved:.1e} a²/R): a finer grid resolves the film between the touching points",
+                -hmin,
+                f.grid.x(i),
+                f.grid.y(j),
+                f.grid.dx()
+            );
+        }
+        Diagnosis { kind, cycle: last.cycle, at, text }
     }
 
     /// Central and minimum film of the finest grid.
