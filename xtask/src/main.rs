@@ -71,6 +71,13 @@ enum Command {
         /// Grids of a scene study, points per side.
         #[arg(long, value_delimiter = ',', default_value = "65,129,257,513")]
         grids: Vec<usize>,
+        /// A scene study of these of the scene's models only (`layer,reynolds`): a model too
+        /// slow on the finest grid left out.
+        #[arg(long, value_delimiter = ',')]
+        models: Vec<String>,
+        /// A scene study at this rolling speed [m/s] instead of the scene's.
+        #[arg(long)]
+        speed: Option<f64>,
         #[arg(long, default_value = "out/convergence")]
         out: PathBuf,
         /// Finest grid, points per side.
@@ -257,7 +264,7 @@ fn main() -> Result<()> {
     QUICK.store(cli.quick, std::sync::atomic::Ordering::Relaxed);
     match cli.command {
         Command::Figures { out } => figures(&out),
-        Command::Convergence { study, grids, out, max_points, nt_points } => {
+        Command::Convergence { study, grids, models, speed, out, max_points, nt_points } => {
             let (max_points, nt_points) = (points(max_points), points(nt_points));
             let mut grids: Vec<usize> = grids.into_iter().map(points).collect();
             grids.dedup();
@@ -266,7 +273,10 @@ fn main() -> Result<()> {
                 Ok(Study::Layer) => layer::convergence(&out, max_points, nt_points).map(|_| ()),
                 Ok(Study::LayerSteady) => layer::steady_study(&out, max_points, true).map(|_| ()),
                 Ok(Study::Reynolds) => reynolds::convergence(&out, max_points).map(|_| ()),
-                Err(_) => scene_study::run(&study, &grids, &out).map(|_| ()),
+                Err(_) => {
+                    let variant = scene_study::Variant { models, speed_m_s: speed };
+                    scene_study::run(&study, &grids, &variant, &out).map(|_| ())
+                }
             }
         }
         Command::Bench { out, max_points, only } => bench::run(&out, points(max_points), only),

@@ -28,7 +28,7 @@ struct Point {
 /// The grid study as a sweep over `grid.n` (no domain adaptation, no checks: the study is the
 /// check), run in parallel through `ehl_workbench::sweep`, one thread per grid; its folder
 /// (`<out>/<scene>-grids`) holds the sweep's own results too.
-pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
+pub fn run(scene: &str, grids: &[usize], variant: &Variant, out: &Path) -> Result<Vec<PathBuf>> {
     // What the study prints is also its page's body (for a built-in scene).
     let mut log = String::new();
     macro_rules! say {
@@ -42,11 +42,11 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
     if grids.len() < 2 {
         bail!("--grids: at least two grids (three for observed orders)");
     }
-    let base = ehl_scene::load(scene)?;
     std::fs::create_dir_all(out)?;
+    let (base, source) = variant.apply(ehl_scene::load(scene)?, out)?;
     let sweep: ehl_scene::Sweep = serde_json::from_value(json!({
         "name": format!("{}-grids", base.name),
-        "scene": scene,
+        "scene": source.as_deref().unwrap_or(scene),
         "parameters": [{"parameter": "grid.n", "values": grids}],
         "adapt": false,
         "checks": false,
@@ -233,16 +233,22 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
     if ehl_scene::builtin_names().contains(&scene) {
         let list: Vec<String> = grids.iter().map(|n| n.to_string()).collect();
         let intro = format!(
-            "The grid study of the built-in scene `{scene}`: every model on {} points per side \
+            "The grid study of the built-in scene `{scene}`{}: every model on {} points per side \
              (the scene's domain, no adaptation, no checks), run in parallel, one thread per \
-             grid; observed orders from grids refined by 2, and a wave's `A_d/A_i` with its \
-             order and Richardson limit where a pattern rolled.\n\n```\n{log}```\n",
+             grid; observed orders from grids refined by 2, and a wave's `A_d/A_i` and the \
+             solids' share of the load with their orders and Richardson limits where a pattern \
+             rolled.\n\n```\n{log}```\n",
+            variant.words(),
             list.join(", ")
         );
         files.push(crate::measured::write(
             &format!("convergence-{stem}"),
-            &format!("Grid convergence of `{scene}`"),
-            &format!("cargo xtask convergence {scene} --grids {}", list.join(",")),
+            &format!("Grid convergence of `{scene}`{}", variant.words()),
+            &format!(
+                "cargo xtask convergence {scene} --grids {}{}",
+                list.join(","),
+                variant.args()
+            ),
             &intro,
             &[],
         )?);
@@ -255,4 +261,85 @@ pub fn run(scene: &str, grids: &[usize], out: &Path) -> Result<Vec<PathBuf>> {
 fn richardson(coarse: f64, medium: f64, fine: f64) -> (f64, Option<f64>) {
     let o = observed_order_of_three(coarse, medium, fine, 2.0);
     (o, (0.5..=4.0).contains(&o).then(|| fine + (fine - medium) / (2f64.powf(o) - 1.0)))
+}
+
+/// A scene study of a variant of its scene: some of its models, another rolling speed.
+#[derive(Clone, Debug, Default)]
+pub struct Variant {
+    /// The models kept, by name (empty: all the scene's).
+    pub models: Vec<String>,
+    /// The rolling speed [m/s] instead of the scene's.
+    pub speed_m_s: Option<f64>,
+}
+
+impl Variant {
+    /// The scene as the variant runs it, named for it, and the file it was written to (in
+    /// `out`) when it differs from the scene; checked as every scene is.
+    fn apply(
+        &self,
+        base: ehl_scene::Scene,
+        out: &Path,
+    ) -> Result<(ehl_scene::Scene, Option<String>)> {
+        if self.models.is_empty() && self.speed_m_s.is_none() {
+            return Ok((base, None));
+        }
+        let mut s = base.clone();
+        if !self.models.is_empty() {
+            let models = self
+                .models
+                .iter()
+                .map(|m| {
+                    let found = serde_json::from_value::<ehl_scene::Model>(json!(m));
+                    match found {
+                        Ok(model) if base.models().contains(&model) => Ok(model),
+                        _ => Err(anyhow::anyhow!(
+                            "--models: `{m}` is not one of the scene's models ({})",
+                            base.model_names()
+                        )),
+                    }
+                })
+                .collect::<Result<Vec<_>>>()?;
+            s = s.comparing(&models)?;
+        }
+        if let Some(u) = self.speed_m_s {
+            s.conditions.rolling_velocity_m_s = Some(u);
+        }
+        s.name = format!("{}{}", base.name, self.suffix());
+        let text = serde_json::to_string_pretty(&s)?;
+        // Checked as a file is, before any point runs.
+        ehl_scene::Scene::from_json(&text, "convergence --models/--speed")?;
+        let path = out.join(format!("{}.json", s.name));
+        std::fs::write(&path, text + "\n")?;
+        Ok((s, Some(path.display().to_string())))
+    }
+
+    /// The variant in a name (a scene's name takes letters, digits, `-` and `_`):
+    /// `-layer-u0_005`.
+    fn suffix(&self) -> String {
+        let models = self.models.iter().map(|m| format!("-{m}")).collect::<String>();
+        let speed = self.speed_m_s.map_or(String::new(), |u| format!("-u{u}").replace('.', "_"));
+        models + &speed
+    }
+
+    /// The variant in words, for the page: ` (the layer model alone, at 0.005 m/s)`.
+    fn words(&self) -> String {
+        let mut parts = vec![];
+        if !self.models.is_empty() {
+            parts.push(format!("{} alone", self.models.join(" and ")));
+        }
+        if let Some(u) = self.speed_m_s {
+            parts.push(format!("at {u} m/s"));
+        }
+        if parts.is_empty() { String::new() } else { format!(" ({})", parts.join(", ")) }
+    }
+
+    /// The variant as the command's options.
+    fn args(&self) -> String {
+        let models = if self.models.is_empty() {
+            String::new()
+        } else {
+            format!(" --models {}", self.models.join(","))
+        };
+        models + &self.speed_m_s.map_or(String::new(), |u| format!(" --speed {u}"))
+    }
 }
