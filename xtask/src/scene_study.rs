@@ -44,6 +44,14 @@ pub fn run(scene: &str, grids: &[usize], variant: &Variant, out: &Path) -> Resul
     }
     std::fs::create_dir_all(out)?;
     let (base, source) = variant.apply(ehl_scene::load(scene)?, out)?;
+    // A pattern that repeats or a rough surface is measured over a passage; a run that ends
+    // before one is complete has no statistics, which the page must say rather than omit.
+    let patterned = base.run.as_ref().is_some_and(|r| {
+        r.features.iter().any(|f| {
+            use ehl_scene::Feature::*;
+            matches!(f, Waviness(_) | Roughness(_) | HeightMap(_))
+        })
+    });
     let sweep: ehl_scene::Sweep = serde_json::from_value(json!({
         "name": format!("{}-grids", base.name),
         "scene": source.as_deref().unwrap_or(scene),
@@ -113,6 +121,11 @@ pub fn run(scene: &str, grids: &[usize], variant: &Variant, out: &Path) -> Resul
                             100.0 * c,
                             100.0 * q.contact_load_share_max.unwrap_or(c)
                         ))
+                );
+            } else if patterned && p.converged {
+                say!(
+                    "  {:<9} no passage: the pattern did not fill the domain before the run's time limit",
+                    ""
                 );
             }
             by_model.entry(name).or_default().push(p);
@@ -302,7 +315,11 @@ impl Variant {
             s = s.comparing(&models)?;
         }
         if let Some(u) = self.speed_m_s {
-            s.conditions.rolling_velocity_m_s = Some(u);
+            // As a speed sweep sets it: a rolling march keeps its travel (its time limit and
+            // snapshots scaled with the speed), so a pattern still fills the contact.
+            s = s
+                .with_parameter(ehl_scene::Parameter::RollingVelocity, u)
+                .map_err(|e| anyhow::anyhow!("--speed {u}: {e}"))?;
         }
         s.name = format!("{}{}", base.name, self.suffix());
         let text = serde_json::to_string_pretty(&s)?;
@@ -341,5 +358,29 @@ impl Variant {
             format!(" --models {}", self.models.join(","))
         };
         models + &self.speed_m_s.map_or(String::new(), |u| format!(" --speed {u}"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_variant_at_half_the_speed_rolls_the_same_travel_in_twice_the_time() {
+        // A march stopped at the scene's time at half its speed rolls half the travel: the
+        // roughness that rolls in over the domain would not fill it, and the study would
+        // have no passage to measure.
+        let base = ehl_scene::builtin("roughness-mixed-compare").unwrap();
+        let t0 = base.run.as_ref().unwrap().stop.max_time_s.unwrap();
+        let u0 = base.conditions.rolling_velocity_m_s.unwrap();
+        let dir = std::env::temp_dir().join(format!("ehl-variant-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let v = Variant { models: vec!["layer".into()], speed_m_s: Some(0.5 * u0) };
+        let (s, file) = v.apply(base, &dir).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        let t = s.run.as_ref().unwrap().stop.max_time_s.unwrap();
+        assert!((t / t0 - 2.0).abs() < 1e-12, "{t} s against {t0} s");
+        assert_eq!(s.conditions.rolling_velocity_m_s, Some(0.5 * u0));
+        assert!(file.is_some_and(|f| f.ends_with("-layer-u0_005.json")));
     }
 }
