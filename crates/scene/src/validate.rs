@@ -739,52 +739,7 @@ impl Scene {
                         };
                     resolved(&f(field), g.shortest_m(), need, "a correlation length")?;
                 }
-                Feature::Dent(d) => {
-                    let f = |n: &str| format!("run.features[{k}].dent.{n}");
-                    match (d.amplitude, d.depth_m) {
-                        (Some(_), Some(_)) | (None, None) => {
-                            return Err(ck.err(
-                                &f("depth_m"),
-                                format!("amplitude {:?}, depth_m {:?}", d.amplitude, d.depth_m),
-                                "give exactly one of `depth_m` (m) and `amplitude` (units of the supply thickness l0)",
-                            ));
-                        }
-                        (Some(a), None) if !a.is_finite() => {
-                            return Err(ck.err(&f("amplitude"), num(a), "must be finite"));
-                        }
-                        (Some(_), None) if self.oil_m().is_none() => {
-                            return Err(ck.err(
-                                &f("amplitude"),
-                                "(given)".into(),
-                                "in units of supply.thickness_m: give a supply thicker than zero, or the depth in metres (`depth_m`)",
-                            ));
-                        }
-                        (None, Some(m)) if !m.is_finite() => {
-                            return Err(ck.err(&f("depth_m"), num(m), "must be finite (m)"));
-                        }
-                        _ => {}
-                    }
-                    use ehl_core::check::{above, within};
-                    if let Some(m) = d.depth_m {
-                        ck.own("", within(&f("depth_m"), m, -1e-3, 1e-3, "m, negative a bump"))?;
-                    }
-                    if let Some(a) = d.amplitude {
-                        ck.own(
-                            "",
-                            within(
-                                &f("amplitude"),
-                                a,
-                                -1e6,
-                                1e6,
-                                "units of supply.thickness_m, negative a bump",
-                            ),
-                        )?;
-                    }
-                    ck.own("", above(&f("width_a"), d.width_a, 0.0, 100.0, "units of a"))?;
-                    for (n, v) in [("x_start_a", d.x_start_a), ("y_a", d.y_a)] {
-                        ck.own("", within(&f(n), v, -MAX_PLACE_A, MAX_PLACE_A, "units of a"))?;
-                    }
-                }
+                Feature::Dent(d) => self.validate_dent(ck, d, k)?,
                 Feature::HeightMap(m) => {
                     let f = |n: &str| format!("run.features[{k}].height-map.{n}");
                     check_height_map(ck, m, &f)?;
@@ -803,6 +758,56 @@ impl Scene {
                     ));
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// A dent's fields: its depth given once (in metres or as the seed's factor of the supply),
+    /// finite and within range, its width and place.
+    fn validate_dent(&self, ck: &Check, d: &DentSpec, k: usize) -> Result<(), SceneError> {
+        let f = |n: &str| format!("run.features[{k}].dent.{n}");
+        match (d.amplitude, d.depth_m) {
+            (Some(_), Some(_)) | (None, None) => {
+                return Err(ck.err(
+                    &f("depth_m"),
+                    format!("amplitude {:?}, depth_m {:?}", d.amplitude, d.depth_m),
+                    "give exactly one of `depth_m` (m) and `amplitude` (units of the supply thickness l0)",
+                ));
+            }
+            (Some(a), None) if !a.is_finite() => {
+                return Err(ck.err(&f("amplitude"), num(a), "must be finite"));
+            }
+            (Some(_), None) if self.oil_m().is_none() => {
+                return Err(ck.err(
+                    &f("amplitude"),
+                    "(given)".into(),
+                    "in units of supply.thickness_m: give a supply thicker than zero, or the depth in metres (`depth_m`)",
+                ));
+            }
+            (None, Some(m)) if !m.is_finite() => {
+                return Err(ck.err(&f("depth_m"), num(m), "must be finite (m)"));
+            }
+            _ => {}
+        }
+        use ehl_core::check::{above, within};
+        if let Some(m) = d.depth_m {
+            ck.own("", within(&f("depth_m"), m, -1e-3, 1e-3, "m, negative a bump"))?;
+        }
+        if let Some(a) = d.amplitude {
+            ck.own(
+                "",
+                within(
+                    &f("amplitude"),
+                    a,
+                    -1e6,
+                    1e6,
+                    "units of supply.thickness_m, negative a bump",
+                ),
+            )?;
+        }
+        ck.own("", above(&f("width_a"), d.width_a, 0.0, 100.0, "units of a"))?;
+        for (n, v) in [("x_start_a", d.x_start_a), ("y_a", d.y_a)] {
+            ck.own("", within(&f(n), v, -MAX_PLACE_A, MAX_PLACE_A, "units of a"))?;
         }
         Ok(())
     }
