@@ -537,9 +537,8 @@ mod tests {
         assert_ne!(a.gap(0.1, 0.2, 0.0, 1e-9), c.gap(0.1, 0.2, 0.0, 1e-9));
     }
 
-    #[test]
-    fn smooth_surfaces_add_no_gap_and_a_relief_adds_its_parts() {
-        assert_eq!(Relief::default().gap(0.1, 0.2, 0.3, 1e-9), 0.0);
+    /// A dent and an oblique wave, the parts of the reliefs below.
+    fn dent_and_wave() -> (Dent, Waviness) {
         let d = Dent { depth_m: 2e-8, width_a: 0.1, x_start_a: -1.0, y_a: 0.0 };
         let w = Waviness {
             amplitude_m: 1e-8,
@@ -548,6 +547,13 @@ mod tests {
             phase_rad: 1.0,
             edge_a: None,
         };
+        (d, w)
+    }
+
+    #[test]
+    fn smooth_surfaces_add_no_gap_and_a_relief_adds_its_parts() {
+        assert_eq!(Relief::default().gap(0.1, 0.2, 0.3, 1e-9), 0.0);
+        let (d, w) = dent_and_wave();
         let r = Roughness::new(5e-9, 0.1, 0.1, 1);
         let all =
             Relief { dents: vec![d], waves: vec![w], roughness: vec![r.clone()], maps: vec![] };
@@ -559,14 +565,7 @@ mod tests {
 
     #[test]
     fn a_relief_on_a_grid_is_its_gap_at_every_point() {
-        let d = Dent { depth_m: 2e-8, width_a: 0.1, x_start_a: -1.0, y_a: 0.0 };
-        let w = Waviness {
-            amplitude_m: 1e-8,
-            wavelength_a: 0.25,
-            angle_rad: 0.3,
-            phase_rad: 1.0,
-            edge_a: None,
-        };
+        let (d, w) = dent_and_wave();
         let r = Roughness::new(5e-9, 0.1, 0.2, 7);
         let entering = Roughness::new(3e-9, 0.15, 0.15, 2).entering_at(-0.4);
         let heights = Array2::from_shape_fn((5, 7), |(j, i)| 1e-9 * ((i * i + 3 * j) % 5) as f64);

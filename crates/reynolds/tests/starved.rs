@@ -343,12 +343,14 @@ fn a_steady_solve_whose_film_stays_open_never_touches() {
 }
 
 #[test]
-fn a_closure_whose_touching_cycles_settle_answers_with_the_solids_touching() {
+fn a_closure_on_a_grid_too_coarse_for_its_film_answers_with_the_solids_touching() {
     // 2 mm/s under 80 N, fed 25 nm, on 257² (the grid rule asks for 1153²): the lubricated
     // cycles converge with the film closed at a side lobe (-3 nm); the solids let touch there,
-    // the cycles stall settled (the force balance held at 1.9e-6 against a tolerance of 1e-6).
-    // The answer is that of the solids touching, returned as settled with its contact's
-    // share, not the lubricated one with the solids overlapping, nor a failure.
+    // the touching cycles converge (from cycle 47, with the fed solve's smaller Gauss–Seidel
+    // changes; at 0.4 they stalled settled, the force balance held at 1.9e-6 against 1e-6).
+    // The answer is that of the solids touching with its contact's share, converged or
+    // settled within the settled bounds, not the lubricated one with the solids overlapping,
+    // nor a failure.
     let contact = ehl_core::Contact { load: 80.0, ..ehl_core::SEED_CONTACT };
     let prm = ReynoldsParams::from_si(
         &contact,
@@ -369,13 +371,16 @@ fn a_closure_whose_touching_cycles_settle_answers_with_the_solids_touching() {
     let ((with, s_with), (without, s_without)) = (run(true), run(false));
     // Without contact the lubricated answer, its film below zero (for the workbench to flag).
     assert!(without.converged && s_without.films().1 < 0.0, "the closure is gone");
-    let settled = with.settled.expect("settled");
-    assert!(!with.converged && with.touched_from.is_some());
-    assert!(settled.load_error < SETTLED_BOUND, "{settled:?}");
-    // Measured: the solids carry 1.66 % of the load. One touching point at a side lobe still
-    // overlaps, by 4.3e-4 a²/R (2 nm) at P = 0, less than the lubricated answer's 6.2e-4 (the
-    // workbench reports it as overlap). A kept lubricated answer has no contact and the deeper
-    // closure.
+    assert!(with.touched_from.is_some(), "the solids never touched");
+    match with.settled {
+        Some(settled) => assert!(settled.load_error < SETTLED_BOUND, "{settled:?}"),
+        None => assert!(with.converged, "neither converged nor settled: {:?}", with.diagnosis),
+    }
+    // Measured: the solids carry 1.29 % of the load (1.66 % where the cycles settled at 0.4:
+    // the contact set of a film thinner than the grid resolves depends on the cycles' path).
+    // One touching point at a side lobe still overlaps, by 4.3e-4 a²/R (2 nm) at P = 0, less
+    // than the lubricated answer's 6.2e-4 (the workbench reports it as overlap). A kept
+    // lubricated answer has no contact and the deeper closure.
     let (share, _) = s_with.contact();
     assert!(share > 1e-3 && share < 0.1, "the solids carry {share}");
     let (touching, lubricated) = (s_with.films().1, s_without.films().1);

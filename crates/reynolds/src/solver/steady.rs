@@ -34,7 +34,11 @@ impl ReynoldsSolver {
             ehl_core::cancel::check()?;
             return converged(rep);
         }
-        let coarse_theta = self.active.coarse_film_content && self.levels[0].mass_conserving();
+        let fed = self.levels[0].mass_conserving();
+        if fed {
+            self.active.relax.omega_gs = self.active.relax.omega_gs.min(self.active.fed_omega_gs);
+        }
+        let coarse_theta = self.active.coarse_film_content && fed;
         if coarse_theta {
             // Never finer than the grid the full-multigrid start begins on (its cycles descend
             // at least that far).
@@ -108,6 +112,10 @@ impl ReynoldsSolver {
         }
         if self.settings.contact && !self.film_held() {
             rep = self.dry_start_fallback(rep, log, t0);
+        }
+        if fed && self.active.relax.coefficient_lag == self.settings.relax.coefficient_lag {
+            // The steps relax as the settings say, unless the solve needed its lagged attempt.
+            self.active.relax.omega_gs = self.settings.relax.omega_gs;
         }
         // A stall or a limit cycle whose answer has settled is returned, saying so.
         let window = self.stall_window();
