@@ -203,6 +203,10 @@ pub struct Level {
     /// coarser grids when they solve for the film content; the Couette weights, `upwind`, say
     /// why).
     pub first_order_partial: bool,
+    /// Whether the Couette face *into* a point where the solids touch is first order as well
+    /// (the face behind one always is): the start from the dry contact's, where the oil that
+    /// reaches the contact's rim is a film thinner than the grid resolves (`upwind` says why).
+    pub first_order_into_contact: bool,
     /// FAS right-hand side (zero on the finest grid).
     pub rhs: Array2<f64>,
     /// Influence kernel rows `K(|di|, dj)` for `dj = 0, 1, 2`, `di = 0 … nx+2`.
@@ -264,6 +268,7 @@ impl Level {
             theta_free: true,
             coarse_theta: false,
             first_order_partial: false,
+            first_order_into_contact: false,
             rhs: grid.zeros(),
             kernel,
             shape: grid.paraboloid(),
@@ -411,7 +416,11 @@ impl Level {
     /// over- and undershoots, so that the relaxation clamps `θ` at 0 and 1 in turn and a coarse
     /// grid's corrections wreck the fine film. A face that reads a point where the solids touch
     /// is first order on every grid: the shut gap passes no oil, and the second-order face
-    /// behind it (`−q/2` of the point before) would draw oil out of it. What each choice
+    /// behind it (`−q/2` of the point before) would draw oil out of it. From the dry contact
+    /// ([`Self::first_order_into_contact`]) the face into a touching point is first order too:
+    /// its `−q/2` of the point two before draws oil back out of the contact's rim, the rim's full
+    /// point at `P = 0` takes more oil than it passes on, and the cycles stall at vanishing
+    /// speed. What each choice
     /// measured, and the faces set aside: `docs/decisions.md`, "First-order faces on the finest
     /// grid", "Limited Couette faces" and "Passes around the menisci".
     #[inline]
@@ -421,7 +430,8 @@ impl Level {
             return [w, -w, 0.0];
         }
         let shut = |k: usize| self.touch && self.contact[[j, k]];
-        let near_contact = shut(i) || shut(i - 1) || shut(i - 2);
+        let near_contact =
+            shut(i) || shut(i - 1) || shut(i - 2) || self.face_into_contact(j, i + 1);
         if !self.first_order_partial && !near_contact {
             return [1.5, -2.0, 0.5];
         }
@@ -442,7 +452,14 @@ impl Level {
         let partly = |k: usize| {
             (self.first_order_partial && theta[k] < 1.0) || (self.touch && self.contact[[j, k]])
         };
-        partly(i) || partly(i - 1)
+        partly(i) || partly(i - 1) || self.face_into_contact(j, i + 1)
+    }
+
+    /// Whether a face into point `(i, j)` is first order because the solids touch there
+    /// ([`Self::first_order_into_contact`]).
+    #[inline]
+    fn face_into_contact(&self, j: usize, i: usize) -> bool {
+        self.first_order_into_contact && i < self.contact.ncols() && self.shut(j, i)
     }
 
     /// The Couette face flux `F(i+½)` on row `j` of the film contents `q` (the face
@@ -758,19 +775,23 @@ mod tests {
         let theta: Vec<f64> =
             (0..n).map(|i| if (i / 4) % 2 == 0 { 1.0 } else { 0.3 + 0.01 * i as f64 }).collect();
         let q: Vec<f64> = (0..n).map(|i| 1.0 + 0.5 * (0.7 * i as f64).sin()).collect();
+        let theta_full = vec![1.0; n];
         // The same with the solids touching at a few points of the row: the faces that read
         // one are first order too, on every grid.
         let j = 16;
         let shut = |i: usize| (9..12).contains(&i) || i == 20;
-        for (first_order, touching) in [(true, false), (false, false), (false, true)] {
+        // From the dry contact the faces into a touching point are first order as well.
+        let cases = [(true, false, false), (false, false, false), (false, true, false)];
+        for (first_order, touching, into) in cases.into_iter().chain([(false, true, true)]) {
             l.first_order_partial = first_order;
             l.touch = touching;
+            l.first_order_into_contact = into;
             for i in 0..n {
                 l.contact[[j, i]] = touching && shut(i);
             }
             let face = |i: usize| {
                 let partly = theta[i] < 1.0 || theta[i - 1] < 1.0;
-                let closed = touching && (shut(i) || shut(i - 1));
+                let closed = touching && (shut(i) || shut(i - 1) || into && shut(i + 1));
                 if first_order && partly || closed { q[i] } else { 0.5 * (3.0 * q[i] - q[i - 1]) }
             };
             let sum: f64 = (2..n - 1)
@@ -781,6 +802,11 @@ mod tests {
                 .sum();
             let ends = face(n - 2) - face(1);
             assert!((sum - ends).abs() < 1e-12, "{first_order}: {sum} against {ends}");
+            // The point before a touching one (8, before 9): its east face is the one into the
+            // contact, its west face second order.
+            let w = l.upwind(&theta_full, j, 8);
+            let east = if into { [1.0, 0.0, 0.0] } else { [1.5, -0.5, 0.0] };
+            assert_eq!(w, [east[0], east[1] - 1.5, 0.5], "into the contact: {into}");
         }
     }
 

@@ -237,6 +237,15 @@ impl ReynoldsSolver {
         hc * r / (1.0 + r * r).sqrt()
     }
 
+    /// Whether this grid can tell the contact's film from a closed gap: the film (the flooded
+    /// estimate, or fed the film the supply makes) at least the discrete dry gap's error at the
+    /// contact's edge ([`formulas::dry_gap_error`]). Thinner, a film
+    /// that closes is the answer, not a failure of the cycles.
+    fn film_held(&self) -> bool {
+        let film = self.starved_film_estimate(self.nvm_film());
+        film >= formulas::dry_gap_error(self.levels[0].grid.dx())
+    }
+
     /// Adds `extra(X, Y)` [a²/R] to the rigid film on every level (a dent where positive).
     pub fn set_extra_gap(&mut self, extra: impl Fn(f64, f64) -> f64) {
         self.set_extra_gap_on(|g| g.field(&extra));

@@ -45,9 +45,10 @@ fn at_vanishing_speed_the_flooded_pressure_is_the_dry_contacts() {
         let (_, mut s) = seed_at(1e-6, n);
         let rep = s.solve(&mut |_| {}).expect("the dry limit converges");
         assert!(rep.converged && rep.from_dry, "{n}²: {:?}", rep.diagnosis);
-        // Measured: 2.0e-5 and 1.1e-4 p_h apart on 65² and 129², the solids carrying all but
+        // Measured: 8.0e-6 and 4.2e-5 p_h apart on 65² and 129², the solids carrying all but
         // 5e-7 and 1e-6 of the load: what is left is the oil's pressure at the contact's edge,
-        // of the order of the speed. Bounds about five times that: a start from another rigid
+        // of the order of the speed (with second-order faces into the contact, 2.0e-5 and
+        // 1.1e-4). Bounds about five times that: a start from another rigid
         // film or load misses by percents, a contact let go where it carries pressure by the
         // share.
         let (diff, share) = against_dry(&s);
@@ -62,18 +63,30 @@ fn at_vanishing_speed_the_flooded_pressure_is_the_dry_contacts() {
 #[test]
 fn with_almost_no_oil_the_fed_pressure_is_the_dry_contacts() {
     // 1 nm of oil at 1e-5 m/s: the lubricated attempts end with the film closed or diverge;
-    // from the dry contact the oil that arrives fills the gap round it and carries nothing.
-    let (prm, mut s) = seed_at(1e-5, 65);
-    let hd = 1e-9 / prm.scales.delta;
-    s.set_supply(Some(&move |_y| hd));
-    let rep = s.solve(&mut |_| {}).expect("the dry limit converges");
-    assert!(rep.converged && rep.from_dry, "{:?}", rep.diagnosis);
-    // Measured: 1.0e-6 p_h apart, the solids carrying the whole load (the oil, 1 nm at 1e-5
-    // m/s, carries next to nothing). Bounds ten times that, and the share as above. (On 129² this one ends in
-    // a stall: docs/decisions.md, "The start from the dry contact".)
-    let (diff, share) = against_dry(&s);
-    assert!(diff < 1e-5, "{diff:.3e} p_h from the dry contact");
-    assert!(share > 1.0 - 1e-5, "the solids carry {share}");
+    // from the dry contact the oil that arrives fills the gap round it, carries nothing, and
+    // what reaches the contact's rim enters it.
+    for (n, bound) in [(65, 1e-5), (129, 5e-3)] {
+        let (prm, mut s) = seed_at(1e-5, n);
+        let hd = 1e-9 / prm.scales.delta;
+        s.set_supply(Some(&move |_y| hd));
+        let rep = s.solve(&mut |_| {}).expect("the dry limit converges");
+        assert!(rep.converged && rep.from_dry, "{n}²: {:?}", rep.diagnosis);
+        // Measured: 3.7e-7 p_h apart on 65² (the dry solver's tolerance: no oil pressure at
+        // all), 1.1e-3 on 129², where the oil round the contact's edge carries a pressure of
+        // the order of the speed (the flooded contact at the same speed: 1.1e-3; at 1e-6 m/s,
+        // 1.1e-4). Bounds about five to thirty times that, and the share as above.
+        let (diff, share) = against_dry(&s);
+        assert!(diff < bound, "{n}²: {diff:.3e} p_h from the dry contact");
+        assert!(share > 1.0 - 1e-5, "{n}²: the solids carry {share}");
+        // The oil that reaches the rim goes into the contact, none drawn back out of it:
+        // measured 81 % and 79 % of the supply, the rest carried round it and out. With a
+        // second-order face into the contact (`(3q − q_before)/2`, which draws oil back out of
+        // the rim) the dry start stalled on 129² with 6 % of the supply unaccounted for, and
+        // fed 10 nm the contact gave back 7 % of the supply.
+        let b = s.oil_balance().expect("fed");
+        let taken = b.into_contact / b.supplied;
+        assert!((0.5..1.0).contains(&taken), "{n}²: the contact took {taken:.3e} of the supply");
+    }
 }
 
 #[test]

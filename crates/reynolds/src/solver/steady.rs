@@ -146,6 +146,7 @@ impl ReynoldsSolver {
             l.time_a0 = 0.0;
             l.history.fill(0.0);
             l.touch = false;
+            l.first_order_into_contact = false;
             l.contact.fill(false);
         }
     }
@@ -374,15 +375,6 @@ impl ReynoldsSolver {
         f.touch && f.contact[[f.grid.row_nearest(0.0), f.grid.col_nearest(0.0)]]
     }
 
-    /// Whether this grid can tell the contact's film from a closed gap: the film (the flooded
-    /// estimate, or fed the film the supply makes) at least the discrete dry gap's error at the
-    /// contact's edge ([`formulas::dry_gap_error`]). Thinner, a film
-    /// that closes is the answer, not a failure of the cycles.
-    fn film_held(&self) -> bool {
-        let film = self.starved_film_estimate(self.nvm_film());
-        film >= formulas::dry_gap_error(self.levels[0].grid.dx())
-    }
-
     /// The last attempt of a steady solve on a grid that cannot tell the film from a closed
     /// gap ([`Self::film_held`]): from the dry contact (the core's dry solver over the same
     /// rigid film and load), the solids touching where it carries pressure from the first
@@ -436,7 +428,13 @@ impl ReynoldsSolver {
         // 65² to 513²).
         let w = &mut self.active.relax.omega_contact;
         *w = w.min(DRY_START_OMEGA_CONTACT);
+        // The oil that reaches the rim enters the contact through first-order faces (kept for
+        // the answer's oil balance; the next solve or step resets them).
+        self.levels[0].first_order_into_contact = true;
         let rep = self.cycles(log, cycles_before, t0.elapsed().as_secs_f64(), f64::NAN);
+        if !rep.as_ref().is_ok_and(|r| r.converged) {
+            self.levels[0].first_order_into_contact = false;
+        }
         self.active = kept;
         self.coarsest = usize::MAX;
         rep.map(|mut r| {

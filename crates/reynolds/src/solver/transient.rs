@@ -29,6 +29,8 @@ impl ReynoldsSolver {
         for l in &mut self.levels {
             l.time_a0 = a0;
             l.touch = self.settings.contact;
+            // A step's faces into the contact are second order, whatever start it has.
+            l.first_order_into_contact = false;
             if renew {
                 // A point let go keeps its pressure, full of oil (`θ = 1`: loaded).
                 Zip::from(&mut l.theta).and(&l.contact).for_each(|t, &c| {
