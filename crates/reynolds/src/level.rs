@@ -204,8 +204,9 @@ pub struct Level {
     /// why).
     pub first_order_partial: bool,
     /// Whether the Couette face *into* a point where the solids touch is first order as well
-    /// (the face behind one always is): the start from the dry contact's, where the oil that
-    /// reaches the contact's rim is a film thinner than the grid resolves (`upwind` says why).
+    /// (the face behind one always is): set by the start from the dry contact, where the oil
+    /// that reaches the contact's rim is a film thinner than the grid resolves (`upwind` says
+    /// why).
     pub first_order_into_contact: bool,
     /// FAS right-hand side (zero on the finest grid).
     pub rhs: Array2<f64>,
