@@ -430,9 +430,10 @@ impl Level {
             let w = self.first_weight();
             return [w, -w, 0.0];
         }
-        let shut = |k: usize| self.touch && self.contact[[j, k]];
-        let near_contact =
-            shut(i) || shut(i - 1) || shut(i - 2) || self.face_into_contact(j, i + 1);
+        let near_contact = self.shut(j, i)
+            || self.shut(j, i - 1)
+            || self.shut(j, i - 2)
+            || self.face_into_contact(j, i + 1);
         if !self.first_order_partial && !near_contact {
             return [1.5, -2.0, 0.5];
         }
@@ -450,9 +451,7 @@ impl Level {
     /// with first-order faces ([`Self::upwind`] says why).
     #[inline]
     fn first_order_face(&self, theta: &[f64], j: usize, i: usize) -> bool {
-        let partly = |k: usize| {
-            (self.first_order_partial && theta[k] < 1.0) || (self.touch && self.contact[[j, k]])
-        };
+        let partly = |k: usize| (self.first_order_partial && theta[k] < 1.0) || self.shut(j, k);
         partly(i) || partly(i - 1) || self.face_into_contact(j, i + 1)
     }
 
