@@ -4,7 +4,7 @@
 //! meniscus on the centre line. `M20=1`: Moes' M = 20, L = 10 on [-4.5, 1.5] × [-3, 3] instead.
 //! `LOG=1` prints every cycle (residual, load error, central film, the oil unaccounted for);
 //! `POIS=ratio` sets `relax.poiseuille_full_step`; `OMEGA`, `LAG` the Gauss–Seidel changes'
-//! under-relaxation and the laws' lag; `U=m/s` the rolling speed `u1` of the seed's
+//! under-relaxation (`FEDOMEGA` the fed solve's) and the laws' lag; `U=m/s` the rolling speed `u1` of the seed's
 //! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS`, `MENP` the cycle limit, the `H00`
 //! gain, the gap's under-relaxation, the slow mode's jump cap (0: none) and the meniscus passes; `MASS`,
 //! `FILMTOL` the stop rule's oil and film tolerances; `DOMAIN=x0,x1,y0,y1` the domain [a]
@@ -57,6 +57,9 @@ fn main() {
         }
         if let Ok(v) = std::env::var("OMEGA") {
             settings.relax.omega_gs = v.parse().expect("OMEGA: Gauss-Seidel under-relaxation");
+        }
+        if let Ok(v) = std::env::var("FEDOMEGA") {
+            settings.fed_omega_gs = v.parse().expect("FEDOMEGA: the fed solve's under-relaxation");
         }
         if let Ok(v) = std::env::var("LAG") {
             settings.relax.coefficient_lag = v.parse().expect("LAG: the laws' lag");

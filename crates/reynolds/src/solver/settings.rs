@@ -74,13 +74,15 @@ pub struct ReynoldsSettings {
     /// attempts end in a limit cycle of the force balance (docs/reynolds.md, "The attempts
     /// after a failure").
     pub fallback_omega_gs: f64,
-    /// Mass conserving, steady: the Gauss–Seidel changes' under-relaxation from the first
-    /// attempt on (`relax.omega_gs` where that is smaller). At high speed and light load the
-    /// fed cycles at 0.4 swing with period two from the start (0.3 m/s, 20 N on 385² over the
-    /// rule's domain: 197 cycles over four attempts, the fourth at 0.25 converging in 8); at
-    /// 0.25 from the start, 8 cycles, and the seed's bench cases take the same or fewer
-    /// (docs/decisions.md, "Smaller Gauss–Seidel changes for the fed solve"). The time steps
-    /// after the solve relax at `relax.omega_gs` unless it needed its lagged attempt.
+    /// Mass conserving, steady: the Gauss–Seidel changes' under-relaxation from the cycle on
+    /// which the finest grid's cycles swing with period two, or the film closes
+    /// (`relax.omega_gs` until then, and where it is smaller). At high speed and light load
+    /// the fed cycles at 0.4 swing (0.3 m/s, 20 N on 385² over the rule's domain: 197 cycles
+    /// over four attempts, the fourth at 0.25 converging in 8; from the swing on, 18 cycles in
+    /// all); from the start, 0.25 stalled the first attempt at 5 mm/s, 80 N on 1793² (170
+    /// cycles over two attempts, where 0.4 converges in 20) (docs/decisions.md, "Smaller
+    /// Gauss–Seidel changes for the fed solve"). The time steps after the solve relax at
+    /// `relax.omega_gs` unless it needed its lagged attempt.
     pub fed_omega_gs: f64,
     /// Mass conserving, steady: when the attempts above end with the film closed, diverged,
     /// stalled or cycling, a last attempt solves the contact fully flooded (the clamp), then
