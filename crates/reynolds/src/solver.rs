@@ -19,12 +19,14 @@ mod report;
 mod settings;
 mod steady;
 mod transient;
+mod watch;
 pub use report::{
     CycleLog, Diagnosis, Divergence, FailureKind, ReynoldsError, ReynoldsReport, SETTLED_BOUND,
     Settled,
 };
 use report::{converged, settled};
 pub use settings::{ReynoldsSettings, StopRule, TimeScheme};
+use watch::{stalled_over, swings};
 
 /// The Reynolds EHL solver: FAS multigrid over a hierarchy of levels, steady solves and time steps.
 ///
