@@ -781,8 +781,13 @@ mod tests {
         let j = 16;
         let shut = |i: usize| (9..12).contains(&i) || i == 20;
         // From the dry contact the faces into a touching point are first order as well.
-        let cases = [(true, false, false), (false, false, false), (false, true, false)];
-        for (first_order, touching, into) in cases.into_iter().chain([(false, true, true)]) {
+        let cases = [
+            (true, false, false),
+            (false, false, false),
+            (false, true, false),
+            (false, true, true),
+        ];
+        for (first_order, touching, into) in cases {
             l.first_order_partial = first_order;
             l.touch = touching;
             l.first_order_into_contact = into;
