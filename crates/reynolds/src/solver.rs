@@ -26,7 +26,7 @@ pub use report::{
 };
 use report::{converged, settled};
 pub use settings::{ReynoldsSettings, StopRule, TimeScheme};
-use watch::{stalled_over, swings};
+use watch::stalled_over;
 
 /// The Reynolds EHL solver: FAS multigrid over a hierarchy of levels, steady solves and time steps.
 ///

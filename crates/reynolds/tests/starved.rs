@@ -436,9 +436,8 @@ fn a_front_of_excess_oil_beside_the_contact_drains_in_the_sweep_that_meets_it() 
 fn a_fed_solve_at_high_speed_and_light_load_converges_in_its_first_attempt() {
     // 0.3 m/s, 5 N fed 25 nm on 257² over the rule's inlet domain: with the flooded solve's
     // Gauss–Seidel under-relaxation (0.4) throughout, the fed cycles swung with period two
-    // and took 157 cycles over several attempts; with the fed solve's own (0.25) from the
-    // cycle its swing is seen (the eleventh), 13 cycles in its first (7 with 0.25 from the
-    // start). Bound 20 cycles: the flooded solve's count on any grid, far below the swing's.
+    // and took 157 cycles over several attempts; with the fed solve's own (0.25) on the finest
+    // grid, 8. Bound 20 cycles: the flooded solve's count on any grid, far below the swing's.
     let prm = common::seed_loaded(0.3, 5.0);
     let grid = Grid::new(257, 257, (-2.3972, 1.25), (-1.8236, 1.8236));
     let hd = 25e-9 / prm.scales.delta;

@@ -290,7 +290,10 @@ impl ReynoldsSolver {
         ehl_core::cancel::check()?;
         let target = 2.0 * PI / 3.0;
         self.levels[l].theta_free = true;
+        let kept = self.active.relax.omega_gs;
+        self.active.relax.omega_gs = self.cycle_omega_gs(l);
         self.cycle(l, target);
+        self.active.relax.omega_gs = kept;
         let f = &self.levels[l];
         let load = f.load();
         let load_error = load / target - 1.0;

@@ -74,15 +74,14 @@ pub struct ReynoldsSettings {
     /// attempts end in a limit cycle of the force balance (docs/reynolds.md, "The attempts
     /// after a failure").
     pub fallback_omega_gs: f64,
-    /// Mass conserving, steady: the Gauss–Seidel changes' under-relaxation from the cycle on
-    /// which the finest grid's cycles swing with period two, or the film closes
-    /// (`relax.omega_gs` until then, and where it is smaller). At high speed and light load
+    /// Mass conserving, steady: the Gauss–Seidel changes' under-relaxation of the finest
+    /// grid's cycles (where smaller than `relax.omega_gs`); the full-multigrid start's coarser
+    /// grids relax at `relax.omega_gs` unless a film closes there. At high speed and light load
     /// the fed cycles at 0.4 swing (0.3 m/s, 20 N on 385² over the rule's domain: 197 cycles
-    /// over four attempts, the fourth at 0.25 converging in 8; from the swing on, 18 cycles in
-    /// all); from the start, 0.25 stalled the first attempt at 5 mm/s, 80 N on 1793² (170
-    /// cycles over two attempts, where 0.4 converges in 20) (docs/decisions.md, "Smaller
-    /// Gauss–Seidel changes for the fed solve"). The time steps after the solve relax at
-    /// `relax.omega_gs` unless it needed its lagged attempt.
+    /// over four attempts, 11 with this); with 0.25 in the start as well, the first attempt
+    /// stalled at 5 mm/s, 80 N on 1793² (170 cycles over two attempts, 20 with this)
+    /// (docs/decisions.md, "Smaller Gauss–Seidel changes for the fed solve"). The time steps
+    /// after the solve relax at `relax.omega_gs` unless it needed its lagged attempt.
     pub fed_omega_gs: f64,
     /// Mass conserving, steady: when the attempts above end with the film closed, diverged,
     /// stalled or cycling, a last attempt solves the contact fully flooded (the clamp), then

@@ -472,7 +472,7 @@ impl ReynoldsSolver {
                 for k in 0..most {
                     cycle += 1;
                     let rec = self.logged_cycle(l, cycle, t0)?;
-                    self.watch_fed_changes(&[], &rec);
+                    self.watch_fed_start(&rec);
                     let (h00, moved) =
                         jumps.after_cycle(&mut self.levels[l], self.h00, rec.residual);
                     self.h00 = h00;
@@ -523,7 +523,6 @@ impl ReynoldsSolver {
             self.h00 = h00;
             log(&rec);
             history.push(rec);
-            self.watch_fed_changes(&history, &rec);
             if moved {
                 // The record is not the state's after a jump: the next cycle judges it.
                 prev = (f64::NAN, None);
@@ -604,18 +603,23 @@ impl ReynoldsSolver {
         self.levels[0].mass_conserving() && self.levels[0].time_a0 == 0.0
     }
 
-    /// A fed steady solve after the cycle `rec` (the last of `history`, the finest grid's
-    /// cycles; empty in the full-multigrid start): from here on the Gauss–Seidel changes are
-    /// under-relaxed by [`ReynoldsSettings::fed_omega_gs`] where they were larger, for this
-    /// attempt and the solve's later ones, once its cycles swing ([`swings`]) or its film
-    /// closes (fed 25 nm at 2 mm/s, 80 N on 257², whose cycles at 0.4 stalled settled once the
-    /// solids touched, and converge at the smaller changes).
-    fn watch_fed_changes(&mut self, history: &[CycleLog], rec: &CycleLog) {
-        let swing = || swings(history, rec.points, self.active.film_tolerance);
-        if self.fed_steady() && (rec.minimum_film < 0.0 || swing()) {
+    /// A fed steady solve after the full-multigrid start's cycle `rec`: where its film closes
+    /// the start's coarser grids relax with [`ReynoldsSettings::fed_omega_gs`] too, for this
+    /// attempt and the solve's later ones (fed 25 nm at 2 mm/s, 80 N on 257², whose cycles
+    /// with larger changes stalled settled once the solids touched).
+    fn watch_fed_start(&mut self, rec: &CycleLog) {
+        if self.fed_steady() && rec.minimum_film < 0.0 {
             let w = &mut self.active.relax.omega_gs;
             *w = w.min(self.active.fed_omega_gs);
         }
+    }
+
+    /// The Gauss–Seidel changes' factor of a cycle with level `l` on top: a fed steady solve's
+    /// finest-grid cycles take [`ReynoldsSettings::fed_omega_gs`] where it is smaller, its
+    /// full-multigrid start the settings' own.
+    pub(super) fn cycle_omega_gs(&self, l: usize) -> f64 {
+        let w = self.active.relax.omega_gs;
+        if l == 0 && self.fed_steady() { w.min(self.active.fed_omega_gs) } else { w }
     }
 
     /// Back to the converged lubricated answer the solids were let touch from, when one was
@@ -678,7 +682,7 @@ impl ReynoldsSolver {
             wall_time_s: t0.elapsed().as_secs_f64(),
             lagged_laws: self.active.relax.coefficient_lag,
             first_attempt: None,
-            omega_gs: self.active.relax.omega_gs,
+            omega_gs: self.cycle_omega_gs(0),
             settled,
             mode_jumps,
             from_flooded: false,
