@@ -510,6 +510,34 @@ mod tests {
     }
 
     #[test]
+    fn a_fed_steady_solve_makes_smaller_changes_on_its_finest_grid_and_in_a_start_that_closes() {
+        let s = fed_seed(0.01, 20.0, 65);
+        let (flooded, fed) = (s.settings.relax.omega_gs, s.settings.fed_omega_gs);
+        assert!(fed < flooded, "{fed} against {flooded}");
+        // The finest grid's cycles at the fed changes; the start's coarser grids at the flooded
+        // (with 0.25 there too, 5 mm/s, 80 N on 1793² stalled: docs/decisions.md).
+        assert_eq!((s.cycle_omega_gs(0), s.cycle_omega_gs(1)), (fed, flooded));
+        // A flooded solve, and a time step's cycles, keep the flooded changes on every grid.
+        let mut flooding = fed_seed(0.01, 20.0, 65);
+        flooding.set_supply(None);
+        assert_eq!(flooding.cycle_omega_gs(0), flooded);
+        let mut step = fed_seed(0.01, 20.0, 65);
+        step.levels[0].time_a0 = 1.0;
+        assert_eq!(step.cycle_omega_gs(0), flooded);
+        // A start whose film stays open keeps its changes; one whose film closes takes the fed
+        // ones on its coarser grids too, for the rest of the solve.
+        let mut s = s;
+        let mut rec = super::watch::tests::history(1, |_| 0.0)[0];
+        s.watch_fed_start(&rec);
+        assert_eq!(s.cycle_omega_gs(1), flooded);
+        rec.minimum_film = -1e-4;
+        s.watch_fed_start(&rec);
+        assert_eq!(s.cycle_omega_gs(1), fed);
+        step.watch_fed_start(&rec);
+        assert_eq!(step.cycle_omega_gs(1), flooded, "a time step's cycles are not the start's");
+    }
+
+    #[test]
     fn a_fed_start_begins_on_the_coarsest_grid_that_holds_the_film() {
         let top = |s: &ReynoldsSolver| s.levels[s.fmg_top()].grid.nx;
         // 5 mm/s, 40 N: 129² closes the film (cells 3.8× the grid rule's), 257² holds it (1.9×).

@@ -607,7 +607,7 @@ impl ReynoldsSolver {
     /// the start's coarser grids relax with [`ReynoldsSettings::fed_omega_gs`] too, for this
     /// attempt and the solve's later ones (fed 25 nm at 2 mm/s, 80 N on 257², whose cycles
     /// with larger changes stalled settled once the solids touched).
-    fn watch_fed_start(&mut self, rec: &CycleLog) {
+    pub(super) fn watch_fed_start(&mut self, rec: &CycleLog) {
         if self.fed_steady() && rec.minimum_film < 0.0 {
             let w = &mut self.active.relax.omega_gs;
             *w = w.min(self.active.fed_omega_gs);
