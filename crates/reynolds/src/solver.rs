@@ -511,7 +511,7 @@ mod tests {
 
     #[test]
     fn a_fed_steady_solve_makes_smaller_changes_on_its_finest_grid_and_in_a_start_that_closes() {
-        let s = fed_seed(0.01, 20.0, 65);
+        let mut s = fed_seed(0.01, 20.0, 65);
         let (flooded, fed) = (s.settings.relax.omega_gs, s.settings.fed_omega_gs);
         assert!(fed < flooded, "{fed} against {flooded}");
         // The finest grid's cycles at the fed changes; the start's coarser grids at the flooded
@@ -526,7 +526,6 @@ mod tests {
         assert_eq!(step.cycle_omega_gs(0), flooded);
         // A start whose film stays open keeps its changes; one whose film closes takes the fed
         // ones on its coarser grids too, for the rest of the solve.
-        let mut s = s;
         let mut rec = super::watch::tests::history(1, |_| 0.0)[0];
         s.watch_fed_start(&rec);
         assert_eq!(s.cycle_omega_gs(1), flooded);

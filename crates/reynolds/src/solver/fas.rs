@@ -290,6 +290,8 @@ impl ReynoldsSolver {
         ehl_core::cancel::check()?;
         let target = 2.0 * PI / 3.0;
         self.levels[l].theta_free = true;
+        // The whole cycle, its coarser grids' sweeps included, relaxes with the factor of the
+        // grid on top (a fed steady solve's finest grid takes its own: `cycle_omega_gs`).
         let kept = self.active.relax.omega_gs;
         self.active.relax.omega_gs = self.cycle_omega_gs(l);
         self.cycle(l, target);
