@@ -68,10 +68,10 @@ fn main() {
         if let Ok(v) = std::env::var("WC") {
             settings.relax.omega_contact = v.parse().expect("WC");
         }
-        if let Ok(v) = std::env::var("GAMMA") {
-            if h_oil_nm.is_some() {
-                settings.gamma = v.parse().expect("GAMMA");
-            }
+        if let Ok(v) = std::env::var("GAMMA")
+            && h_oil_nm.is_some()
+        {
+            settings.gamma = v.parse().expect("GAMMA");
         }
         if let Ok(v) = std::env::var("MENP") {
             settings.relax.meniscus_passes = v.parse().expect("MENP");

@@ -204,23 +204,24 @@ impl ReynoldsSolver {
         let first = "first attempt, the coarser grids moving the menisci";
         // Stalled with its film open, further from the answer than a continuation reaches:
         // once more from the start with V-cycles (the grid below visited once a cycle, not
-        // twice), the coarser grids still moving the menisci to the same depth. Where W-cycles end in a cycle of
-        // the menisci, V-cycles converged in 17–18 cycles (5 mm/s, 40 N fed 10 nm on 1025² and
-        // 2049², the seed's contact at 10 mm/s, 20 N over a longer inlet on 641²), while as
-        // the first attempt they took 1.2–2× the W-cycles' elsewhere (docs/decisions.md,
-        // "V-cycles where the W-cycles stall").
+        // twice), the coarser grids still moving the menisci to the same depth. Where the
+        // W-cycles end in a cycle of the menisci (5 mm/s, 40 N fed 10 nm on 1025² and 2049²)
+        // V-cycles from the start converge in 18 cycles; as the first attempt they took
+        // 1.2–2× the W-cycles' on the bench's other cases (docs/decisions.md, "V-cycles where
+        // the W-cycles stall").
         let near = self.active.mass_tolerance * CONTINUE_WITHIN;
-        if self.active.gamma > 1 && stalled_open(&rep, near).is_none() {
-            if let Some(failed) = stalled_open(&rep, f64::INFINITY) {
-                let said = format!("{first}: {}", failed.0);
-                // Its start relaxes as the settings say until a film there closes: with the
-                // first attempt's smaller changes it took 30 cycles, not 18 (1025²).
-                let kept = self.active;
-                self.active.gamma = 1;
-                self.active.relax.omega_gs = self.settings.relax.omega_gs;
-                rep = self.attempt(log, Begin::Afresh, "again with V-cycles", failed, said, t0);
-                (self.active.gamma, self.active.relax.omega_gs) = (kept.gamma, kept.relax.omega_gs);
-            }
+        if self.active.gamma > 1
+            && stalled_open(&rep, near).is_none()
+            && let Some(failed) = stalled_open(&rep, f64::INFINITY)
+        {
+            let said = format!("{first}: {}", failed.0);
+            // Its start relaxes as the settings say until a film there closes: with the
+            // first attempt's smaller changes it took 30 cycles, not 18 (1025²).
+            let kept = self.active;
+            self.active.gamma = 1;
+            self.active.relax.omega_gs = self.settings.relax.omega_gs;
+            rep = self.attempt(log, Begin::Afresh, "again with V-cycles", failed, said, t0);
+            (self.active.gamma, self.active.relax.omega_gs) = (kept.gamma, kept.relax.omega_gs);
         }
         self.coarsest = usize::MAX;
         self.set_coarse_theta(false);
