@@ -174,14 +174,14 @@ impl ReynoldsSolver {
     }
 
     /// The window a steady solve's lubricated cycles are judged over for a stall
-    /// ([`Self::stall_window`]), a quarter of it (half `stall_cycles`) in a fed solve's first
-    /// attempt (the coarser grids moving the menisci) on a grid that holds the film, while the
-    /// film is open and the solids apart. Where that attempt does not converge it ends in a cycle of a few periods
-    /// short of the answer (5 mm/s, 40 N fed 10 nm on 1025²: its film 1.5 % thick, 2 % of the
-    /// supply unaccounted for) that the second attempt, the coarser grids holding the film
-    /// content, leaves in about 20 cycles; judged over the whole window it ran 80 cycles first
-    /// (docs/decisions.md, "The full-multigrid start on a grid that holds the film"). On a
-    /// coarser grid the first attempt's film closes late, and the solids touch.
+    /// ([`Self::stall_window`]), a quarter of it (half `stall_cycles`) in a fed solve's
+    /// attempts whose coarser grids move the menisci, on a grid that holds the film, while the
+    /// film is open and the solids apart. Where the first attempt does not converge it ends in
+    /// a cycle of a few periods short of the answer (5 mm/s, 40 N fed 10 nm on 1025²: its film
+    /// 1.5 % thick, 2 % of the supply unaccounted for) that the next attempt leaves in about 20
+    /// cycles; judged over the whole window it ran 80 cycles first (docs/decisions.md, "The
+    /// full-multigrid start on a grid that holds the film"). On a coarser grid the first
+    /// attempt's film closes late, and the solids touch.
     pub(super) fn judged_stall_window(&self, touching: bool, closed: bool) -> usize {
         if self.coarse_theta && self.finest_holds_film() && !touching && !closed {
             self.active.stall_cycles / 2

@@ -210,10 +210,7 @@ impl ReynoldsSolver {
         // 1.2–2× the W-cycles' on the bench's other cases (docs/decisions.md, "V-cycles where
         // the W-cycles stall").
         let near = self.active.mass_tolerance * CONTINUE_WITHIN;
-        if self.active.gamma > 1
-            && stalled_open(&rep, near).is_none()
-            && let Some(failed) = stalled_open(&rep, f64::INFINITY)
-        {
+        if let Some(failed) = stalled_far(&rep, near, self.active.gamma) {
             let said = format!("{first}: {}", failed.0);
             // Its start relaxes as the settings say until a film there closes: with the
             // first attempt's smaller changes it took 30 cycles, not 18 (1025²).
@@ -742,27 +739,6 @@ pub(super) enum Begin {
     WhereLeft,
 }
 
-/// How many times the oil's tolerance a fed solve's first attempt may leave unaccounted for
-/// and be continued from where it stalled, rather than started again
-/// ([`ReynoldsSolver::solve`]): measured 1.2 % of the oil at 10 mm/s, 20 N on 641² (23 more
-/// cycles against a restart's 49), 2.9 % at 5 mm/s, 40 N fed 10 nm on 1025² (67 against 25).
-const CONTINUE_WITHIN: f64 = 2.0;
-
-/// The failure of an attempt that stalled (or settled into a limit cycle) unconverged, with
-/// its film open, the solids apart and at most `oil` of its supply unaccounted for at its last
-/// cycle: a state to go on from.
-fn stalled_open(rep: &Result<ReynoldsReport, ReynoldsError>, oil: f64) -> Option<(String, usize)> {
-    match rep {
-        Ok(r)
-            if r.touched_from.is_none()
-                && r.history.last().is_some_and(|c| c.mass_defect.abs() <= oil) =>
-        {
-            given_up(rep)
-        }
-        _ => None,
-    }
-}
-
 /// Where the attempt from the flooded answer ended
 /// ([`ReynoldsSettings::flooded_start_fallback`]).
 pub(super) enum FromFlooded {
@@ -838,60 +814,4 @@ struct Touching {
     at: Option<usize>,
     judged_from: usize,
     lubricated: Option<(SolverState, usize, usize)>,
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A first attempt's report: stalled (or `kind`) after 30 cycles with `oil` of the supply
-    /// unaccounted for at its last, the solids touching from `touched` if given.
-    fn stalled(kind: FailureKind, oil: f64, touched: Option<usize>) -> ReynoldsReport {
-        let diagnosis = Diagnosis { kind, cycle: 30, at: None, text: "stalled".into() };
-        ReynoldsReport {
-            converged: false,
-            diagnosis: Some(diagnosis),
-            cycles: 30,
-            history: super::super::watch::tests::history(30, |_| oil),
-            wall_time_s: 0.0,
-            lagged_laws: 0.0,
-            first_attempt: None,
-            omega_gs: 0.4,
-            settled: None,
-            mode_jumps: 0,
-            from_flooded: false,
-            touched_from: touched,
-            from_dry: false,
-            attempts: 1,
-        }
-    }
-
-    #[test]
-    fn a_first_attempt_stalled_with_its_oil_nearly_accounted_for_is_continued_not_restarted() {
-        let near = 0.01 * CONTINUE_WITHIN;
-        // 0.9 % and 1.2 % of the oil (10 mm/s, 40 N on 897² and 20 N on 641², the rule's
-        // domains): continued, a limit cycle as well as a stall, oil gained or lost alike.
-        for (kind, oil) in [
-            (FailureKind::Stalled, 0.009),
-            (FailureKind::LimitCycle, 0.012),
-            (FailureKind::Stalled, -0.009),
-        ] {
-            assert!(stalled_open(&Ok(stalled(kind, oil, None)), near).is_some(), "{oil}");
-        }
-        // 2.9 % (5 mm/s, 40 N fed 10 nm on 1025²): a restart's coarser grids drain it faster.
-        assert!(stalled_open(&Ok(stalled(FailureKind::Stalled, 0.029, None)), near).is_none());
-        // The solids touching, or a closed film: not a state to go on from.
-        assert!(stalled_open(&Ok(stalled(FailureKind::Stalled, 0.009, Some(12))), near).is_none());
-        assert!(stalled_open(&Ok(stalled(FailureKind::FilmClosed, 0.009, None)), near).is_none());
-        // A settled answer is returned as it is.
-        let mut settled = stalled(FailureKind::Stalled, 0.009, None);
-        settled.settled = Some(Settled {
-            window: 40,
-            central_film_spread: 0.0,
-            minimum_film_spread: 0.0,
-            load_error: 0.0,
-            mass_defect: 0.009,
-        });
-        assert!(stalled_open(&Ok(settled), near).is_none());
-    }
 }
