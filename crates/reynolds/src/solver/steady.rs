@@ -193,8 +193,9 @@ impl ReynoldsSolver {
         }))
     }
 
-    /// After a first attempt whose coarser grids solved for the film content: the coarser
-    /// grids hold it from here, and an attempt that stalled is continued or started again.
+    /// After a first attempt whose coarser grids solved for the film content: one that stalled
+    /// far from the answer starts again with V-cycles, the coarser grids still solving for it;
+    /// from there they hold it, and an attempt that stalled is continued or started again.
     fn after_coarse_film_content(
         &mut self,
         mut rep: Result<ReynoldsReport, ReynoldsError>,
