@@ -2,7 +2,8 @@
 //! conditions (Table 1, u = 0.01 m/s, [-1.25, 1.25]²) on N², flooded (the clamp) and fed each
 //! supply, and prints the central film, `ρ̄(p_c) h_c` against the supply, `R` and the inlet
 //! meniscus on the centre line. `M20=1`: Moes' M = 20, L = 10 on [-4.5, 1.5] × [-3, 3] instead.
-//! Each solve prints its cycles and the attempts its cascade ran. `LOG=1` prints every cycle (residual, load error, central film, the oil unaccounted for);
+//! Each solve prints its cycles and the attempts its cascade ran. `LOG=1` prints every cycle
+//! (residual, load error, central film, the oil unaccounted for);
 //! `POIS=ratio` sets `relax.poiseuille_full_step`; `OMEGA`, `LAG` the Gauss–Seidel changes'
 //! under-relaxation (`FEDOMEGA` the fed solve's) and the laws' lag; `U=m/s` the rolling speed `u1` of the seed's
 //! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS`, `MENP` the cycle limit, the `H00`
