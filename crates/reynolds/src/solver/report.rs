@@ -181,8 +181,10 @@ pub enum Divergence {
 /// Why a solve stopped short.
 #[derive(Debug, Clone, thiserror::Error, PartialEq)]
 pub enum ReynoldsError {
+    // The last film and load error come before `what`: a later attempt's `what` quotes the
+    // attempts before it, and at its end they read as the first attempt's.
     #[error(
-        "Reynolds solve diverged at cycle {cycle}: {what} (last central film {film:e}, load error {load:e})"
+        "Reynolds solve diverged at cycle {cycle} (last central film {film:.4e} a²/R, load error {load:.2e}): {what}"
     )]
     /// The solve ran away: a non-finite value, or the load error past 1e3.
     Diverged {
