@@ -221,7 +221,6 @@ impl ReynoldsSolver {
             rep = self.attempt(log, Begin::Afresh, "again with V-cycles", failed, said, t0);
             (self.active.gamma, self.active.relax.omega_gs) = (kept.gamma, kept.relax.omega_gs);
         }
-        self.coarsest = usize::MAX;
         self.set_coarse_theta(false);
         // Stalled with its film open and its oil nearly accounted for: a cycle of the
         // menisci a few tenths of a per cent from the answer. On from there with the
@@ -234,8 +233,13 @@ impl ReynoldsSolver {
             let said =
                 if self.attempts > 1 { failed.0.clone() } else { format!("{first}: {}", failed.0) };
             let what = "continued with the coarser grids holding the film content";
+            // To the depth of the attempt it continues: on a grid coarser than the grid rule's
+            // (5 mm/s, 80 N fed 5 nm on 385², the rule asking for 1793²) every grid down to the
+            // coarsest closed its film and wrecked the fine one's (the residual 3e-5 → 2e-2 in
+            // one cycle, and every later attempt failed); to that depth, 5 more cycles.
             rep = self.attempt(log, Begin::WhereLeft, what, failed, said, t0);
         }
+        self.coarsest = usize::MAX;
         // Failed: once more with the coarser grids holding the film content, every grid
         // down to the coarsest.
         if let Some(failed) = given_up(&rep).or_else(|| film_closed(&rep)) {
