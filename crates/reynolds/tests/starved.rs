@@ -21,6 +21,19 @@ fn seed_solve(n: usize, h_oil_nm: Option<f64>) -> (ReynoldsParams, ReynoldsSolve
     (prm, s)
 }
 
+/// `prm` on `grid` fed `h_oil_nm` from the inflow edge, default settings: the steady solve's
+/// outcome.
+fn fed_solve(
+    prm: ReynoldsParams,
+    grid: Grid,
+    h_oil_nm: f64,
+) -> Result<ReynoldsReport, ReynoldsError> {
+    let hd = h_oil_nm * 1e-9 / prm.scales.delta;
+    let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
+    s.set_supply(Some(&move |_y| hd));
+    s.solve(&mut |_| {})
+}
+
 #[test]
 fn a_thin_supply_crosses_the_contact_at_its_own_thickness() {
     // With 5 nm supplied (a third of the flooded film) nothing is pushed back at the inlet:
@@ -107,12 +120,8 @@ fn seed_fed_25nm(n: usize, settings: ReynoldsSettings) -> (ReynoldsReport, f64) 
 /// restart from the full-multigrid start took 77, which is what this catches.
 #[test]
 fn a_first_attempt_that_stalls_near_the_answer_is_continued_not_started_again() {
-    let prm = common::seed();
     let grid = Grid::new(577, 577, (-1.45, 1.25), (-1.35, 1.35));
-    let hd = 25e-9 / prm.scales.delta;
-    let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
-    s.set_supply(Some(&move |_y| hd));
-    let r = s.solve(&mut |_| {}).expect("converges");
+    let r = fed_solve(common::seed(), grid, 25.0).expect("converges");
     assert!(r.converged && r.attempts == 2 && r.first_attempt.is_some(), "{r:?}");
     // 34 measured; the margin covers a few cycles of drift, far from the restart's 77.
     assert!(r.cycles <= 45, "{} cycles", r.cycles);
@@ -125,12 +134,8 @@ fn a_first_attempt_that_stalls_near_the_answer_is_continued_not_started_again() 
 /// and every later attempt failed; continued to the first attempt's depth, it converges.
 #[test]
 fn a_continuation_keeps_the_coarser_grids_of_the_attempt_it_continues() {
-    let prm = common::seed_loaded(0.005, 80.0);
     let grid = Grid::new(385, 385, (-1.25, 1.25), (-1.25, 1.25));
-    let hd = 5e-9 / prm.scales.delta;
-    let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
-    s.set_supply(Some(&move |_y| hd));
-    let r = s.solve(&mut |_| {}).expect("converges");
+    let r = fed_solve(common::seed_loaded(0.005, 80.0), grid, 5.0).expect("converges");
     assert!(r.converged && r.attempts == 2 && r.first_attempt.is_some(), "{r:?}");
     // 26 measured (21 + 5); the margin covers a few cycles of drift.
     assert!(r.cycles <= 35, "{} cycles", r.cycles);
@@ -456,12 +461,8 @@ fn a_fed_solve_at_high_speed_and_light_load_converges_in_its_first_attempt() {
     // Gauss–Seidel under-relaxation (0.4) throughout, the fed cycles swung with period two
     // and took 157 cycles over several attempts; with the fed solve's own (0.25) on the finest
     // grid, 8. Bound 20 cycles: the flooded solve's count on any grid, far below the swing's.
-    let prm = common::seed_loaded(0.3, 5.0);
     let grid = Grid::new(257, 257, (-2.3972, 1.25), (-1.8236, 1.8236));
-    let hd = 25e-9 / prm.scales.delta;
-    let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
-    s.set_supply(Some(&move |_y| hd));
-    let r = s.solve(&mut |_| {}).expect("an answer");
+    let r = fed_solve(common::seed_loaded(0.3, 5.0), grid, 25.0).expect("an answer");
     assert!(r.converged, "{:?}", r.diagnosis);
     assert_eq!(r.attempts, 1, "attempts: {}", r.attempts);
     assert!(r.cycles <= 20, "{} cycles", r.cycles);
