@@ -202,7 +202,15 @@ impl ReynoldsSolver {
         log: &mut dyn FnMut(&CycleLog),
         t0: Instant,
     ) -> Result<ReynoldsReport, ReynoldsError> {
-        let first = "first attempt, the coarser grids moving the menisci";
+        // What the attempts so far said: a later attempt's failure quotes the ones before it
+        // already; the first attempt's is named.
+        let said = |attempts: usize, text: &str| {
+            if attempts > 1 {
+                text.to_string()
+            } else {
+                format!("first attempt, the coarser grids moving the menisci: {text}")
+            }
+        };
         // Stalled with its film open, further from the answer than a continuation reaches:
         // once more from the start with V-cycles (the grid below visited once a cycle, not
         // twice), the coarser grids still moving the menisci to the same depth. Where the
@@ -212,14 +220,14 @@ impl ReynoldsSolver {
         // the W-cycles stall").
         let near = self.active.mass_tolerance * CONTINUE_WITHIN;
         if let Some(failed) = stalled_far(&rep, near, self.active.gamma) {
-            let said = format!("{first}: {}", failed.0);
+            let said = said(self.attempts, &failed.0);
             // Its start relaxes as the settings say until a film there closes: with the
             // first attempt's smaller changes it took 30 cycles, not 18 (1025²).
-            let kept = self.active;
+            let kept = (self.active.gamma, self.active.relax.omega_gs);
             self.active.gamma = 1;
             self.active.relax.omega_gs = self.settings.relax.omega_gs;
             rep = self.attempt(log, Begin::Afresh, "again with V-cycles", failed, said, t0);
-            (self.active.gamma, self.active.relax.omega_gs) = (kept.gamma, kept.relax.omega_gs);
+            (self.active.gamma, self.active.relax.omega_gs) = kept;
         }
         self.set_coarse_theta(false);
         // Stalled with its film open and its oil nearly accounted for: a cycle of the
@@ -230,8 +238,7 @@ impl ReynoldsSolver {
         // finest grid alone moves the menisci too slowly, and the restart's coarser grids
         // are faster (5 mm/s, 40 N fed 10 nm on 1025², 2.9 %: 67 cycles against 25).
         if let Some(failed) = stalled_open(&rep, near) {
-            let said =
-                if self.attempts > 1 { failed.0.clone() } else { format!("{first}: {}", failed.0) };
+            let said = said(self.attempts, &failed.0);
             let what = "continued with the coarser grids holding the film content";
             // To the depth of the attempt it continues: on a grid coarser than the grid rule's
             // (5 mm/s, 80 N fed 5 nm on 385², the rule asking for 1793²) every grid down to the
@@ -243,9 +250,7 @@ impl ReynoldsSolver {
         // Failed: once more with the coarser grids holding the film content, every grid
         // down to the coarsest.
         if let Some(failed) = given_up(&rep).or_else(|| film_closed(&rep)) {
-            // A continuation's failure quotes the first attempt already.
-            let said =
-                if self.attempts > 1 { failed.0.clone() } else { format!("{first}: {}", failed.0) };
+            let said = said(self.attempts, &failed.0);
             rep = self.attempt(
                 log,
                 Begin::Afresh,
