@@ -190,6 +190,20 @@ impl ReynoldsSolver {
         }
     }
 
+    /// Whether this attempt's lubricated cycles are judged early too ([`stalled_early`]): a fed
+    /// steady solve's first attempt, in W-cycles whose coarser grids move the menisci, on a grid
+    /// that holds the film, the film open and the solids apart. Its stall then starts the
+    /// V-cycle attempt ([`stalled_far`]).
+    pub(super) fn judged_early(&self, touching: bool, closed: bool) -> bool {
+        self.attempts == 1
+            && self.active.gamma >= 2
+            && self.fed_steady()
+            && self.coarse_theta
+            && self.finest_holds_film()
+            && !touching
+            && !closed
+    }
+
     /// What keeps the solve from converging, in words: a closed film (where), or which criterion
     /// is missed and by how much.
     pub(super) fn diagnose(&self, history: &[CycleLog], stalled: bool) -> Diagnosis {

@@ -584,7 +584,11 @@ impl ReynoldsSolver {
             }
             prev = now;
             let w = self.judged_stall_window(touching.at.is_some(), closed);
-            if stalled_over(&history[touching.judged_from..], rec.points, w) {
+            let judged = &history[touching.judged_from..];
+            let near = self.active.mass_tolerance * CONTINUE_WITHIN;
+            let early = self.judged_early(touching.at.is_some(), closed)
+                && stalled_early(judged, rec.points, near);
+            if early || stalled_over(judged, rec.points, w) {
                 if closed && settled_round_closure(&history[history.len() - w..]) {
                     self.let_touch(&mut touching, cycle, history.len(), false);
                     prev = (f64::NAN, None);
@@ -627,7 +631,7 @@ impl ReynoldsSolver {
     }
 
     /// A mass-conserving steady solve (not a time step's cycles).
-    fn fed_steady(&self) -> bool {
+    pub(super) fn fed_steady(&self) -> bool {
         self.levels[0].mass_conserving() && self.levels[0].time_a0 == 0.0
     }
 

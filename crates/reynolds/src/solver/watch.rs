@@ -23,6 +23,28 @@ pub(super) fn stalled_over(history: &[CycleLog], points: usize, window: usize) -
     !halved(|c| c.residual) && !halved(|c| c.mass_defect)
 }
 
+/// Finest-grid cycles over which a W-cycle first attempt is judged once, early: at its
+/// `2 · EARLY_WINDOW + 1`-th, the last `EARLY_WINDOW` against the best before them
+/// ([`stalled_early`]).
+pub(super) const EARLY_WINDOW: usize = 4;
+
+/// Whether a fed first attempt's W-cycles have stalled far from the answer by its
+/// `2 · EARLY_WINDOW + 1`-th finest-grid cycle of `history` on `points`: neither the residual
+/// nor the oil halved over the last [`EARLY_WINDOW`] ([`stalled_over`]), and more than
+/// `oil_near` of the supply still unaccounted for. Cycles at the multigrid rate halve the
+/// residual every cycle or two (the bench's converging cases, 257² to 2049²), a meniscus that
+/// creeps to its place lowers the oil steadily, and one near the answer is left to the full
+/// window; where the W-cycles keep a cycle of the menisci going (5 mm/s, 40 N fed 10 nm on
+/// 1025²: the residual about 1e-2 from the first finest cycle on, 4–5 % of the oil
+/// unaccounted for) the full window judged it 12 cycles later (docs/decisions.md, "V-cycles
+/// where the W-cycles stall").
+pub(super) fn stalled_early(history: &[CycleLog], points: usize, oil_near: f64) -> bool {
+    let fine = history.iter().filter(|c| c.points == points).count();
+    fine == 2 * EARLY_WINDOW + 1
+        && history.last().is_some_and(|c| c.mass_defect.abs() > oil_near)
+        && stalled_over(history, points, EARLY_WINDOW)
+}
+
 /// How many times the oil's tolerance a fed solve's attempt whose coarser grids move the menisci
 /// may leave unaccounted for and be continued from where it stalled, rather than started again
 /// ([`super::ReynoldsSolver::solve`]): measured 1.2 % of the oil at 10 mm/s, 20 N on 641² (23 more
@@ -167,5 +189,33 @@ pub(super) mod tests {
             stalled_far(&Ok(stalled(FailureKind::Stalled, 0.028, Some(12))), near, 2).is_none()
         );
         assert!(stalled_far(&Ok(stalled(FailureKind::FilmClosed, 0.028, None)), near, 2).is_none());
+    }
+
+    #[test]
+    fn w_cycles_that_halve_neither_residual_nor_oil_over_their_first_finest_cycles_are_judged_early()
+     {
+        let near = 0.01 * CONTINUE_WITHIN;
+        let judged = 2 * EARLY_WINDOW + 1;
+        // The residual standing at 1e-2 and the oil rocking about 4–5 % (5 mm/s, 40 N fed
+        // 10 nm on 1025², its first attempt's first finest-grid cycles): judged at once.
+        let rocking = |k: usize| 0.045 + 0.005 * (k % 2) as f64;
+        assert!(stalled_early(&history(judged, rocking), 257, near));
+        // Judged once only: before, too few cycles; after, the full window's business.
+        assert!(!stalled_early(&history(judged - 1, rocking), 257, near));
+        assert!(!stalled_early(&history(judged + 1, rocking), 257, near));
+        // Cycles on the coarser grids do not count towards it.
+        let mut start = history(3, rocking);
+        start.iter_mut().for_each(|c| c.points = 129);
+        start.extend(history(judged - 1, rocking));
+        assert!(!stalled_early(&start, 257, near));
+        // Within twice the tolerance (10 mm/s, 20 N fed 25 nm on 2049²: the residual 4e-2 to
+        // 1e-1 while the oil stayed under 1 %, converged at its eleventh finest cycle): left to
+        // the full window.
+        assert!(!stalled_early(&history(judged, |_| 0.009), 257, near));
+        // The oil halved, or the residual: converging.
+        assert!(!stalled_early(&history(judged, |k| 0.2 * 0.8f64.powi(k as i32)), 257, near));
+        let mut halving = history(judged, rocking);
+        halving.iter_mut().enumerate().for_each(|(k, c)| c.residual = 1e-2 * 0.6f64.powi(k as i32));
+        assert!(!stalled_early(&halving, 257, near));
     }
 }
