@@ -8,7 +8,8 @@
 //! under-relaxation (`FEDOMEGA` the fed solve's) and the laws' lag; `U=m/s` the rolling speed `u1` of the seed's
 //! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS`, `MENP` the cycle limit, the `H00`
 //! gain, the gap's under-relaxation, the slow mode's jump cap (0: none) and the meniscus passes; `GAMMA`
-//! the fed solves' cycle (1: V-cycles, 2: W-cycles; the flooded solve keeps the default); `MASS`,
+//! the fed solves' cycle (1: V-cycles, 2: W-cycles; the flooded solve keeps the default), `PRE` their
+//! pre-sweeps; `MASS`,
 //! `FILMTOL` the stop rule's oil and film tolerances; `DOMAIN=x0,x1,y0,y1` the domain [a]
 //! (square cells); `ROW=y,x0,x1` a row's state after the solve, `MINAT=1` where the film is thinnest, `DUMP=path` every finest-grid
 //! point's `j i P θ H residual` as text; a failure prints the largest
@@ -73,6 +74,11 @@ fn main() {
             && h_oil_nm.is_some()
         {
             settings.gamma = v.parse().expect("GAMMA");
+        }
+        if let Ok(v) = std::env::var("PRE")
+            && h_oil_nm.is_some()
+        {
+            settings.pre_sweeps = v.parse().expect("PRE: the fed solves' pre-sweeps");
         }
         if let Ok(v) = std::env::var("MENP") {
             settings.relax.meniscus_passes = v.parse().expect("MENP");
