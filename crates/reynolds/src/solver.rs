@@ -26,7 +26,7 @@ pub use report::{
 };
 use report::{converged, settled};
 pub use settings::{ReynoldsSettings, StopRule, TimeScheme};
-use watch::{CONTINUE_WITHIN, stalled_early, stalled_far, stalled_open, stalled_over};
+use watch::{CONTINUE_WITHIN, stalled_early, stalled_far, stalled_open, stalled_over, swung_away};
 
 /// The Reynolds EHL solver: FAS multigrid over a hierarchy of levels, steady solves and time steps.
 ///

@@ -29,7 +29,7 @@ const STILL_CONVERGING: f64 = 4.0;
 
 /// Whether the last finest-grid cycle of `history` stands within [`STILL_CONVERGING`] of the
 /// best residual those cycles reached.
-fn near_best(history: &[CycleLog]) -> bool {
+pub(super) fn near_best(history: &[CycleLog]) -> bool {
     let Some(last) = history.last() else { return true };
     let best = history
         .iter()

@@ -218,6 +218,14 @@ impl ReynoldsSolver {
         // V-cycles from the start converge in 18 cycles; as the first attempt they took
         // 1.2–2× the W-cycles' on the bench's other cases (docs/decisions.md, "V-cycles where
         // the W-cycles stall").
+        // A swing grown from near the answer: straight on to the lagged laws, which end it
+        // where every other attempt of this cascade swung the same.
+        let lag_next = self.active.fallback_lag > 0.0 && self.active.relax.coefficient_lag == 0.0;
+        if lag_next && swung_away(&rep) {
+            self.set_coarse_theta(false);
+            self.coarsest = usize::MAX;
+            return rep;
+        }
         let near = self.active.mass_tolerance * CONTINUE_WITHIN;
         if let Some(failed) = stalled_far(&rep, near, self.active.gamma) {
             let said = said(self.attempts, &failed.0);
