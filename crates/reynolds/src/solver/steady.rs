@@ -193,9 +193,11 @@ impl ReynoldsSolver {
         }))
     }
 
-    /// After a first attempt whose coarser grids solved for the film content: one that stalled
-    /// far from the answer starts again with V-cycles, the coarser grids still solving for it;
-    /// from there they hold it, and an attempt that stalled is continued or started again.
+    /// After a first attempt whose coarser grids solved for the film content: one whose residual
+    /// swung far above its best is left to the lagged laws that follow in [`Self::solve`]; one
+    /// that stalled far from the answer starts again with V-cycles, the coarser grids still
+    /// solving for it; from there they hold it, and an attempt that stalled is continued or
+    /// started again.
     fn after_coarse_film_content(
         &mut self,
         mut rep: Result<ReynoldsReport, ReynoldsError>,
@@ -211,13 +213,6 @@ impl ReynoldsSolver {
                 format!("first attempt, the coarser grids moving the menisci: {text}")
             }
         };
-        // Stalled with its film open, further from the answer than a continuation reaches:
-        // once more from the start with V-cycles (the grid below visited once a cycle, not
-        // twice), the coarser grids still moving the menisci to the same depth. Where the
-        // W-cycles end in a cycle of the menisci (5 mm/s, 40 N fed 10 nm on 1025² and 2049²)
-        // V-cycles from the start converge in 18 cycles; as the first attempt they took
-        // 1.2–2× the W-cycles' on the bench's other cases (docs/decisions.md, "V-cycles where
-        // the W-cycles stall").
         // A swing grown from near the answer: straight on to the lagged laws, which end it
         // where every other attempt of this cascade swung the same.
         let lag_next = self.active.fallback_lag > 0.0 && self.active.relax.coefficient_lag == 0.0;
@@ -226,6 +221,13 @@ impl ReynoldsSolver {
             self.coarsest = usize::MAX;
             return rep;
         }
+        // Stalled with its film open, further from the answer than a continuation reaches:
+        // once more from the start with V-cycles (the grid below visited once a cycle, not
+        // twice), the coarser grids still moving the menisci to the same depth. Where the
+        // W-cycles end in a cycle of the menisci (5 mm/s, 40 N fed 10 nm on 1025² and 2049²)
+        // V-cycles from the start converge in 18 cycles; as the first attempt they took
+        // 1.2–2× the W-cycles' on the bench's other cases (docs/decisions.md, "V-cycles where
+        // the W-cycles stall").
         let near = self.active.mass_tolerance * CONTINUE_WITHIN;
         if let Some(failed) = stalled_far(&rep, near, self.active.gamma) {
             let said = said(self.attempts, &failed.0);
@@ -544,6 +546,7 @@ impl ReynoldsSolver {
         let mut prev: (f64, Option<f64>) = (start_hc, None);
         let film_floor = 1e-2 * self.starved_film_estimate(self.nvm_film());
         let mut stalled = false;
+        let near = self.active.mass_tolerance * CONTINUE_WITHIN;
         let mut jumps = ModeExtrapolation::new(self.active.mode_extrapolation);
         for _ in 0..self.active.max_cycles {
             cycle += 1;
@@ -593,7 +596,6 @@ impl ReynoldsSolver {
             prev = now;
             let w = self.judged_stall_window(touching.at.is_some(), closed);
             let judged = &history[touching.judged_from..];
-            let near = self.active.mass_tolerance * CONTINUE_WITHIN;
             let early = self.judged_early(touching.at.is_some(), closed)
                 && stalled_early(judged, rec.points, near);
             if early || stalled_over(judged, rec.points, w) {
