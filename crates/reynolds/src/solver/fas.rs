@@ -183,11 +183,25 @@ impl ReynoldsSolver {
     /// full-multigrid start on a grid that holds the film"). On a coarser grid the first
     /// attempt's film closes late, and the solids touch.
     pub(super) fn judged_stall_window(&self, touching: bool, closed: bool) -> usize {
-        if self.coarse_theta && self.finest_holds_film() && !touching && !closed {
+        if self.menisci_moving_open(touching, closed) {
             self.active.stall_cycles / 2
         } else {
             self.stall_window()
         }
+    }
+
+    /// An attempt whose coarser grids move the menisci, on a grid that holds the film, with the
+    /// film open and the solids apart: the cycles [`Self::judged_stall_window`] judges over a
+    /// shorter window and [`Self::judged_early`] judges early.
+    fn menisci_moving_open(&self, touching: bool, closed: bool) -> bool {
+        self.coarse_theta && self.finest_holds_film() && !touching && !closed
+    }
+
+    /// How much of the supply an attempt may leave unaccounted for and still be near the
+    /// answer: a stall within it is continued ([`CONTINUE_WITHIN`] times the oil's tolerance),
+    /// beyond it started again or judged early.
+    pub(super) fn oil_near(&self) -> f64 {
+        self.active.mass_tolerance * CONTINUE_WITHIN
     }
 
     /// Whether this attempt's lubricated cycles are judged early too ([`stalled_early`]): a fed
@@ -198,10 +212,7 @@ impl ReynoldsSolver {
         self.attempts == 1
             && self.active.gamma >= 2
             && self.fed_steady()
-            && self.coarse_theta
-            && self.finest_holds_film()
-            && !touching
-            && !closed
+            && self.menisci_moving_open(touching, closed)
     }
 
     /// What keeps the solve from converging, in words: a closed film (where), or which criterion

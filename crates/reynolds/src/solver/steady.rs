@@ -228,7 +228,7 @@ impl ReynoldsSolver {
         // V-cycles from the start converge in 18 cycles; as the first attempt they took
         // 1.2–2× the W-cycles' on the bench's other cases (docs/decisions.md, "V-cycles where
         // the W-cycles stall").
-        let near = self.active.mass_tolerance * CONTINUE_WITHIN;
+        let near = self.oil_near();
         if let Some(failed) = stalled_far(&rep, near, self.active.gamma) {
             let said = said(self.attempts, &failed.0);
             // Its start relaxes as the settings say until a film there closes: with the
@@ -546,7 +546,7 @@ impl ReynoldsSolver {
         let mut prev: (f64, Option<f64>) = (start_hc, None);
         let film_floor = 1e-2 * self.starved_film_estimate(self.nvm_film());
         let mut stalled = false;
-        let near = self.active.mass_tolerance * CONTINUE_WITHIN;
+        let near = self.oil_near();
         let mut jumps = ModeExtrapolation::new(self.active.mode_extrapolation);
         for _ in 0..self.active.max_cycles {
             cycle += 1;
