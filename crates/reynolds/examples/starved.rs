@@ -46,6 +46,18 @@ fn main() {
         Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25))
     };
     let delta = prm.scales.delta;
+    {
+        // The flooded film the grid rule reads, against the cells this grid has.
+        let hc = formulas::moes_to_hertz_film(formulas::nvm_central_moes(&prm.moes), &prm.moes);
+        println!(
+            "NVM central film {:.3e} a²/R ({:.3} nm): cell {:.4} a, the rule's {:.4} a, dry gap error {:.3e} a²/R",
+            hc,
+            hc * delta * 1e9,
+            grid.dx(),
+            formulas::cell_needed(hc),
+            formulas::dry_gap_error(grid.dx())
+        );
+    }
     let log = std::env::var("LOG").is_ok();
     let solve = |h_oil_nm: Option<f64>| {
         let mut settings = ReynoldsSettings::default();
@@ -189,9 +201,11 @@ fn main() {
         }
         match &r {
             Ok(r) => println!(
-                "supply {h_oil_nm:?} nm: {} cycles ({} attempts), {:.2} s; h_c {:.3} nm, ρ̄ h_c {:.3} nm, meniscus {meniscus:.3} a",
+                "supply {h_oil_nm:?} nm: {} cycles ({} attempts{}{}), {:.2} s; h_c {:.3} nm, ρ̄ h_c {:.3} nm, meniscus {meniscus:.3} a",
                 r.cycles,
                 r.attempts,
+                if r.inflow_filled { ", the inflow filled" } else { "" },
+                if r.converged { "" } else { ", not converged" },
                 t.elapsed().as_secs_f64(),
                 hc * delta * 1e9,
                 rho * hc * delta * 1e9

@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 use std::time::Instant;
 
+mod attempts;
 mod fas;
 mod report;
 mod settings;
@@ -246,6 +247,12 @@ impl ReynoldsSolver {
     fn film_held(&self) -> bool {
         let film = self.starved_film_estimate(self.nvm_film());
         film >= formulas::dry_gap_error(self.levels[0].grid.dx())
+    }
+
+    /// Whether this grid's cells are at most the grid rule's for the contact's flooded film
+    /// ([`formulas::cell_needed`]): coarser, its film may close where the contact's does not.
+    fn film_resolved(&self) -> bool {
+        self.levels[0].grid.dx() <= formulas::cell_needed(self.nvm_film())
     }
 
     /// Adds `extra(X, Y)` [a²/R] to the rigid film on every level (a dent where positive).

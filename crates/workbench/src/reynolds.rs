@@ -411,6 +411,15 @@ impl Outcome for ReynoldsOutcome {
                 ),
             ),
             (
+                "inflow_filled".into(),
+                Indicator::new(
+                    f64::from(u8::from(self.report.inflow_filled)),
+                    "1",
+                    "1: flooded, the clamp's attempts failed on cells wider than the grid rule's; the answer is the mass-conserving solver's with the inflow filled",
+                    false,
+                ),
+            ),
+            (
                 "from_dry".into(),
                 Indicator::new(
                     f64::from(u8::from(self.report.from_dry)),
@@ -749,6 +758,7 @@ impl ReynoldsOutcome {
                 "first_attempt": self.report.first_attempt,
                 "omega_gs": self.report.omega_gs,
                 "from_flooded": self.report.from_flooded,
+                "inflow_filled": self.report.inflow_filled,
                 "touched_from_cycle": self.report.touched_from,
                 "from_dry": self.report.from_dry,
                 "attempts": self.report.attempts,

@@ -95,6 +95,11 @@ pub struct ReynoldsReport {
     /// Mass conserving: the answer's cycles started from the flooded answer
     /// ([`ReynoldsSettings::flooded_start_fallback`]), not from a start of their own.
     pub from_flooded: bool,
+    /// A flooded steady solve whose attempts with the clamp all failed: its answer is the
+    /// mass-conserving solver's, fed a layer that fills the gap along the inflow boundary (the
+    /// inlet flooded as the clamp's), the solids touching where its film closes
+    /// ([`ReynoldsSolver::solve`]).
+    pub inflow_filled: bool,
     /// A steady solve whose lubricated cycles stalled with the film closed: the cycle from
     /// which the solids touched where it had closed ([`ReynoldsSettings::contact`]); the
     /// contact's share of the load and its area are [`ReynoldsSolver::contact`]'s.

@@ -150,6 +150,7 @@ pub(super) mod tests {
             settled: None,
             mode_jumps: 0,
             from_flooded: false,
+            inflow_filled: false,
             touched_from: touched,
             from_dry: false,
             attempts: 1,

@@ -68,6 +68,12 @@ pub(super) fn reynolds_report(o: &ReynoldsOutcome) -> String {
             last.contact_area_m2
         );
     }
+    if o.report.inflow_filled {
+        let _ = writeln!(
+            out,
+            "  flooded through the film content: the clamp's attempts failed on cells wider than the grid rule's; the answer is the mass-conserving solver's, the gap along the inflow boundary filled"
+        );
+    }
     // A steady answer whose lubricated cycles stalled with the film closed: the solids touch
     // there.
     if let Some(c) = Outcome::solid_contact(o).filter(|_| o.report.from_dry)
