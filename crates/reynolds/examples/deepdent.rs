@@ -76,6 +76,7 @@ fn main() {
     if std::env::var("ONE").is_ok() {
         s.settings.fallback_lag = 0.0;
         s.settings.flooded_start_fallback = false;
+        s.settings.filled_inflow_fallback = false;
         s.settings.max_cycles = env("MAXC").unwrap_or(200);
     }
     if std::env::var("NOCONTACT").is_ok() {

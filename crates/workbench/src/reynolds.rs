@@ -222,6 +222,7 @@ impl ContactModel for Reynolds {
             s.fallback_lag = 0.0;
             s.fallback_omega_gs = 0.0;
             s.flooded_start_fallback = false;
+            s.filled_inflow_fallback = false;
         }
         coarse
     }

@@ -90,6 +90,11 @@ pub struct ReynoldsSettings {
     /// for fine fed grids whose coarser start grids cannot hold the film (docs/reynolds.md,
     /// "The attempts after a failure").
     pub flooded_start_fallback: bool,
+    /// Flooded, steady: when every attempt with the clamp fails on a grid coarser than the grid
+    /// rule asks for (its film closing there), a last attempt solves the contact mass
+    /// conserving, fed a layer that fills the gap along the inflow boundary, the solids
+    /// touching where the film closes (docs/reynolds.md, "The attempts after a failure").
+    pub filled_inflow_fallback: bool,
     /// Time discretisation of transient runs.
     pub time_scheme: TimeScheme,
     /// A time step starts from the last state plus the last step's change (pressure and
@@ -179,6 +184,7 @@ impl Default for ReynoldsSettings {
             fallback_omega_gs: 0.25,
             fed_omega_gs: 0.25,
             flooded_start_fallback: true,
+            filled_inflow_fallback: true,
             time_scheme: TimeScheme::Bdf1,
             extrapolated_start: true,
             step_extra_passes: false,

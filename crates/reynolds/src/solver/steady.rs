@@ -107,7 +107,12 @@ impl ReynoldsSolver {
                 };
             }
         }
-        if self.settings.contact && !fed && self.film_held() && !self.film_resolved() {
+        if self.active.filled_inflow_fallback
+            && self.settings.contact
+            && !fed
+            && self.film_held()
+            && !self.film_resolved()
+        {
             rep = self.flooded_through_film_content(rep, log, t0);
         }
         if self.settings.contact && !self.film_held() {
