@@ -132,6 +132,7 @@ fn dry_limit(u1: f64, h_oil: Option<f64>, n: usize) -> Result<(Vec<String>, serd
                 match (r.report.from_dry, &r.report.first_attempt) {
                     (true, None) => "the dry contact at once (no oil)",
                     (true, Some(_)) => "from the dry contact",
+                    (false, _) if r.report.inflow_filled => "lubricated, the inflow filled",
                     (false, _) => "lubricated",
                 }
                 .into(),
@@ -210,13 +211,14 @@ pub fn bench(n: usize) -> Result<std::path::PathBuf> {
     )
 }
 
-/// The seed's contact at 2 mm/s under 80 N fed 25 nm (its film closes at the side lobes on
-/// the grids coarser than the rule's, 1153²) on 257², 513² and 1025² (quickly 257² alone),
-/// each with its error estimate: how the solids' share of the load and their area go as the
+/// The seed's contact at 2 mm/s under 80 N, fed 25 nm and flooded (its film closes at the side
+/// lobes on the grids coarser than the rule's, 1153²) on 257², 513² and 1025² (quickly 257²
+/// alone), each with its error estimate: how the solids' share of the load and their area go as the
 /// grid refines. Writes `docs/measured/contact-grids.md` and the rows as JSON into `out`.
 pub fn over_grids(out: &Path) -> Result<()> {
     let grids: &[usize] = if crate::quick() { &[257] } else { &[257, 513, 1025] };
     let mut t = Table::new(&[
+        "supply",
         "grid",
         "answer",
         "h_c [nm]",
@@ -229,13 +231,17 @@ pub fn over_grids(out: &Path) -> Result<()> {
         "wall [s]",
     ]);
     let mut rows = vec![];
-    for &n in grids {
-        println!("2 mm/s, 80 N, 25 nm on {n}²");
+    for (fed, &n) in [true, false].into_iter().flat_map(|f| grids.iter().map(move |n| (f, n))) {
+        let supply = if fed { "25 nm" } else { "flooded" };
+        println!("2 mm/s, 80 N, {supply} on {n}²");
         let mut s = ehl_scene::builtin("seed")?.for_model(Model::Reynolds).with_points(n)?;
         s.name = format!("seed-2mm-80N-{n}");
         s.outputs.figures = false;
         s.conditions.rolling_velocity_m_s = Some(0.002);
         s.conditions.load_n = 80.0;
+        if !fed {
+            s.supply = None;
+        }
         let t0 = std::time::Instant::now();
         use ehl_workbench::accuracy::{Checked, Checking};
         let answer = run_scene(&s).map(|o| Checked::new(&s, o, Checking::of(&s, true)));
@@ -243,9 +249,13 @@ pub fn over_grids(out: &Path) -> Result<()> {
         let (cells, v) = match answer {
             Err(e) => {
                 let why = last_attempt_failure(&e.to_string());
-                let mut cells = vec![format!("{n}²"), format!("failed: {why}")];
+                let mut cells = vec![supply.into(), format!("{n}²"), format!("failed: {why}")];
                 cells.extend(std::iter::repeat_n(String::new(), 7));
-                (cells, json!({"points": n, "answered": false, "diagnosis": e.to_string()}))
+                (
+                    cells,
+                    json!({"supply": supply, "points": n, "answered": false,
+                               "diagnosis": e.to_string()}),
+                )
             }
             Ok(checked) => {
                 let o = &checked.outcome;
@@ -253,11 +263,13 @@ pub fn over_grids(out: &Path) -> Result<()> {
                 let (ob, c) = (o.observables(), o.solid_contact().unwrap_or_default());
                 let bar = checked.estimate.as_ref().and_then(|e| e.errors[0]).map(|b| b.absolute);
                 let state = match (r.report.converged, r.report.settled.is_some()) {
+                    (true, _) if r.report.inflow_filled => "converged, the inflow filled",
                     (true, _) => "converged",
                     (false, true) => "settled",
                     _ => "returned",
                 };
                 let cells = vec![
+                    supply.into(),
                     format!("{n}²"),
                     state.to_string(),
                     format!("{:.4}", ob.central_film_m * 1e9),
@@ -268,7 +280,7 @@ pub fn over_grids(out: &Path) -> Result<()> {
                     oil_taken(r),
                     r.report.cycles.to_string(),
                 ];
-                let v = json!({"points": n, "answered": true, "state": state,
+                let v = json!({"supply": supply, "points": n, "answered": true, "state": state,
                                "central_film_m": ob.central_film_m, "central_film_error_m": bar,
                                "film_overlap_m": ob.film_overlap_m, "solid_contact": c,
                                "oil_into_contact": r.oil_into_contact(),
@@ -282,10 +294,12 @@ pub fn over_grids(out: &Path) -> Result<()> {
     std::fs::create_dir_all(out)?;
     let f = out.join("contact-grids.json");
     std::fs::write(&f, serde_json::to_string_pretty(&rows)? + "\n")?;
-    let intro = "The seed's contact (Table 1) at 2 mm/s under 80 N, fed 25 nm, through the \
-        mass-conserving Reynolds solver on its own domain [-1.25, 1.25]² a, steady: its film \
-        (NVM 4.5 nm flooded) closes at the side lobes on grids coarser than the rule's (1153²), \
-        and the solids touch there. Each answer with its error estimate (the wall includes \
+    let intro = "The seed's contact (Table 1) at 2 mm/s under 80 N, fed 25 nm (the \
+        mass-conserving Reynolds solver) and flooded, on its own domain [-1.25, 1.25]² a, \
+        steady: its film (NVM 4.5 nm flooded) closes at the side lobes on grids coarser than \
+        the rule's (1153²), and the solids touch there. Flooded, where the clamp's attempts \
+        fail on such a grid the answer is the mass-conserving solver's with the inflow filled \
+        (\"the inflow filled\"), its solids touching. Each answer with its error estimate (the wall includes \
         it: the answer on half and a quarter of the points per side, where they answer). The \
         contact's share of the load and its area: where the solids touch, apart from the \
         fluid; the oil into the contact: the share of the supply the touching points took. \
@@ -375,7 +389,9 @@ pub fn run(out: &Path) -> Result<()> {
         the contact's edge (half the cell squared: 7.6e-4 and 1.9e-4 a²/R; the flooded film is \
         2.4e-5 a²/R at 1e-6 m/s, 2.4e-3 at 1e-3 m/s), the last starts from the dry contact; its \
         answer against the core's dry contact on the same grid (the ball, the same load); with \
-        no oil at all the solve starts there at once.";
+        no oil at all the solve starts there at once. Flooded, where the film is thicker than \
+        that error but the cells wider than the grid rule's and the clamp's attempts fail, the \
+        last is the mass-conserving solver with the inflow filled (\"the inflow filled\").";
     let p = measured::write(
         "steady-contact",
         "The solids touching in a steady Reynolds solve",
