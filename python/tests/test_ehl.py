@@ -48,7 +48,8 @@ def test_a_refused_scene_names_its_field_and_the_allowed_range():
 def test_compare_on_a_coarse_seed_equals_the_command_lines_table_to_the_last_digit(tmp_path):
     # 65²: the layer and dry models converge; the films of both Reynolds models close on cells
     # of 0.039 a, the fed one's solids touch there and it answers (flagged, its error bar
-    # larger than its film), the flooded one fails: failures and diagnoses must match too.
+    # larger than its film); the flooded one's clamp fails there, and it answers through the
+    # mass-conserving solver with the inflow filled (flagged too).
     out = cli("compare", "seed", "--grid", 65, "--out", tmp_path / "cli")
     assert (tmp_path / "cli" / "comparison.json").is_file(), out.stderr
     c = ehl.compare("seed", grid=65, out=tmp_path / "py")
@@ -66,12 +67,10 @@ def test_compare_on_a_coarse_seed_equals_the_command_lines_table_to_the_last_dig
 
     assert rest(by_py) == rest(by_cli)
     assert by_py["schedule"] == "side-by-side"
-    # The failures are listed, with the solver's diagnosis, not raised.
-    assert set(c.errors) == {"reynolds-flooded"}
-    assert all("did not converge" in d for d in c.errors.values())
-    with pytest.raises(ehl.ModelError):
-        c["reynolds-flooded"]
+    # Every model answers; the thin Reynolds films say they miss the accuracy.
+    assert not c.errors
     assert c["reynolds"].solid_contact["load_share"] > 0.0 and c["reynolds"].flagged
+    assert c["reynolds-flooded"].flagged
     # A pandas DataFrame takes the rows as they are (when pandas is there).
     pd = pytest.importorskip("pandas")
     df = pd.DataFrame(c.table())
@@ -79,7 +78,7 @@ def test_compare_on_a_coarse_seed_equals_the_command_lines_table_to_the_last_dig
 
 
 def test_models_run_one_at_a_time_give_the_same_rows_and_say_so():
-    # 65²: the layer and dry models answer, both Reynolds models fail; sharing the cores or not,
+    # 65²: every model answers (the thin Reynolds films flagged); sharing the cores or not,
     # every number and diagnosis is the same (each model's sums do not depend on its thread).
     together = ehl.compare("seed", grid=65)
     alone = ehl.compare("seed", grid=65, one_at_a_time=True)
