@@ -2,7 +2,7 @@
 //! solve), with the inflow filled (a flooded solve on cells wider than the grid rule's), and
 //! from the dry contact (a film thinner than the grid tells from a closed gap).
 
-use super::steady::{FromFlooded, film_closed, given_up, what_it_said, with_note};
+use super::steady::{FromFlooded, failure, what_it_said, with_note};
 use super::*;
 
 impl ReynoldsSolver {
@@ -80,7 +80,7 @@ impl ReynoldsSolver {
         log: &mut dyn FnMut(&CycleLog),
         t0: Instant,
     ) -> Result<ReynoldsReport, ReynoldsError> {
-        let Some(failed) = film_closed(&rep).or_else(|| given_up(&rep)) else { return rep };
+        let Some(failed) = failure(&rep) else { return rep };
         if rep.as_ref().is_ok_and(|r| self.settled_stall(r).is_some()) {
             // A stall whose answer has settled is an answer, returned as such.
             return rep;
@@ -97,10 +97,7 @@ impl ReynoldsSolver {
         self.steady_setup();
         self.attempts = kept.1 + 1;
         self.start();
-        self.coarsest = self.film_holding_depth(COARSE_FILM_CELLS).max(self.fmg_top());
-        self.set_coarse_theta(true);
-        let fed = self.cycles(log, failed.1, t0.elapsed().as_secs_f64(), f64::NAN);
-        let fed = self.after_coarse_film_content(fed, log, t0);
+        let fed = self.first_attempt(log, failed.1, t0);
         self.set_coarse_theta(false);
         self.coarsest = usize::MAX;
         for l in &mut self.levels {
@@ -130,7 +127,7 @@ impl ReynoldsSolver {
         log: &mut dyn FnMut(&CycleLog),
         t0: Instant,
     ) -> Result<ReynoldsReport, ReynoldsError> {
-        let Some(failed) = film_closed(&rep).or_else(|| given_up(&rep)) else { return rep };
+        let Some(failed) = failure(&rep) else { return rep };
         let kept = (self.save(), self.levels.iter().map(|l| l.touch).collect::<Vec<_>>());
         let note = match self.attempt_from_dry(log, failed.1, t0) {
             Ok(mut r) if r.converged => {

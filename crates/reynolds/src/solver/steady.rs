@@ -35,18 +35,8 @@ impl ReynoldsSolver {
             return converged(rep);
         }
         let fed = self.levels[0].mass_conserving();
-        let coarse_theta = self.active.coarse_film_content && fed;
-        if coarse_theta {
-            // Never finer than the grid the full-multigrid start begins on (its cycles descend
-            // at least that far).
-            self.coarsest = self.film_holding_depth(COARSE_FILM_CELLS).max(self.fmg_top());
-            self.set_coarse_theta(true);
-        }
         self.attempts = 1;
-        let mut rep = self.cycles(log, 0, 0.0, f64::NAN);
-        if coarse_theta {
-            rep = self.after_coarse_film_content(rep, log, t0);
-        }
+        let mut rep = self.first_attempt(log, 0, t0);
         let theta = self.active.fallback_lag;
         if theta > 0.0 && self.active.relax.coefficient_lag == 0.0 {
             // The relaxation failed with the laws following at once: start again with them
@@ -85,7 +75,7 @@ impl ReynoldsSolver {
             // The film closed (or the attempts above gave up): once more from the clamp's
             // answer, the supply then switched on. Kept only when it converges; else the
             // attempts before stand, their state back, with what this one gave.
-            if let Some(failed) = film_closed(&rep).or_else(|| given_up(&rep)) {
+            if let Some(failed) = failure(&rep) {
                 let kept = self.save();
                 let (note, answer) = match self.attempt_from_flooded(log, failed.1, t0) {
                     FromFlooded::Fed(Ok(r)) if r.converged => (String::new(), Some(r)),
@@ -135,6 +125,25 @@ impl ReynoldsSolver {
         // Stopped inside a later attempt: the stop is the answer, not the attempts before it.
         ehl_core::cancel::check()?;
         converged(rep)
+    }
+
+    /// A steady solve's first attempt from its start, cycle numbers counted on from
+    /// `cycles_before`: mass conserving, its coarser grids solving for the film content
+    /// ([`ReynoldsSettings::coarse_film_content`]), never finer than the grid the full-multigrid
+    /// start begins on (its cycles descend at least that far), and what follows their stall.
+    pub(super) fn first_attempt(
+        &mut self,
+        log: &mut dyn FnMut(&CycleLog),
+        cycles_before: usize,
+        t0: Instant,
+    ) -> Result<ReynoldsReport, ReynoldsError> {
+        let coarse_theta = self.active.coarse_film_content && self.levels[0].mass_conserving();
+        if coarse_theta {
+            self.coarsest = self.film_holding_depth(COARSE_FILM_CELLS).max(self.fmg_top());
+            self.set_coarse_theta(true);
+        }
+        let rep = self.cycles(log, cycles_before, t0.elapsed().as_secs_f64(), f64::NAN);
+        if coarse_theta { self.after_coarse_film_content(rep, log, t0) } else { rep }
     }
 
     /// Before a steady solve: no time history, the settings as given, and no contact until
@@ -616,6 +625,11 @@ pub(super) fn given_up(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option<(S
             .filter(|_| r.settled.is_none())
             .map(|d| (d.text.clone(), r.cycles)),
     }
+}
+
+/// A failed attempt's diagnosis and cycles, whether its film closed or it gave up.
+pub(super) fn failure(rep: &Result<ReynoldsReport, ReynoldsError>) -> Option<(String, usize)> {
+    film_closed(rep).or_else(|| given_up(rep))
 }
 
 /// Where one more attempt of a steady solve begins ([`ReynoldsSolver::attempt`]).
