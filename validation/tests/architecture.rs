@@ -598,3 +598,36 @@ fn the_readme_example_is_its_measured_page_s_table() {
     assert!(shown.starts_with("scene seed"), "{shown}");
     assert_eq!(shown, measured, "README.md's example differs from its measured page");
 }
+
+/// `name → versions` of a `Cargo.lock`.
+fn locked(path: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut out: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    for block in text.split("[[package]]").skip(1) {
+        let field = |key: &str| {
+            block.lines().find_map(|l| l.strip_prefix(key)).map(|v| v.trim_matches('"').to_string())
+        };
+        if let (Some(name), Some(version)) = (field("name = "), field("version = ")) {
+            out.entry(name).or_default().insert(version);
+        }
+    }
+    out
+}
+
+#[test]
+fn the_python_package_locks_the_crates_it_shares_with_the_workspace_at_the_workspace_s_versions() {
+    // Both build in one target folder (python/.cargo/config.toml): one crate at another version
+    // there (a serde_json dependency, say) rebuilds every workspace crate above it, minutes of
+    // CI. Crates locked at one version in each file must agree.
+    let workspace = locked(&root().join("Cargo.lock"));
+    let python = locked(&root().join("python/Cargo.lock"));
+    let differ: Vec<String> = python
+        .iter()
+        .filter_map(|(name, v)| {
+            let w = workspace.get(name)?;
+            (v.len() == 1 && w.len() == 1 && v != w).then(|| format!("{name} {v:?} against {w:?}"))
+        })
+        .collect();
+    assert!(!python.is_empty() && workspace.contains_key("serde_json"));
+    assert!(differ.is_empty(), "python/Cargo.lock differs from Cargo.lock: {differ:?}");
+}
