@@ -2,7 +2,8 @@
 //! the allow-list written there, no circle between a crate's modules, no panic and no unchecked
 //! `unwrap` on a library path (beyond a short list, each with its reason), files and functions
 //! of one job (a length cap, beyond a list that may only shrink), and a repository that speaks
-//! of the product, not of how it was made. The rules are read from the document's `rules`
+//! of the product, not of how it was made; and the Python package's lockfile at the
+//! workspace's versions of the crates both build. The rules are read from the document's `rules`
 //! block, so the document and the check cannot drift apart.
 
 use std::collections::{BTreeMap, BTreeSet};
