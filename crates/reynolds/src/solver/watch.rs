@@ -17,11 +17,18 @@ pub(super) fn stalled_over(history: &[CycleLog], points: usize, window: usize) -
         if window == 0 || fine.len() <= 2 * window {
             return true;
         }
-        let (before, last) = fine.split_at(fine.len() - window);
-        let best = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
-        best(before) > 0.0 && best(last) <= 0.5 * best(before)
+        let (before, last) = bests(&fine, window);
+        before > 0.0 && last <= 0.5 * before
     };
     !halved(|c| c.residual) && !halved(|c| c.mass_defect)
+}
+
+/// The least of `values` before their last `window`, and the least over it: what a stall is
+/// judged on. `window` must not exceed `values.len()`.
+fn bests(values: &[f64], window: usize) -> (f64, f64) {
+    let (before, last) = values.split_at(values.len() - window);
+    let best = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
+    (best(before), best(last))
 }
 
 /// Finest-grid cycles over which a W-cycle first attempt is judged once, early: at its
@@ -47,9 +54,8 @@ pub(super) fn stalled_early(history: &[CycleLog], points: usize, oil_near: f64) 
     let oil: Vec<f64> =
         history.iter().filter(|c| c.points == points).map(|c| c.mass_defect.abs()).collect();
     let lowered = || {
-        let (before, last) = oil.split_at(oil.len() - EARLY_WINDOW);
-        let best = |v: &[f64]| v.iter().cloned().fold(f64::INFINITY, f64::min);
-        best(last) < best(before)
+        let (before, last) = bests(&oil, EARLY_WINDOW);
+        last < before
     };
     oil.len() == 2 * EARLY_WINDOW + 1
         && oil[oil.len() - 1] > oil_near
