@@ -193,7 +193,7 @@ fn feature_centred(name: &str, points: usize, steps_per_cell: f64) -> String {
 #[test]
 fn dent_deep_centred_on_257() {
     // The dent (W = 0.1 a: e-folding radius 0.021 a) needs 257² (cells of 0.0098 a) to be seen;
-    // 2 steps a cell keeps it at 6 s. The window x in [-0.3, 0.3] a along y = 0.
+    // 2 steps a cell keeps it at about 25 s on 2 cores. The window x in [-0.3, 0.3] a along y = 0.
     insta::assert_snapshot!("dent-deep_centred_257", feature_centred("dent-deep", 257, 2.0));
 }
 
