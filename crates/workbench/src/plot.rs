@@ -442,12 +442,12 @@ pub fn charts(path: &Path, panels: &[Panel], footnote: &str) -> Result<()> {
     register_font();
     let (rows, cols) = layout(panels.len());
     let (width, height) = (640 * cols as u32, 490 * rows as u32);
-    let (root, main) = figure(path, width, height, footnote)?;
-    for (area, panel) in main.split_evenly((rows, cols)).iter().zip(panels) {
-        draw_panel(area, panel)?;
-    }
-    root.present().map_err(output(format!("writing {}", path.display())))?;
-    Ok(())
+    figure(path, width, height, footnote, |main| {
+        for (area, panel) in main.split_evenly((rows, cols)).iter().zip(panels) {
+            draw_panel(area, panel)?;
+        }
+        Ok(())
+    })
 }
 
 /// A footnote's lines for a figure `width` px wide: broken between words so that none runs off
@@ -471,26 +471,48 @@ fn footnote_lines(text: &str, width: u32) -> Vec<String> {
     lines
 }
 
-/// A figure `width` × `height` px of panels with `footnote` below them: the drawing area, the
-/// panels' part of it, and the footnote drawn (as many lines as it needs).
-fn figure<'a>(
-    path: &'a Path,
+/// The drawing area of a figure's panels.
+type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+/// A figure `width` × `height` px of panels, which `draw` puts in the area it is given, with
+/// `footnote` below them (as many lines as it needs), written to `path` as PNG.
+fn figure(
+    path: &Path,
     width: u32,
     height: u32,
     footnote: &str,
-) -> Result<(
-    DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>,
-    DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>,
-)> {
+    draw: impl FnOnce(&Area) -> Result<()>,
+) -> Result<()> {
     let lines = footnote_lines(footnote, width);
-    let foot_h = 10 + 20 * lines.len() as u32;
-    let root = BitMapBackend::new(path, (width, height + foot_h)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (main, foot) = root.split_vertically(height);
-    for (k, line) in lines.into_iter().enumerate() {
-        foot.draw(&Text::new(line, (12, 6 + 20 * k as i32), (FONT, 14).into_font().color(&BLACK)))?;
+    let size = (width, height + 10 + 20 * lines.len() as u32);
+    let mut rgb = vec![0; 3 * size.0 as usize * size.1 as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+        root.fill(&WHITE)?;
+        let (main, foot) = root.split_vertically(height);
+        for (k, line) in lines.into_iter().enumerate() {
+            let at = (12, 6 + 20 * k as i32);
+            foot.draw(&Text::new(line, at, (FONT, 14).into_font().color(&BLACK)))?;
+        }
+        draw(&main)?;
+        root.present().map_err(output("drawing the figure"))?;
     }
-    Ok((root, main))
+    write_png(path, &rgb, size).map_err(output(format!("writing {}", path.display())))
+}
+
+/// `rgb` (8-bit RGB rows, top first) of `size` px as a PNG file at `path`.
+fn write_png(
+    path: &Path,
+    rgb: &[u8],
+    size: (u32, u32),
+) -> std::result::Result<(), png::EncodingError> {
+    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+    let mut png = png::Encoder::new(file, size.0, size.1);
+    png.set_color(png::ColorType::Rgb);
+    png.set_depth(png::BitDepth::Eight);
+    let mut writer = png.write_header()?;
+    writer.write_image_data(rgb)?;
+    writer.finish()
 }
 
 /// A title's font size for a panel `width` px wide: 20 px, smaller for a long title so that
@@ -555,19 +577,19 @@ pub fn heat_maps(
 ) -> Result<()> {
     register_font();
     let width = 760 * panels.len() as u32;
-    let (root, main) = figure(path, width, 610, footnote)?;
-    for (area, panel) in main.split_evenly((1, panels.len())).iter().zip(panels) {
-        draw_map(
-            area,
-            panel,
-            (grid.x_min, grid.x_max),
-            (grid.y_min, grid.y_max),
-            "x / a",
-            "y / a",
-        )?;
-    }
-    root.present().map_err(output(format!("writing {}", path.display())))?;
-    Ok(())
+    figure(path, width, 610, footnote, |main| {
+        for (area, panel) in main.split_evenly((1, panels.len())).iter().zip(panels) {
+            draw_map(
+                area,
+                panel,
+                (grid.x_min, grid.x_max),
+                (grid.y_min, grid.y_max),
+                "x / a",
+                "y / a",
+            )?;
+        }
+        Ok(())
+    })
 }
 
 fn draw_map<DB: DrawingBackend>(
@@ -688,105 +710,108 @@ pub fn cell_maps(
     register_font();
     let (rows, cols) = layout(panels.len());
     let (width, height) = (700 * cols as u32, 570 * rows as u32);
-    let (root, main) = figure(path, width, height, footnote)?;
-    for (area, panel) in main.split_evenly((rows, cols)).iter().zip(panels) {
-        let (nx, ny) = (x_ticks.len(), y_ticks.len());
-        let key = |v: f64| if panel.log_colour { v.max(1e-300).ln() } else { v };
-        let vals: Vec<f64> = panel.values.iter().flatten().flatten().map(|&v| key(v)).collect();
-        let lo = vals.iter().cloned().fold(f64::INFINITY, f64::min);
-        let hi = vals.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-        let span = if hi > lo { hi - lo } else { 1.0 };
-        let xt = x_ticks.to_vec();
-        let yt = y_ticks.to_vec();
-        let mut chart = ChartBuilder::on(area)
-            .caption(&panel.title, (FONT, title_size(&panel.title, area.dim_in_pixel().0).min(18)))
-            .margin(12)
-            .x_label_area_size(45)
-            .y_label_area_size(70)
-            .build_cartesian_2d(-0.5..nx as f64 - 0.5, -0.5..ny as f64 - 0.5)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_labels(nx)
-            .y_labels(ny)
-            .x_label_formatter(&|v: &f64| {
-                let k = v.round();
-                if (v - k).abs() < 1e-6 && k >= 0.0 {
-                    xt.get(k as usize).cloned().unwrap_or_default()
-                } else {
-                    String::new()
+    figure(path, width, height, footnote, |main| {
+        for (area, panel) in main.split_evenly((rows, cols)).iter().zip(panels) {
+            let (nx, ny) = (x_ticks.len(), y_ticks.len());
+            let key = |v: f64| if panel.log_colour { v.max(1e-300).ln() } else { v };
+            let vals: Vec<f64> = panel.values.iter().flatten().flatten().map(|&v| key(v)).collect();
+            let lo = vals.iter().cloned().fold(f64::INFINITY, f64::min);
+            let hi = vals.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+            let span = if hi > lo { hi - lo } else { 1.0 };
+            let xt = x_ticks.to_vec();
+            let yt = y_ticks.to_vec();
+            let mut chart = ChartBuilder::on(area)
+                .caption(
+                    &panel.title,
+                    (FONT, title_size(&panel.title, area.dim_in_pixel().0).min(18)),
+                )
+                .margin(12)
+                .x_label_area_size(45)
+                .y_label_area_size(70)
+                .build_cartesian_2d(-0.5..nx as f64 - 0.5, -0.5..ny as f64 - 0.5)?;
+            chart
+                .configure_mesh()
+                .disable_mesh()
+                .x_labels(nx)
+                .y_labels(ny)
+                .x_label_formatter(&|v: &f64| cell_label(&xt, *v))
+                .y_label_formatter(&|v: &f64| cell_label(&yt, *v))
+                .x_desc(x_label)
+                .y_desc(y_label)
+                .label_style((FONT, 13))
+                .axis_desc_style((FONT, 15))
+                .draw()?;
+            for (j, row) in panel.labels.iter().enumerate() {
+                for (i, c) in row.iter().enumerate() {
+                    let Some((label, category)) = c else { continue };
+                    let (x, y) = (i as f64, j as f64);
+                    let cell = [(x - 0.5, y - 0.5), (x + 0.5, y + 0.5)];
+                    let fill = match category {
+                        Category::Good => RGBColor(120, 190, 120),
+                        Category::Doubtful => RGBColor(240, 200, 90),
+                        Category::Bad => RGBColor(220, 110, 100),
+                    };
+                    chart.draw_series(std::iter::once(Rectangle::new(cell, fill.filled())))?;
+                    chart.draw_series(std::iter::once(Text::new(
+                        label.clone(),
+                        (x - 0.42, y + 0.1),
+                        (FONT, 12).into_font().color(&BLACK),
+                    )))?;
                 }
-            })
-            .y_label_formatter(&|v: &f64| {
-                let k = v.round();
-                if (v - k).abs() < 1e-6 && k >= 0.0 {
-                    yt.get(k as usize).cloned().unwrap_or_default()
-                } else {
-                    String::new()
-                }
-            })
-            .x_desc(x_label)
-            .y_desc(y_label)
-            .label_style((FONT, 13))
-            .axis_desc_style((FONT, 15))
-            .draw()?;
-        for (j, row) in panel.labels.iter().enumerate() {
-            for (i, c) in row.iter().enumerate() {
-                let Some((label, category)) = c else { continue };
-                let (x, y) = (i as f64, j as f64);
-                let cell = [(x - 0.5, y - 0.5), (x + 0.5, y + 0.5)];
-                let fill = match category {
-                    Category::Good => RGBColor(120, 190, 120),
-                    Category::Doubtful => RGBColor(240, 200, 90),
-                    Category::Bad => RGBColor(220, 110, 100),
-                };
-                chart.draw_series(std::iter::once(Rectangle::new(cell, fill.filled())))?;
-                chart.draw_series(std::iter::once(Text::new(
-                    label.clone(),
-                    (x - 0.42, y + 0.1),
-                    (FONT, 12).into_font().color(&BLACK),
-                )))?;
             }
-        }
-        for (j, row) in panel.values.iter().enumerate() {
-            for (i, v) in row.iter().enumerate() {
-                let (x, y) = (i as f64, j as f64);
-                let cell = [(x - 0.5, y - 0.5), (x + 0.5, y + 0.5)];
-                match v {
-                    Some(v) => {
-                        let t = (key(*v) - lo) / span;
-                        chart
-                            .draw_series(std::iter::once(Rectangle::new(cell, ramp(t).filled())))?;
-                        let ink = if t > 0.6 { BLACK } else { WHITE };
-                        let label = format!("{:.*}", panel.digits, v);
-                        chart.draw_series(std::iter::once(Text::new(
-                            label,
-                            (x - 0.3, y + 0.1),
-                            (FONT, 13).into_font().color(&ink),
-                        )))?;
+            for (j, row) in panel.values.iter().enumerate() {
+                for (i, v) in row.iter().enumerate() {
+                    let (x, y) = (i as f64, j as f64);
+                    let cell = [(x - 0.5, y - 0.5), (x + 0.5, y + 0.5)];
+                    match v {
+                        Some(v) => {
+                            let t = (key(*v) - lo) / span;
+                            chart.draw_series(std::iter::once(Rectangle::new(
+                                cell,
+                                ramp(t).filled(),
+                            )))?;
+                            let ink = if t > 0.6 { BLACK } else { WHITE };
+                            let label = format!("{:.*}", panel.digits, v);
+                            chart.draw_series(std::iter::once(Text::new(
+                                label,
+                                (x - 0.3, y + 0.1),
+                                (FONT, 13).into_font().color(&ink),
+                            )))?;
+                        }
+                        None => {
+                            chart.draw_series(std::iter::once(Rectangle::new(
+                                cell,
+                                RGBColor(230, 230, 230).filled(),
+                            )))?;
+                            chart.draw_series(std::iter::once(Text::new(
+                                "failed".to_string(),
+                                (x - 0.3, y + 0.1),
+                                (FONT, 13).into_font().color(&BLACK),
+                            )))?;
+                        }
                     }
-                    None => {
+                    if panel.outline.get(j).and_then(|r| r.get(i)).copied().unwrap_or(false) {
+                        let inset = [(x - 0.46, y - 0.46), (x + 0.46, y + 0.46)];
                         chart.draw_series(std::iter::once(Rectangle::new(
-                            cell,
-                            RGBColor(230, 230, 230).filled(),
-                        )))?;
-                        chart.draw_series(std::iter::once(Text::new(
-                            "failed".to_string(),
-                            (x - 0.3, y + 0.1),
-                            (FONT, 13).into_font().color(&BLACK),
+                            inset,
+                            RED.stroke_width(3),
                         )))?;
                     }
                 }
-                if panel.outline.get(j).and_then(|r| r.get(i)).copied().unwrap_or(false) {
-                    let inset = [(x - 0.46, y - 0.46), (x + 0.46, y + 0.46)];
-                    chart
-                        .draw_series(std::iter::once(Rectangle::new(inset, RED.stroke_width(3))))?;
-                }
             }
         }
+        Ok(())
+    })
+}
+
+/// The name of the cell at the axis position `v` (cells at whole numbers), none between cells.
+fn cell_label(names: &[String], v: f64) -> String {
+    let k = v.round();
+    if (v - k).abs() < 1e-6 && k >= 0.0 {
+        names.get(k as usize).cloned().unwrap_or_default()
+    } else {
+        String::new()
     }
-    root.present().map_err(output(format!("writing {}", path.display())))?;
-    Ok(())
 }
 
 #[cfg(test)]
