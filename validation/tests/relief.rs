@@ -70,7 +70,8 @@ fn a_wave_through_the_seed_contact_keeps_a_third_of_its_amplitude_in_the_reynold
     // Two steps a cell where the scene takes four: the ratio's bounds and the proportion hold
     // at either (0.306 and 0.331 on 129²), at two thirds of the time. The waves are read for
     // their amplitudes, without error bars, but for the layer's ratio: its estimate is what
-    // is checked below (the Reynolds film's would add a passage on 65², where it touches: 22 s on 2 cores).
+    // is checked below (the Reynolds film's would add a passage on 65², where it touches:
+    // 22 s on 2 cores).
     let layer_estimated = wave_stepped(5e-9, Some(2.0), &[Model::Layer], true);
     let full = wave_stepped(5e-9, Some(2.0), &[Model::Reynolds], false);
     let half = wave_stepped(2.5e-9, Some(2.0), &[], false);
