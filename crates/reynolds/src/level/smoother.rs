@@ -587,6 +587,11 @@ impl Level {
         // solves for it too ([`Self::coarse_theta`]).
         if mass_conserving {
             // A loaded point's gap is full (a prolonged start, a correction, may leave less).
+            // The row itself takes it when the line is done: until then the row still holds
+            // the point partly filled, and [`Rows::add_p`] drops the change the solve makes
+            // there. That holds back a correction that loaded a point past the meniscus for a
+            // sweep, and is kept: filling the row first cost the fed solves more cycles
+            // (docs/decisions.md, "The fed solve's cost on the finest grids").
             for i in 1..nx - 1 {
                 if p[1][i] > 0.0 && w.theta[i] != 1.0 {
                     w.theta[i] = 1.0;
