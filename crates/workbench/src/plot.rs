@@ -827,6 +827,36 @@ mod tests {
     }
 
     #[test]
+    fn a_figure_reads_back_as_a_png_of_its_size_with_its_panel_and_footnote_drawn() {
+        // The figures are drawn into memory and encoded here, not by the chart library: a size
+        // or row length the encoder misreads, or a buffer written before it was drawn, shows
+        // as a file a decoder refuses, of another size, or blank.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("f.png");
+        let line = vec![(0.0, 0.0), (1.0, 2.0), (2.0, 1.0)];
+        let panel = Panel::new("t", "x", "y", vec![Series::new("s", line, Mark::LinePoints)]);
+        charts(&path, &[panel], "a footnote of one line").unwrap();
+        let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());
+        let mut reader = png::Decoder::new(file).read_info().unwrap();
+        let mut rgb = vec![0; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut rgb).unwrap();
+        // One panel of 640 × 490 px, and below it 10 px and a line of footnote (20 px).
+        assert_eq!((info.width, info.height), (640, 520));
+        assert_eq!((info.color_type, info.bit_depth), (png::ColorType::Rgb, png::BitDepth::Eight));
+        let inked = |rows: std::ops::Range<usize>| {
+            rgb[rows.start * 640 * 3..rows.end * 640 * 3]
+                .chunks(3)
+                .filter(|p| p.iter().any(|&c| c < 128))
+                .count()
+        };
+        // The corner is the white background; the panel's axes, labels and line, and the
+        // footnote's letters, are dark on it (a blank panel or a lost footnote counts none).
+        assert_eq!(&rgb[..3], &[255, 255, 255]);
+        assert!(inked(0..490) > 2000, "the panel: {} dark pixels", inked(0..490));
+        assert!(inked(495..520) > 100, "the footnote: {} dark pixels", inked(495..520));
+    }
+
+    #[test]
     fn charts_of_extreme_values_draw_and_return() {
         // A sweep over 400 decades hung the chart library's log axis; extreme and non-finite
         // values on linear axes overflowed its range. Each is drawn in its own thread, and a
