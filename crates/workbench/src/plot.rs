@@ -850,7 +850,8 @@ mod tests {
                 .count()
         };
         // The corner is the white background; the panel's axes, labels and line, and the
-        // footnote's letters, are dark on it (a blank panel or a lost footnote counts none).
+        // footnote's letters, are dark on it: measured 4377 and 281 dark pixels, where a blank
+        // panel or a lost footnote counts none (bounds at about half the measured counts).
         assert_eq!(&rgb[..3], &[255, 255, 255]);
         assert!(inked(0..490) > 2000, "the panel: {} dark pixels", inked(0..490));
         assert!(inked(495..520) > 100, "the footnote: {} dark pixels", inked(495..520));
