@@ -843,8 +843,9 @@ mod tests {
         // One panel of 640 × 490 px, and below it 10 px and a line of footnote (20 px).
         assert_eq!((info.width, info.height), (640, 520));
         assert_eq!((info.color_type, info.bit_depth), (png::ColorType::Rgb, png::BitDepth::Eight));
+        let row = info.line_size;
         let inked = |rows: std::ops::Range<usize>| {
-            rgb[rows.start * 640 * 3..rows.end * 640 * 3]
+            rgb[rows.start * row..rows.end * row]
                 .chunks(3)
                 .filter(|p| p.iter().any(|&c| c < 128))
                 .count()
