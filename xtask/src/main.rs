@@ -226,6 +226,10 @@ enum Command {
         /// Keep the temporary folder (configuration, logs, both runs).
         #[arg(long)]
         keep: bool,
+        /// The `ehl` binary to run, already built (by default the check builds `ehl-cli`, which
+        /// relinks `target/release/ehl` under anything running it).
+        #[arg(long)]
+        ehl: Option<PathBuf>,
     },
     /// Mutation testing (cargo-mutants) of the numerical files, each by its own crate's tests;
     /// hours for all files on 2 cores: pick with `--file`, sample with `--shard k/n`.
@@ -291,7 +295,7 @@ fn main() -> Result<()> {
             }
             Ok(())
         }
-        Command::SlurmCheck { keep } => slurm::check(keep),
+        Command::SlurmCheck { keep, ehl } => slurm::check(keep, ehl),
         Command::Example { out } => example::run(&out),
         Command::Findings { out } => findings::run(&out),
         Command::Contact { out, grids: false } => contact::run(&out),

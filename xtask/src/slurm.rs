@@ -64,7 +64,7 @@ const SWEEP: &str = r#"{
   ]
 }"#;
 
-pub fn check(keep: bool) -> Result<()> {
+pub fn check(keep: bool, ehl: Option<PathBuf>) -> Result<()> {
     let t0 = Instant::now();
     if !(have("sbatch") && have("slurmctld") && have("slurmd") && have("munged")) {
         ensure!(is_root(), "slurm-wlm and munge are missing and installing them needs root");
@@ -76,7 +76,13 @@ pub fn check(keep: bool) -> Result<()> {
         env_ok(Command::new("apt-get").args(["install", "-y", "-qq", "slurm-wlm", "munge"]))?;
     }
     ensure!(is_root(), "the one-node cluster's daemons run as root here: run as root");
-    let ehl = build_ehl()?;
+    let ehl = match ehl {
+        Some(p) => {
+            ensure!(p.is_file(), "--ehl {}: no such file", p.display());
+            std::fs::canonicalize(&p)?
+        }
+        None => build_ehl()?,
+    };
     let tmp = std::env::temp_dir().join(format!("ehl-slurm-check-{}", std::process::id()));
     std::fs::create_dir_all(&tmp)?;
     let result = run_check(&tmp, &ehl);
