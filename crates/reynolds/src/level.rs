@@ -363,13 +363,18 @@ impl Level {
     /// contact lets through); 1 where loaded. Starting full there instead left the inlet holding oil no supply brought,
     /// and the relaxation carried it away one cell in several sweeps.
     pub fn start_theta(&mut self) {
-        self.theta.fill(1.0);
-        let Some(s) = &self.supply else { return };
-        for ((j, i), t) in self.theta.indexed_iter_mut() {
-            let h = self.film[[j, i]];
-            if self.p[[j, i]] <= 0.0 && h > s[j] {
-                *t = s[j] / h;
-            }
+        self.start_theta_where(&|_| true);
+    }
+
+    /// [`Self::start_theta`] at the points `fresh` selects only, the others kept.
+    pub fn start_theta_where(&mut self, fresh: &dyn Fn((usize, usize)) -> bool) {
+        let supply = self.supply.as_ref();
+        for (ji, t) in self.theta.indexed_iter_mut().filter(|(ji, _)| fresh(*ji)) {
+            let h = self.film[ji];
+            *t = match supply {
+                Some(s) if self.p[ji] <= 0.0 && h > s[ji.0] => s[ji.0] / h,
+                _ => 1.0,
+            };
         }
     }
 

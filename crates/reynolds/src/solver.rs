@@ -318,19 +318,19 @@ impl ReynoldsSolver {
     /// A start from an answer known at this grid's points (another grid's answer carried over:
     /// an error estimate's coarser grids start from the finer answer, which differs from their
     /// own by the discretisation error only): `P` [p_h] and `θ` at each point `(j, i)` of the
-    /// finest grid, `H00` [a²/R]. Solve with `fmg_cycles` 0: a full-multigrid start would begin
-    /// again from Hertz.
-    pub fn start_from_answer(
-        &mut self,
-        p: &dyn Fn(usize, usize) -> f64,
-        theta: &dyn Fn(usize, usize) -> f64,
-        h00: f64,
-    ) {
+    /// finest grid where the answer has one, `H00` [a²/R]. Where it has none (a domain grown
+    /// beyond the answer's), `P = 0` and `θ` as a fresh start has it ([`Level::start_theta`]).
+    /// Solve with `fmg_cycles` 0: a full-multigrid start would begin again from Hertz.
+    pub fn start_from_answer(&mut self, at: &dyn Fn(usize, usize) -> Option<(f64, f64)>, h00: f64) {
         let f = &mut self.levels[0];
-        f.p = Array2::from_shape_fn(f.p.dim(), |(j, i)| p(j, i));
-        f.theta = Array2::from_shape_fn(f.theta.dim(), |(j, i)| theta(j, i));
+        let known = Array2::from_shape_fn(f.p.dim(), |(j, i)| at(j, i));
+        f.p = known.map(|k| k.map_or(0.0, |(p, _)| p));
+        f.theta = known.map(|k| k.map_or(1.0, |(_, t)| t));
         self.h00 = h00;
         f.update_film(h00);
+        if known.iter().any(Option::is_none) {
+            f.start_theta_where(&|ji| known[ji].is_none());
+        }
     }
 
     /// The state a time step changes (finest grid, `H00`, the time history).

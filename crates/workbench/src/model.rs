@@ -36,10 +36,11 @@ pub trait ContactModel: Sync {
     fn for_estimate(&self, coarse: Scene) -> Scene {
         coarse
     }
-    /// Runs `coarse`, the scene of this model's answer `finer` on fewer points, for an error
-    /// estimate ([`crate::accuracy::estimate`]): a model may start it from the finer answer,
-    /// which differs from the coarse grid's own by the discretisation error only; by default
-    /// it runs from its usual start.
+    /// Runs `coarse`, the scene of this model's answer `finer` on coarser cells, for an error
+    /// estimate ([`crate::accuracy::estimate`]) or a sweep's check (over the same domain, or
+    /// one grown beyond it): a model may start it from the finer answer, which differs from
+    /// the coarse grid's own by the discretisation error (and the domain's change) only; by
+    /// default it runs from its usual start.
     fn run_coarser(&self, coarse: &Scene, _finer: &dyn Outcome) -> Result<Box<dyn Outcome>> {
         self.run(coarse)
     }

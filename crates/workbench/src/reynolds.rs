@@ -526,29 +526,46 @@ pub fn run_reynolds(scene: &Scene) -> Result<ReynoldsOutcome> {
     run_reynolds_from(scene, None)
 }
 
-/// A finer answer over the same domain that a coarser grid's steady solve starts from (an
-/// error estimate's coarser grids): its fields taken at every `stride`-th point.
+/// A finer answer that a coarser grid's steady solve starts from (an error estimate's coarser
+/// grids, over the same domain; a domain check's, over a domain grown beyond it): its fields
+/// taken at every `stride`-th point, the coarse grid's point `(j, i)` the finer answer's
+/// `(stride (j − offset.0), stride (i − offset.1))` where that lies on it.
 struct FinerStart<'a> {
     answer: &'a ReynoldsOutcome,
     stride: usize,
+    offset: (usize, usize),
 }
 
 impl<'a> FinerStart<'a> {
-    /// The start for `coarse` (the finer answer's scene on fewer points) from `finer`'s answer:
-    /// only a steady answer on a grid whose points include the coarse grid's (the same domain,
-    /// `n - 1` a multiple).
+    /// The start for `coarse` (the finer answer's scene on coarser cells) from `finer`'s
+    /// answer: only a steady answer whose points, every `stride`-th, are points of the coarse
+    /// grid, and whose domain the coarse one holds.
     fn new(coarse: &Scene, finer: &'a dyn Outcome) -> Option<Self> {
         let answer = finer.inner().unwrap_or(finer).as_any().downcast_ref::<ReynoldsOutcome>()?;
         let (f, c) = (&answer.grid, coarse.grid());
-        let stride = (f.nx - 1) / (c.nx - 1).max(1);
-        let nested = stride >= 2
-            && (c.nx - 1) * stride == f.nx - 1
-            && (c.ny - 1) * stride == f.ny - 1
-            && (f.x(0) - c.x(0)).abs() < 1e-9
-            && (f.y(0) - c.y(0)).abs() < 1e-9;
-        // The coarse scene is the finer answer's on fewer points: a steady answer's is steady.
+        let stride = (c.dx() / f.dx()).round() as usize;
+        let near = |a: f64, b: f64| (a - b).abs() < 1e-9 * c.dx().max(c.dy());
+        let offset = ((f.y(0) - c.y(0)) / c.dy()).round().max(0.0) as usize;
+        let offset = (offset, ((f.x(0) - c.x(0)) / c.dx()).round().max(0.0) as usize);
+        let nested = stride >= 1
+            && near(c.dx(), stride as f64 * f.dx())
+            && near(c.dy(), stride as f64 * f.dy())
+            && near(f.y(0), c.y(offset.0))
+            && near(f.x(0), c.x(offset.1))
+            && (f.ny - 1) % stride == 0
+            && (f.nx - 1) % stride == 0
+            && offset.0 + (f.ny - 1) / stride < c.ny
+            && offset.1 + (f.nx - 1) / stride < c.nx;
+        // The coarse scene is the finer answer's on coarser cells: a steady answer's is steady.
         let steady = answer.transient.is_none();
-        (nested && steady).then_some(Self { answer, stride })
+        (nested && steady).then_some(Self { answer, stride, offset })
+    }
+
+    /// The finer answer's `P` [p_h] and `θ` at the coarse grid's point `(j, i)`, where it has one.
+    fn at(&self, j: usize, i: usize) -> Option<(f64, f64)> {
+        let (k, a) = (self.stride, self.answer);
+        let (fj, fi) = (k * j.checked_sub(self.offset.0)?, k * i.checked_sub(self.offset.1)?);
+        (fj < a.grid.ny && fi < a.grid.nx).then(|| (a.p[[fj, fi]], a.theta[[fj, fi]]))
     }
 }
 
@@ -591,12 +608,7 @@ fn run_reynolds_from(scene: &Scene, finer: Option<&FinerStart>) -> Result<Reynol
     if let Some(f) = finer.filter(|_| run.is_none()) {
         // Near its own answer already: cycles from there, no full-multigrid start.
         solver.settings.fmg_cycles = 0;
-        let (a, k) = (f.answer, f.stride);
-        solver.start_from_answer(
-            &|j, i| a.p[[k * j, k * i]],
-            &|j, i| a.theta[[k * j, k * i]],
-            a.h00,
-        );
+        solver.start_from_answer(&|j, i| f.at(j, i), f.answer.h00);
     }
     let setup_time_s = t0.elapsed().as_secs_f64();
     let spin = crate::progress::spinner("reynolds");

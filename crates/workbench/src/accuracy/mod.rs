@@ -200,10 +200,7 @@ fn coarser_answers(
             let mut s = scene.clone();
             s.grid = ehl_scene::GridSpec { nx: a, ny: b };
             s.outputs = ehl_scene::Outputs { centreline: false, fields: false, figures: false };
-            match model {
-                Some(m) => m.for_estimate(s),
-                None => s,
-            }
+            s
         })
     };
     let exists_on = model.map_or(f64::INFINITY, |m| 2.0 * m.cell_needed(scene, f64::INFINITY));
@@ -231,10 +228,7 @@ fn coarser_answers(
                 ehl_scene::MIN_CELLS_PER_WAVELENGTH
             )));
         }
-        let o = match model {
-            Some(_) => crate::run::run_coarser(s, answer),
-            None => crate::run::run_scene(s),
-        };
+        let o = run_check(s, answer);
         let coarse =
             |o: Box<dyn Outcome>| Coarse { observables: o.observables(), passage: o.passage() };
         Some(o.map(coarse).map_err(|e| e.class().to_string()))
@@ -258,6 +252,20 @@ fn coarser_answers(
             (grids, Err(format!("the half grid ({}²) has no answer: {e}", s1.grid.nx)), None)
         }
         _ => (grids, Err("the grid has no coarser one to compare with".to_string()), None),
+    }
+}
+
+/// Runs `check`, the scene of `answer` on coarser cells (an estimate's coarser grid; a sweep's
+/// grid or domain check, whose domain may hold the answer's), as an estimate runs its coarser
+/// grids: within the bounds its model sets an estimate ([`ContactModel::for_estimate`]), started
+/// from the answer where the model can ([`ContactModel::run_coarser`]).
+///
+/// [`ContactModel::for_estimate`]: crate::model::ContactModel::for_estimate
+/// [`ContactModel::run_coarser`]: crate::model::ContactModel::run_coarser
+pub fn run_check(check: &Scene, answer: &dyn Outcome) -> crate::error::Result<Box<dyn Outcome>> {
+    match check.model().and_then(|k| crate::run::model(k).ok()) {
+        Some(m) => crate::run::run_coarser(&m.for_estimate(check.clone()), answer),
+        None => crate::run::run_scene(check),
     }
 }
 

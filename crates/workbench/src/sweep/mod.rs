@@ -20,6 +20,7 @@ pub const OBSERVED: [&str; 3] = ["h_c", "h_min", "p_max"];
 
 use crate::accuracy::{self, gci as convergence, rule as adapt};
 use crate::error::{Error, Result, io, output};
+use crate::model::Outcome;
 use crate::progress;
 use ehl_core::Observables;
 use ehl_scene::{Model, Scene, Sweep};
@@ -422,18 +423,37 @@ type Failed = (String, &'static str);
 
 /// Runs one model on one scene in the current (single-thread) pool; a failure is its
 /// diagnosis (the models report failures as errors: nothing on their paths panics).
-fn run_model(scene: &Scene) -> (Result<Answer, Failed>, f64) {
+fn run_model(scene: &Scene) -> (Result<Answer, Failed>, f64, Option<Box<dyn Outcome>>) {
+    timed(|| crate::run::run_scene(scene))
+}
+
+/// A check of `answer` (`check`: its scene on coarser cells, over its domain or a grown one), run
+/// as an estimate's coarser grids are ([`accuracy::run_check`]: from the answer, within the
+/// estimate's bounds).
+fn run_check(check: &Scene, answer: &dyn Outcome) -> (Result<Answer, Failed>, f64) {
+    let (a, t, _) = timed(|| accuracy::run_check(check, answer));
+    (a, t)
+}
+
+/// A run's answer (and the outcome it came from) or its failure, and its wall time [s].
+fn timed(
+    run: impl FnOnce() -> crate::error::Result<Box<dyn Outcome>>,
+) -> (Result<Answer, Failed>, f64, Option<Box<dyn Outcome>>) {
     let t0 = Instant::now();
-    let out = crate::run::run_scene(scene)
-        .map(|o| Answer {
-            observables: o.observables(),
-            lubricated: o.lubricated(),
-            indicators: o.indicators().into_iter().collect(),
-            caveat: o.caveat(),
-            passage: o.passage(),
-        })
-        .map_err(|e| (format!("{e:#}"), e.class()));
-    (out, t0.elapsed().as_secs_f64())
+    let (out, outcome) = match run() {
+        Ok(o) => (
+            Ok(Answer {
+                observables: o.observables(),
+                lubricated: o.lubricated(),
+                indicators: o.indicators().into_iter().collect(),
+                caveat: o.caveat(),
+                passage: o.passage(),
+            }),
+            Some(o),
+        ),
+        Err(e) => (Err((format!("{e:#}"), e.class())), None),
+    };
+    (out, t0.elapsed().as_secs_f64(), outcome)
 }
 
 /// The first three of the accuracy module's observables (`h_c`, `h_min`, `p_max`): what a
@@ -481,7 +501,7 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
             .into_iter()
             .map(|m| {
                 let one = p.scene_for(m);
-                let (main, wall_time_s) = run_model(&one);
+                let (main, wall_time_s, outcome) = run_model(&one);
                 let mut rec = ModelRecord {
                     model: m,
                     grid: Some(one.grid),
@@ -500,15 +520,18 @@ pub fn run_point(sweep: &Sweep, p: &PlannedPoint) -> PointRecord {
                     flag: None,
                 };
                 let caveat = main.as_ref().ok().and_then(|r| r.caveat.clone());
-                if let Ok(Answer { observables: ob, lubricated: lub, .. }) = &main
+                if let (Ok(Answer { observables: ob, lubricated: lub, .. }), Some(outcome)) =
+                    (&main, &outcome)
                     && sweep.checks
                 {
                     let (gs, ds) = (adapt::grid_check(&one), adapt::domain_check(&one));
                     let qs = adapt::grid_check(&gs);
-                    let (g, tg) = run_model(&gs);
+                    let outcome = outcome.as_ref();
+                    let (g, tg) = run_check(&gs, outcome);
                     // The quarter grid only matters when the half one answered.
-                    let (q, tq) = if g.is_ok() { run_model(&qs) } else { (g.clone(), 0.0) };
-                    let (d, td) = run_model(&ds);
+                    let (q, tq) =
+                        if g.is_ok() { run_check(&qs, outcome) } else { (g.clone(), 0.0) };
+                    let (d, td) = run_check(&ds, outcome);
                     rec.check_wall_time_s = tg + tq + td;
                     let mut gc = check_record(&gs, &g);
                     let mut qc = check_record(&qs, &q);
