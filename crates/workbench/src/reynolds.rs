@@ -570,8 +570,8 @@ fn nested_in(f: &Grid, c: &Grid) -> Option<(usize, (usize, usize))> {
         && near(c.dy(), stride as f64 * f.dy())
         && near(f.y(0), c.y(offset.0))
         && near(f.x(0), c.x(offset.1))
-        && (f.ny - 1) % stride == 0
-        && (f.nx - 1) % stride == 0
+        && (f.ny - 1).is_multiple_of(stride)
+        && (f.nx - 1).is_multiple_of(stride)
         && offset.0 + (f.ny - 1) / stride < c.ny
         && offset.1 + (f.nx - 1) / stride < c.nx;
     nested.then_some((stride, offset))
