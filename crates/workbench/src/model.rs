@@ -30,9 +30,10 @@ pub trait ContactModel: Sync {
     fn cell_needed(&self, _scene: &Scene, _change: f64) -> f64 {
         f64::INFINITY
     }
-    /// The scene a coarser grid of an error estimate runs (the answer's scene on fewer points):
-    /// a model may bound its cost there, where an answer that is slow to come is no estimate
-    /// worth waiting for ([`crate::accuracy::estimate`]); by default the scene itself.
+    /// The scene a coarser grid of an error estimate or a sweep's check runs (the answer's
+    /// scene on coarser cells): a model may bound its cost there, where an answer that is slow
+    /// to come is no estimate worth waiting for ([`crate::accuracy::run_check`]); by default the
+    /// scene itself.
     fn for_estimate(&self, coarse: Scene) -> Scene {
         coarse
     }

@@ -85,6 +85,12 @@ fn where_no_coarser_grid_can_hold_the_film_the_solver_s_grid_law_gives_the_error
     assert!(c.flags.iter().any(|f| f.starts_with("h_c ±")), "{:?}", c.flags);
 }
 
+/// The cycles a Reynolds outcome's steady solve took.
+fn cycles(o: &dyn Outcome) -> usize {
+    let r = o.as_any().downcast_ref::<ehl_workbench::reynolds::ReynoldsOutcome>();
+    r.unwrap().report.cycles
+}
+
 #[test]
 fn a_coarser_grid_started_from_the_finer_answer_reaches_its_own_answer_in_fewer_cycles() {
     // Two answers and their half grids, each solved for the estimate from the finer answer
@@ -112,10 +118,6 @@ fn a_coarser_grid_started_from_the_finer_answer_reaches_its_own_answer_in_fewer_
             (hw - hc).abs() < 0.1 * (hf - hc).abs(),
             "{name}: from the finer answer {hw:e}, from its own start {hc:e}, finer {hf:e}"
         );
-        let cycles = |o: &dyn Outcome| {
-            let r = o.as_any().downcast_ref::<ehl_workbench::reynolds::ReynoldsOutcome>();
-            r.unwrap().report.cycles
-        };
         let (cw, cc) = (cycles(warm.as_ref()), cycles(cold.as_ref()));
         assert!(cw < cc, "{name}: {cw} cycles from the finer answer, {cc} from its own start");
     }
@@ -153,10 +155,6 @@ fn a_domain_check_started_from_the_answer_reaches_the_grown_domain_s_own_answer(
             (hw - hc).abs() < bound,
             "{model:?}: from the answer {hw:e}, from Hertz {hc:e}, the short inlet's {hh:e}"
         );
-        let cycles = |o: &dyn Outcome| {
-            let r = o.as_any().downcast_ref::<ehl_workbench::reynolds::ReynoldsOutcome>();
-            r.unwrap().report.cycles
-        };
         let (cw, cc) = (cycles(warm.as_ref()), cycles(cold.as_ref()));
         assert!(cw < cc, "{model:?}: {cw} cycles from the answer, {cc} from Hertz");
     }

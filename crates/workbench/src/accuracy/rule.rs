@@ -36,7 +36,9 @@
 //! and at the half's cells on a domain whose inlet distance is 1.5 times the point's, `y` grown
 //! by as much in total, half on each side (against the half-points run: the domain's share). The
 //! estimated errors and the domain's relative changes of `h_c`, `h_min`, `p_max` are reported,
-//! and a point is flagged when one exceeds the sweep's `flag_change_above`.
+//! and a point is flagged when one exceeds the sweep's `flag_change_above`. Each check runs as an
+//! estimate's coarser grids do ([`super::run_check`]: from the point's answer where the model
+//! can, within the estimate's bounds).
 
 use ehl_scene::{Domain, GridSpec, Model, Scene};
 
