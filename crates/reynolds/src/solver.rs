@@ -325,12 +325,11 @@ impl ReynoldsSolver {
         let f = &mut self.levels[0];
         let known = Array2::from_shape_fn(f.p.dim(), |(j, i)| at(j, i));
         f.p = known.map(|k| k.map_or(0.0, |(p, _)| p));
+        // Where the answer has no point, `θ` needs the film, which needs the pressure first.
         f.theta = known.map(|k| k.map_or(1.0, |(_, t)| t));
         self.h00 = h00;
         f.update_film(h00);
-        if known.iter().any(Option::is_none) {
-            f.start_theta_where(&|ji| known[ji].is_none());
-        }
+        f.start_theta_where(&|ji| known[ji].is_none());
     }
 
     /// The state a time step changes (finest grid, `H00`, the time history).
