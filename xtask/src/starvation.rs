@@ -266,6 +266,8 @@ struct Cost {
     /// Wall time [s].
     wall: f64,
     cycles: usize,
+    /// The cycles' work in finest-grid cycles (`ReynoldsReport::work_cycles`).
+    work: f64,
     /// Central film [m].
     hc: f64,
     /// Slow-mode jumps taken.
@@ -284,6 +286,7 @@ fn timed(scene: &Scene, reps: usize) -> std::result::Result<Cost, String> {
         runs.push(Cost {
             wall: r.wall_time_s,
             cycles: r.cycles,
+            work: r.work_cycles,
             hc,
             jumps: r.mode_jumps,
             attempts: r.attempts,
@@ -311,13 +314,17 @@ pub fn bench(max: usize, reps: usize) -> Result<PathBuf> {
         "supply",
         "solve [s]",
         "cycles",
+        "work [finest-grid cycles]",
         "attempts",
         "slow-mode jumps",
         "h_c [nm]",
         "time against flooded",
         "cycles against flooded",
+        "work against flooded",
+        "time a unit of work against flooded",
     ]);
     let (mut fed, mut within_time, mut within_cycles, mut cascades) = (0, 0, 0, 0);
+    let mut within_work = 0;
     for &(u1, load) in points {
         for &n in &grids {
             let mut seed = ehl_scene::builtin("seed").map_err(anyhow::Error::msg)?;
@@ -335,7 +342,7 @@ pub fn bench(max: usize, reps: usize) -> Result<PathBuf> {
                 Err(e) => {
                     let mut row = head("none (flooded)".into());
                     row.push(format!("failed: {}", e.chars().take(80).collect::<String>()));
-                    row.extend(std::iter::repeat_n(String::new(), 6));
+                    row.extend(std::iter::repeat_n(String::new(), 9));
                     t.rows.push(row);
                     continue;
                 }
@@ -344,9 +351,12 @@ pub fn bench(max: usize, reps: usize) -> Result<PathBuf> {
             row.extend([
                 format!("{:.2}", flooded.wall),
                 flooded.cycles.to_string(),
+                format!("{:.1}", flooded.work),
                 flooded.attempts.to_string(),
                 String::new(),
                 format!("{:.3}", flooded.hc * 1e9),
+                "1.0×".into(),
+                "1.0×".into(),
                 "1.0×".into(),
                 "1.0×".into(),
             ]);
@@ -360,24 +370,29 @@ pub fn bench(max: usize, reps: usize) -> Result<PathBuf> {
                 let mut row = head(format!("{:.0} nm", h_oil * 1e9));
                 fed += 1;
                 match timed(&s, reps) {
-                    Ok(Cost { wall: w, cycles: c, hc, jumps, attempts }) => {
+                    Ok(Cost { wall: w, cycles: c, work, hc, jumps, attempts }) => {
                         let (rt, rc) = (w / flooded.wall, c as f64 / flooded.cycles as f64);
+                        let rw = work / flooded.work;
                         within_time += usize::from(rt <= STARVED_TARGET);
                         within_cycles += usize::from(rc <= STARVED_TARGET);
+                        within_work += usize::from(rw <= STARVED_TARGET);
                         cascades += usize::from(attempts > 1);
                         row.extend([
                             format!("{w:.2}"),
                             c.to_string(),
+                            format!("{work:.1}"),
                             attempts.to_string(),
                             jumps.to_string(),
                             format!("{:.3}", hc * 1e9),
                             format!("{rt:.1}×"),
                             format!("{rc:.1}×"),
+                            format!("{rw:.1}×"),
+                            format!("{:.1}×", rt / rw),
                         ]);
                     }
                     Err(e) => {
                         row.push(format!("failed: {}", e.chars().take(80).collect::<String>()));
-                        row.extend(std::iter::repeat_n(String::new(), 6));
+                        row.extend(std::iter::repeat_n(String::new(), 9));
                     }
                 }
                 t.rows.push(row);
@@ -396,9 +411,15 @@ pub fn bench(max: usize, reps: usize) -> Result<PathBuf> {
              and wall time within {STARVED_TARGET}× the flooded solve's on the same grid. \
              Attempts: those the steady solve's cascade ran (1: the first answered). Slow-mode \
              jumps: the mass-conserving solve's extrapolations along its slow mode \
-             (`mode_extrapolation`, `crates/reynolds/src/extrapolate.rs`). Of the {fed} fed \
-             solves, {within_time} within the target in time and {within_cycles} in cycles; \
-             {cascades} needed more than one attempt.",
+             (`mode_extrapolation`, `crates/reynolds/src/extrapolate.rs`). Cycles are counted \
+             on every grid alike, a full-multigrid start's on its coarse grids included; work \
+             counts each cycle at its top grid's share of the finest grid's points (one on \
+             half the points per side a quarter, `ReynoldsReport::work_cycles`), every \
+             attempt's, so that it compares solves whose starts begin on different grids (the \
+             fed start begins on the coarsest grid that holds its film, the flooded one on \
+             17²); the time a unit of work is the price of a fed cycle against a flooded one. \
+             Of the {fed} fed solves, {within_time} within the target in time, {within_work} \
+             in work and {within_cycles} in cycles; {cascades} needed more than one attempt.",
             grids.iter().map(|n| format!("{n}")).collect::<Vec<_>>().join(", ")
         ),
         &[("Steady solves", &t)],

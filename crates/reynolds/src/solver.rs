@@ -25,7 +25,7 @@ pub use report::{
     CycleLog, Diagnosis, Divergence, FailureKind, ReynoldsError, ReynoldsReport, SETTLED_BOUND,
     Settled,
 };
-use report::{converged, settled};
+use report::{converged, cycle_work, settled};
 pub use settings::{ReynoldsSettings, StopRule, TimeScheme};
 use watch::{CONTINUE_WITHIN, stalled_early, stalled_far, stalled_open, stalled_over, swung_away};
 

@@ -28,10 +28,21 @@ fn fed_solve(
     grid: Grid,
     h_oil_nm: f64,
 ) -> Result<ReynoldsReport, ReynoldsError> {
+    fed_solve_logged(prm, grid, h_oil_nm).0
+}
+
+/// [`fed_solve`], with the points per side of every cycle's top grid as the solve logged them.
+fn fed_solve_logged(
+    prm: ReynoldsParams,
+    grid: Grid,
+    h_oil_nm: f64,
+) -> (Result<ReynoldsReport, ReynoldsError>, Vec<usize>) {
     let hd = h_oil_nm * 1e-9 / prm.scales.delta;
     let mut s = ReynoldsSolver::new(grid, prm, ReynoldsSettings::default());
     s.set_supply(Some(&move |_y| hd));
-    s.solve(&mut |_| {})
+    let mut points = vec![];
+    let r = s.solve(&mut |c| points.push(c.points));
+    (r, points)
 }
 
 #[test]
@@ -135,10 +146,17 @@ fn a_first_attempt_that_stalls_near_the_answer_is_continued_not_started_again() 
 #[test]
 fn a_continuation_keeps_the_coarser_grids_of_the_attempt_it_continues() {
     let grid = Grid::new(385, 385, (-1.25, 1.25), (-1.25, 1.25));
-    let r = fed_solve(common::seed_loaded(0.005, 80.0), grid, 5.0).expect("converges");
+    let (r, points) = fed_solve_logged(common::seed_loaded(0.005, 80.0), grid, 5.0);
+    let r = r.expect("converges");
     assert!(r.converged && r.attempts == 2 && r.first_attempt.is_some(), "{r:?}");
     // 26 measured (21 + 5); the margin covers a few cycles of drift.
     assert!(r.cycles <= 35, "{} cycles", r.cycles);
+    // The work is every attempt's, each cycle at its top grid's share of the points: the
+    // first attempt's cycles are in it, though the report's history holds the second's only.
+    let logged: f64 = points.iter().map(|&p| (p as f64 / 385.0).powi(2)).sum();
+    let last: f64 = r.history.iter().map(|c| (c.points as f64 / 385.0).powi(2)).sum();
+    assert!((r.work_cycles - logged).abs() < 1e-9, "work {} against {logged}", r.work_cycles);
+    assert!(r.work_cycles > last + 1.0, "work {} against the last attempt's {last}", r.work_cycles);
 }
 
 #[test]

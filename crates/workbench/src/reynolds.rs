@@ -726,6 +726,7 @@ impl ReynoldsOutcome {
             "solver": {
                 "settings": self.view.spec.solver,
                 "cycles": self.report.cycles,
+                "work_cycles": self.report.work_cycles,
                 "lagged_laws": self.report.lagged_laws,
                 "first_attempt": self.report.first_attempt,
                 "omega_gs": self.report.omega_gs,

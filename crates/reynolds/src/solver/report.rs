@@ -72,6 +72,12 @@ pub struct ReynoldsReport {
     pub diagnosis: Option<Diagnosis>,
     /// Cycles run (both attempts).
     pub cycles: usize,
+    /// The cycles' work in finest-grid cycles, every attempt's: a cycle whose top grid has
+    /// half the finest grid's points per side counts a quarter (its relaxations, coarse-grid
+    /// visits and film updates cost in proportion to its points), so that solves whose
+    /// full-multigrid starts begin on different grids compare by what they cost, not by
+    /// how many cycles they logged.
+    pub work_cycles: f64,
     /// Every cycle's record.
     pub history: Vec<CycleLog>,
     /// Wall time [s].
@@ -250,4 +256,10 @@ impl ReynoldsError {
             ReynoldsError::NotConverged(r) => r.cycles,
         }
     }
+}
+
+/// A cycle's work in finest-grid cycles ([`ReynoldsReport::work_cycles`]): its top grid's
+/// points over the finest grid's, `points` and `finest` per side.
+pub(super) fn cycle_work(points: usize, finest: usize) -> f64 {
+    (points as f64 / finest as f64).powi(2)
 }

@@ -23,6 +23,23 @@ impl ReynoldsSolver {
         log: &mut dyn FnMut(&CycleLog),
     ) -> Result<ReynoldsReport, ReynoldsError> {
         let t0 = Instant::now();
+        // Every cycle's work, whichever attempt ran it (the reports count their own only).
+        let finest = self.grid().nx;
+        let mut work = 0.0;
+        let log = &mut |c: &CycleLog| {
+            work += cycle_work(c.points, finest);
+            log(c)
+        };
+        let rep = self.solve_counted(log, t0);
+        rep.map(|r| ReynoldsReport { work_cycles: work, ..r })
+    }
+
+    /// [`Self::solve`] with every cycle logged through `log`.
+    fn solve_counted(
+        &mut self,
+        log: &mut dyn FnMut(&CycleLog),
+        t0: Instant,
+    ) -> Result<ReynoldsReport, ReynoldsError> {
         self.steady_setup();
         if self.settings.contact
             && self.levels[0].supply().is_some_and(|s| s.iter().all(|&h| h <= 0.0))
@@ -592,6 +609,7 @@ impl ReynoldsSolver {
             converged: diagnosis.is_none(),
             diagnosis,
             cycles,
+            work_cycles: history.iter().map(|c| cycle_work(c.points, self.grid().nx)).sum(),
             history,
             wall_time_s: t0.elapsed().as_secs_f64(),
             lagged_laws: self.active.relax.coefficient_lag,

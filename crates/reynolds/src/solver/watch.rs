@@ -159,6 +159,7 @@ pub(super) mod tests {
             converged: false,
             diagnosis: Some(diagnosis),
             cycles: 30,
+            work_cycles: 30.0,
             history: history(30, |_| oil),
             wall_time_s: 0.0,
             lagged_laws: 0.0,
