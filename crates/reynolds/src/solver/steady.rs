@@ -605,11 +605,12 @@ impl ReynoldsSolver {
             .is_some_and(|d| matches!(d.kind, FailureKind::Stalled | FailureKind::LimitCycle));
         let settled =
             (touched_from.is_some() && stuck).then(|| self.touching_settled(&history)).flatten();
+        let nx = self.grid().nx;
         ReynoldsReport {
             converged: diagnosis.is_none(),
             diagnosis,
             cycles,
-            work_cycles: history.iter().map(|c| cycle_work(c.points, self.grid().nx)).sum(),
+            work_cycles: history.iter().map(|c| cycle_work(c.points, nx)).sum(),
             history,
             wall_time_s: t0.elapsed().as_secs_f64(),
             lagged_laws: self.active.relax.coefficient_lag,
