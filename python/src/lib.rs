@@ -191,7 +191,17 @@ fn run<'py>(
         output::check_out_dir(dir).map_err(|e| ModelError::new_err(e.to_string()))?;
     }
     let got = off_thread(py, move || -> Result<Answer, String> {
-        let outcome = accuracy::run(&scene, estimate).map_err(|e| e.to_string())?;
+        let outcome = accuracy::run(&scene, estimate).map_err(|e| {
+            // A march that failed keeps what it had done beside `out`, as the command line's.
+            match out.as_deref().map(|dir| output::keep_failure(&scene, &e, dir)) {
+                Some(Ok(Some(kept))) => format!(
+                    "{e}\nthe march's record up to its failure is in {} (failure.json)",
+                    kept.display()
+                ),
+                Some(Err(w)) => format!("{e}\nits record up to the failure was not written: {w}"),
+                _ => e.to_string(),
+            }
+        })?;
         if let Some(dir) = out {
             output::write(&outcome, &dir).map_err(|e| e.to_string())?;
         }

@@ -215,6 +215,21 @@ def test_a_model_that_does_not_converge_raises_its_diagnosis():
     assert "did not converge" in str(e.value)
 
 
+def test_a_march_that_fails_keeps_its_record_beside_the_output_folder(tmp_path):
+    # The shallow dent's Reynolds march on 65² allowed 4 cycles a step fails as the dent
+    # crosses the inlet, as on the command line: the record goes beside `out`.
+    d = ehl.scene("dent-shallow-compare").to_dict()
+    d.pop("models")
+    d["model"] = "reynolds"
+    d["reynolds"]["solver"]["advanced"] = {"step_max_cycles": 4}
+    with pytest.raises(ehl.ModelError) as e:
+        ehl.run(d, grid=65, out=tmp_path / "dent", estimate=False)
+    assert "dent-failed" in str(e.value)
+    failure = json.loads((tmp_path / "dent-failed" / "failure.json").read_text())
+    assert failure["failed"] is True and failure["steps_taken"] >= 1
+    assert not (tmp_path / "dent").exists()
+
+
 def test_ctrl_c_stops_the_solve_and_frees_the_cores():
     # The seed comparison on 1025² takes minutes: however early or late the interrupt comes,
     # the solve is under way or about to be. KeyboardInterrupt must come once the solve has

@@ -175,13 +175,29 @@ fn real_main() -> Result<()> {
             let dir = out.unwrap_or_else(|| PathBuf::from("out").join(&s.name));
             output::check_out_dir(&dir)?;
             let s = announce(&s, &dir);
-            let outcome = ehl_workbench::accuracy::run(&s, !no_estimate).map_err(|e| match e {
-                ehl_workbench::Error::Interrupted(m) => ehl_workbench::Error::Interrupted(format!(
-                    "{m}; no output written, {} is as it was",
-                    dir.display()
-                )),
-                e => e,
-            })?;
+            let outcome = match ehl_workbench::accuracy::run(&s, !no_estimate) {
+                Ok(o) => o,
+                Err(ehl_workbench::Error::Interrupted(m)) => {
+                    return Err(ehl_workbench::Error::Interrupted(format!(
+                        "{m}; no output written, {} is as it was",
+                        dir.display()
+                    ))
+                    .into());
+                }
+                // A march that failed keeps what it had done, beside the output folder (an
+                // earlier answer in it stays).
+                Err(e) => match (output::keep_failure(&s, &e, &dir), e.partial()) {
+                    (Ok(Some(kept)), Some(p)) => bail!(
+                        "{e}\nthe march's record up to its failure ({} steps, t = {:.6e} s) and that state's fields are in {} (failure.json); {} is as it was",
+                        p.steps,
+                        p.t_s,
+                        kept.display(),
+                        dir.display()
+                    ),
+                    (Err(w), _) => bail!("{e}\nits record up to the failure was not written: {w}"),
+                    _ => return Err(e.into()),
+                },
+            };
             eprintln!("writing the results into {}", dir.display());
             let files = output::write(&outcome, &dir)?;
             print!("{}", outcome.report());

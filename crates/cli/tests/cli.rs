@@ -420,3 +420,74 @@ fn a_run_that_does_not_converge_writes_nothing_and_says_why() {
     );
     assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none(), "something was written");
 }
+
+#[test]
+fn a_march_that_fails_keeps_its_record_beside_the_output_and_the_answer_there_stays() {
+    // The shallow dent's Reynolds march on 65² allowed 4 cycles a step: a step as the dent
+    // crosses the inlet needs more (measured: the 12th fails). The answer already in the
+    // output folder stays; the march's rows up to its last step and that state's fields go
+    // beside it, to `<out>-failed`, with the diagnosis.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("dent");
+    let o = ehl().args(["run", "hertz", "--grid", "17", "--out"]).arg(&out).output().unwrap();
+    assert!(o.status.success());
+    let mut scene: serde_json::Value =
+        serde_json::from_str(&ehl_scene::builtin("dent-shallow-compare").unwrap().to_json())
+            .unwrap();
+    let v = scene.as_object_mut().unwrap();
+    v.remove("models");
+    v.insert("model".into(), "reynolds".into());
+    scene["reynolds"]["solver"]["advanced"] = serde_json::json!({"step_max_cycles": 4});
+    let file = dir.path().join("dent-4-cycles.json");
+    std::fs::write(&file, scene.to_string()).unwrap();
+    let o = ehl()
+        .arg("run")
+        .arg(&file)
+        .args(["--grid", "65", "--no-estimate", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("dent-failed"), "{err}");
+    assert_eq!(read_json(&out.join("summary.json"))["scene"], "hertz", "the answer replaced");
+    let kept = dir.path().join("dent-failed");
+    let failure = read_json(&kept.join("failure.json"));
+    assert_eq!((&failure["failed"], &failure["kind"]), (&true.into(), &"cycle limit".into()));
+    let steps = failure["steps_taken"].as_u64().unwrap() as usize;
+    assert!(steps >= 1, "{failure}");
+    // The header, the start and a row a step taken; the time reached is the last row's.
+    let csv = std::fs::read_to_string(kept.join("timeseries.csv")).unwrap();
+    assert_eq!(csv.lines().count(), steps + 2, "{csv}");
+    let last_t: f64 = csv.lines().last().unwrap().split(',').next().unwrap().parse().unwrap();
+    assert_eq!(last_t, failure["time_reached"]["value"].as_f64().unwrap());
+    // That state's fields: the grid's, finite, the pressure Hertzian in size.
+    let p: ndarray::Array2<f64> = ndarray_npy::read_npy(kept.join("pressure_pa.npy")).unwrap();
+    assert_eq!(p.dim(), (65, 65));
+    let p_max = p.iter().cloned().fold(0.0, f64::max);
+    assert!(p.iter().all(|v| v.is_finite()) && p_max > 3e8 && p_max < 1e9, "{p_max}");
+    assert!(kept.join("film_m.npy").is_file() && !kept.join("summary.json").exists());
+    // In a comparison the record goes to the model's own folder, the table says where.
+    let mut scene: serde_json::Value =
+        serde_json::from_str(&ehl_scene::builtin("dent-shallow-compare").unwrap().to_json())
+            .unwrap();
+    scene["reynolds"]["solver"]["advanced"] = serde_json::json!({"step_max_cycles": 4});
+    std::fs::write(&file, scene.to_string()).unwrap();
+    let cmp = dir.path().join("cmp");
+    let o = ehl()
+        .arg("compare")
+        .arg(&file)
+        .args(["--grid", "65", "--no-estimate", "--out"])
+        .arg(&cmp)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(!o.status.success() && stdout.contains("its march failed after"), "{stdout}");
+    let table = read_json(&cmp.join("comparison.json"));
+    let rey = &table["models"].as_array().unwrap()[1];
+    assert_eq!(rey["failed_march"]["steps_taken"].as_u64().unwrap() as usize, steps, "{rey}");
+    assert_eq!(rey["failed_march"]["record"], "reynolds/failure.json");
+    assert_eq!(read_json(&cmp.join("reynolds/failure.json"))["steps_taken"], steps);
+    assert!(
+        cmp.join("layer/summary.json").is_file() && !cmp.join("reynolds/summary.json").exists()
+    );
+}

@@ -194,6 +194,12 @@ impl Comparison {
                 Err(d) => json!({
                     "model": e.name(), "converged": false, "diagnosis": d.to_string(),
                     "wall_time_s": e.wall_time_s,
+                    // A march that failed: how far it got, and where its record is.
+                    "failed_march": d.partial().map(|p| json!({
+                        "steps_taken": p.steps,
+                        "time_reached": q(p.t_s, "s"),
+                        "record": format!("{}/failure.json", e.name()),
+                    })),
                 }),
             })
             .collect();
@@ -265,7 +271,21 @@ impl Comparison {
     fn notes(&self) -> String {
         let mut t = String::new();
         for e in &self.entries {
-            let Ok(o) = e.outcome.as_ref() else { continue };
+            let o = match e.outcome.as_ref() {
+                Ok(o) => o,
+                Err(err) => {
+                    if let Some(p) = err.partial() {
+                        t += &format!(
+                            "  {}: its march failed after {} steps (t = {:.6e} s): the record up to there and that state's fields are in {}/ (failure.json)\n",
+                            e.name(),
+                            p.steps,
+                            p.t_s,
+                            e.name()
+                        );
+                    }
+                    continue;
+                }
+            };
             if let Some((est, limit)) = o.estimate() {
                 let within = est.worst().is_some_and(|w| w <= limit);
                 t += &format!(
@@ -452,10 +472,18 @@ impl Comparison {
             files.extend(self.figures(dir)?);
         }
         for e in &self.entries {
-            if let Ok(o) = &e.outcome {
-                let sub = dir.join(e.name());
-                create_dir(&sub)?;
-                files.extend(output::write_into(o.as_ref(), &sub)?);
+            let sub = dir.join(e.name());
+            match &e.outcome {
+                Ok(o) => {
+                    create_dir(&sub)?;
+                    files.extend(output::write_into(o.as_ref(), &sub)?);
+                }
+                // A march that failed: what it had done, beside its diagnosis.
+                Err(err) if err.partial().is_some() => {
+                    create_dir(&sub)?;
+                    files.extend(output::write_failure(&self.scene, &e.name(), err, &sub)?);
+                }
+                Err(_) => {}
             }
         }
         Ok(files)

@@ -3,7 +3,7 @@
 //! stop rules and the snapshots: a model only says how to take one step ([`Transient`]), and
 //! the scene's `run` block becomes a [`Plan`] the same way for every model.
 
-use crate::error::{Diagnosis, Error, Result, Within};
+use crate::error::{Diagnosis, Error, Partial, Result};
 use ehl_core::observe::Observables;
 use std::time::Instant;
 
@@ -18,8 +18,8 @@ const CONTROLLED_TRIAL: usize = 2000;
 
 /// A model that can march in time.
 pub trait Transient {
-    /// What is recorded after every step (SI).
-    type Row;
+    /// What is recorded after every step (SI); its `Serialize` form is a time series' row.
+    type Row: serde::Serialize;
     /// The fields kept at a snapshot.
     type Snapshot;
     /// A copy to return to when an error-controlled step is rejected.
@@ -38,6 +38,11 @@ pub trait Transient {
     /// The standard observables of the current state (one definition for every model: what a
     /// comparison of histories overlays).
     fn observables(&self) -> Observables;
+    /// The current state's fields (SI), by file stem: what a march that fails leaves of the
+    /// last state it took ([`crate::error::Partial`]); none by default.
+    fn fields(&self) -> Vec<(String, ndarray::Array2<f64>)> {
+        vec![]
+    }
     /// For error control: `None` when the model has none (the plan then refuses it).
     fn save(&self) -> Option<Self::Saved> {
         None
@@ -120,22 +125,7 @@ pub fn drive<T: Transient>(
     }
     // The phase the march is in, and the steps taken in it.
     let (mut phase, mut phase_steps) = (0usize, 0usize);
-    // Whether a snapshot at `ts` is due once the march is at `t` in `phase` after `k` of its
-    // steps. Fixed steps: at the step nearest to it, known in advance; controlled steps land
-    // on it. A time in a later phase waits for that phase.
-    let due = |ts: f64, t: f64, phase: usize, k: usize| {
-        let ph = &plan.phases[phase];
-        if ts < ph.t0_s {
-            return true;
-        }
-        if ts >= ph.t1_s && phase + 1 < plan.phases.len() {
-            return false;
-        }
-        match ph.steps {
-            Steps::Fixed { dt_s } => ((ts - ph.t0_s) / dt_s).round() as usize <= k,
-            Steps::Controlled { .. } => ts <= t + 1e-12 * t.max(1e-300),
-        }
-    };
+    let due = |ts: f64, t: f64, phase: usize, k: usize| snapshot_due(plan, ts, t, phase, k);
     while pending.first().is_some_and(|&ts| due(ts, 0.0, phase, 0)) {
         snapshots.push((0.0, model.snapshot()));
         pending.remove(0);
@@ -147,7 +137,8 @@ pub fn drive<T: Transient>(
     let mut dt_next = first_dt(&plan.phases[0]);
     // The longest step error control may try (lowered when a solve fails).
     let mut dt_cap = f64::INFINITY;
-    let (finished, stop_reason) = loop {
+    // The march, ended by its rule or its time limit, or by a failure that `Err` carries.
+    let ended: Result<(bool, String)> = 'march: loop {
         let t = elapsed(model);
         if ehl_core::cancel::requested() {
             return Err(Error::Interrupted(format!(
@@ -157,7 +148,7 @@ pub fn drive<T: Transient>(
         if let Some(limit) = plan.max_time_s {
             // Reached to rounding: ten steps of 0.05 s sum to 0.49999999999999994 s.
             if t >= limit * (1.0 - 1e-12) {
-                break (false, format!("not finished by the time limit {limit} s"));
+                break Ok((false, format!("not finished by the time limit {limit} s")));
             }
         }
         let when = |k: usize, t: f64| format!("time step {k} (t = {t:.6e} s)");
@@ -165,7 +156,10 @@ pub fn drive<T: Transient>(
         let step = match ph.steps {
             Steps::Fixed { dt_s } => {
                 dt_range = (dt_range.0.min(dt_s), dt_range.1.max(dt_s));
-                fixed_step(model, dt_s, &mut rejected).within(|| when(steps + 1, t))?
+                match fixed_step(model, dt_s, &mut rejected) {
+                    Ok(s) => s,
+                    Err(e) => break 'march Err(e.within(when(steps + 1, t))),
+                }
             }
             Steps::Controlled { tolerance, order, .. } => loop {
                 // Land on the next snapshot time and on the phase's end rather than pass them.
@@ -190,7 +184,8 @@ pub fn drive<T: Transient>(
                     Err(e) => {
                         let floor = 1e-3 * first_dt(ph);
                         if dt * 0.25 < floor {
-                            return Err(e).within(|| when(steps + 1, t));
+                            model.restore(saved);
+                            break 'march Err(e.within(when(steps + 1, t)));
                         }
                         rejected += 1;
                         model.restore(saved);
@@ -218,7 +213,8 @@ pub fn drive<T: Transient>(
                     let end = ph.t1_s.min(plan.max_time_s.unwrap_or(f64::INFINITY));
                     let left = (end - t - dt) / dt_next;
                     if phase_steps >= CONTROLLED_TRIAL && end.is_finite() && left > MAX_STEPS {
-                        return Err(Diagnosis::Plan(format!(
+                        model.restore(saved);
+                        break 'march Err(Diagnosis::Plan(format!(
                             "error control: after {} steps at rest the step is {dt_next:.3e} s, and {left:.3e} more would reach {end:.4e} s (at most {MAX_STEPS:e}); {rejected} steps were rejected by error control or failed to converge and were retried shorter; check the scene's conditions and run.stop.max_time_s",
                             phase_steps + 1
                         ))
@@ -230,7 +226,7 @@ pub fn drive<T: Transient>(
                 model.restore(saved);
                 dt_next = dt * factor.clamp(0.1, 0.9);
                 if dt_next < 1e-12 {
-                    return Err(Diagnosis::Plan(format!(
+                    break 'march Err(Diagnosis::Plan(format!(
                         "error control: the step size fell below 1e-12 s at t = {t:.6e} s (step {}, estimate {err:.3e} against {tolerance:.1e})",
                         steps + 1
                     ))
@@ -271,7 +267,7 @@ pub fn drive<T: Transient>(
         progress(t);
         if let Some((t_end, why)) = &plan.end {
             if reached(*t_end) {
-                break (true, why.clone());
+                break Ok((true, why.clone()));
             }
             continue;
         }
@@ -286,16 +282,22 @@ pub fn drive<T: Transient>(
                 let worst = now.iter().zip(&old).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
                 if worst < rule.tolerance {
                     let what = if rule.periodic { "periodic" } else { "steady" };
-                    break (
+                    break Ok((
                         true,
                         format!(
                             "{what}: largest change {worst:.2e} < {} over the last {}",
                             rule.tolerance, rule.window_text
                         ),
-                    );
+                    ));
                 }
             }
         }
+    };
+    let (finished, stop_reason) = match ended {
+        Ok(end) => end,
+        // The model is at the last state it took (a failed step is undone before it ends the
+        // march): the record up to there and that state's fields go with the diagnosis.
+        Err(e) => return Err(with_record(e, model, &rows, steps, elapsed(model))),
     };
     Ok(Record {
         rows,
@@ -310,6 +312,36 @@ pub fn drive<T: Transient>(
         stop_reason,
         dt_range,
     })
+}
+
+/// Whether a snapshot at `ts` [s] is due once the march is at `t` in `phase` after `k` of its
+/// steps. Fixed steps: at the step nearest to it, known in advance; controlled steps land on
+/// it. A time in a later phase waits for that phase.
+fn snapshot_due(plan: &Plan, ts: f64, t: f64, phase: usize, k: usize) -> bool {
+    let ph = &plan.phases[phase];
+    if ts < ph.t0_s {
+        return true;
+    }
+    if ts >= ph.t1_s && phase + 1 < plan.phases.len() {
+        return false;
+    }
+    match ph.steps {
+        Steps::Fixed { dt_s } => ((ts - ph.t0_s) / dt_s).round() as usize <= k,
+        Steps::Controlled { .. } => ts <= t + 1e-12 * t.max(1e-300),
+    }
+}
+
+/// `e` with what the march had done ([`Partial`]): `rows` and the `steps` taken, and the
+/// fields of `model`, which is at the last state taken, `t_s` [s] from the start.
+fn with_record<T: Transient>(
+    e: Error,
+    model: &T,
+    rows: &[T::Row],
+    steps: usize,
+    t_s: f64,
+) -> Error {
+    let rows = rows.iter().map(|r| serde_json::to_value(r).unwrap_or_default()).collect();
+    e.with_partial(Partial { rows, steps, t_s, fields: model.fields() })
 }
 
 /// The most sub-steps a failed fixed step is taken again in.
@@ -364,11 +396,21 @@ mod tests {
         can_save: bool,
         /// Steps longer than this fail (a solve that does not converge), when set.
         fails_above: Option<f64>,
+        /// Steps past this time fail whatever their length (a model's failure), when set.
+        fails_past: Option<f64>,
     }
 
     impl Relax {
         fn new(k: f64) -> Self {
-            Relax { k, t: 0.0, y: 0.0, steps_seen: vec![], can_save: true, fails_above: None }
+            Relax {
+                k,
+                t: 0.0,
+                y: 0.0,
+                steps_seen: vec![],
+                can_save: true,
+                fails_above: None,
+                fails_past: None,
+            }
         }
     }
 
@@ -384,6 +426,10 @@ mod tests {
                 // Half-done work the driver must undo.
                 self.y = f64::NAN;
                 return Err(Error::Refused(format!("step {dt} did not converge")));
+            }
+            if self.fails_past.is_some_and(|t| self.t + dt > t + 1e-12) {
+                self.y = f64::NAN;
+                return Err(Diagnosis::Plan(format!("no state past {}", self.t)).into());
             }
             let implicit = (self.y + dt * self.k) / (1.0 + dt * self.k);
             let explicit = self.y + dt * self.k * (1.0 - self.y);
@@ -401,6 +447,9 @@ mod tests {
         }
         fn snapshot(&self) -> f64 {
             self.y
+        }
+        fn fields(&self) -> Vec<(String, ndarray::Array2<f64>)> {
+            vec![("y".into(), ndarray::Array2::from_elem((1, 1), self.y))]
         }
         fn observables(&self) -> Observables {
             Observables {
@@ -469,6 +518,38 @@ mod tests {
         // A model that cannot return to its state is not retried.
         let mut m = Relax { fails_above: Some(0.03), can_save: false, ..Relax::new(1.0) };
         assert!(drive(&mut m, &p, &mut |_| {}).is_err());
+    }
+
+    #[test]
+    fn a_march_that_fails_carries_its_rows_and_its_last_state_to_the_writer() {
+        // Steps of 0.1 that fail past t = 0.45 (whatever their sub-steps): four steps taken,
+        // the fifth fails. The error carries the start and the four rows, the time reached
+        // and the fields of the state at t = 0.4, not the NaN the failed attempts left.
+        let p = Plan { end: Some((1.0, "the end".into())), ..plan(Steps::Fixed { dt_s: 0.1 }) };
+        let mut m = Relax { fails_past: Some(0.45), ..Relax::new(1.0) };
+        let e = drive(&mut m, &p, &mut |_| {}).unwrap_err();
+        assert!(e.to_string().contains("time step 5"), "{e}");
+        let part = e.partial().expect("the record goes with the failure");
+        assert_eq!((part.steps, part.rows.len()), (4, 5));
+        assert!((part.t_s - 0.4).abs() < 1e-12, "{}", part.t_s);
+        let y4 = 1.0 - 1.1f64.powi(-4);
+        assert!((part.rows[4][1].as_f64().unwrap() - y4).abs() < 1e-12, "{:?}", part.rows[4]);
+        assert_eq!(part.fields.len(), 1);
+        assert!((part.fields[0].1[[0, 0]] - y4).abs() < 1e-12, "{:?}", part.fields);
+        // Under error control too: a step that fails down to the smallest step tried.
+        let p = Plan {
+            max_time_s: Some(1.0),
+            ..plan(Steps::Controlled { dt0_s: 0.1, tolerance: 1.0, order: 2.0 })
+        };
+        let mut m = Relax { fails_past: Some(0.45), ..Relax::new(1.0) };
+        let e = drive(&mut m, &p, &mut |_| {}).unwrap_err();
+        let part = e.partial().expect("the record goes with the failure");
+        assert!(part.t_s <= 0.45 && part.t_s > 0.44, "{}", part.t_s);
+        assert!(part.fields[0].1[[0, 0]].is_finite() && m.y.is_finite(), "{:?}", part.fields);
+        // Any other error (a refusal, not a model's failure) carries none.
+        let mut m = Relax { fails_above: Some(0.001), ..Relax::new(1.0) };
+        let p = Plan { end: Some((1.0, "the end".into())), ..plan(Steps::Fixed { dt_s: 0.1 }) };
+        assert!(drive(&mut m, &p, &mut |_| {}).unwrap_err().partial().is_none());
     }
 
     #[test]

@@ -20,6 +20,8 @@ pub enum Error {
         context: String,
         /// The solver's own diagnosis.
         diagnosis: Diagnosis,
+        /// What a march had done before it failed, when it failed marching.
+        partial: Option<Box<Partial>>,
     },
     /// A file or folder could not be read or written. The system's error is part of the
     /// message, not a separate cause: a report that prints causes says it once.
@@ -114,8 +116,8 @@ impl Error {
     pub fn within(self, what: impl fmt::Display) -> Error {
         let join = |c: String| if c.is_empty() { what.to_string() } else { format!("{what}: {c}") };
         match self {
-            Error::Model { context, diagnosis } => {
-                Error::Model { context: join(context), diagnosis }
+            Error::Model { context, diagnosis, partial } => {
+                Error::Model { context: join(context), diagnosis, partial }
             }
             Error::Io { context, error } => Error::Io { context: join(context), error },
             Error::Output { context, message } => Error::Output { context: join(context), message },
@@ -138,11 +140,47 @@ impl Error {
     pub fn class(&self) -> &'static str {
         self.diagnosis().map_or("other", Diagnosis::class)
     }
+
+    /// What the failed march had done, when a model failed marching.
+    pub fn partial(&self) -> Option<&Partial> {
+        match self {
+            Error::Model { partial, .. } => partial.as_deref(),
+            _ => None,
+        }
+    }
+
+    /// The same error carrying what the march had done (a model's failure only: any other
+    /// error is no march's, and is returned as it was).
+    pub fn with_partial(self, p: Partial) -> Error {
+        match self {
+            Error::Model { context, diagnosis, .. } => {
+                Error::Model { context, diagnosis, partial: Some(Box::new(p)) }
+            }
+            e => e,
+        }
+    }
+}
+
+/// What a march that failed had done: its record up to the last step it took and that
+/// state's fields. Not an answer (the run failed), but where and how it went wrong, and what
+/// an hour's march keeps of its work: the writers put it beside the diagnosis
+/// ([`crate::output::write_failure`]).
+#[derive(Clone, Debug)]
+pub struct Partial {
+    /// The start, then one row per step taken (SI): the columns of an answer's
+    /// `timeseries.csv`.
+    pub rows: Vec<serde_json::Value>,
+    /// Steps taken.
+    pub steps: usize,
+    /// Time [s] from the start of the motion to the last state taken.
+    pub t_s: f64,
+    /// That state's fields (SI), by file stem.
+    pub fields: Vec<(String, ndarray::Array2<f64>)>,
 }
 
 impl From<Diagnosis> for Error {
     fn from(diagnosis: Diagnosis) -> Self {
-        Error::Model { context: String::new(), diagnosis }
+        Error::Model { context: String::new(), diagnosis, partial: None }
     }
 }
 

@@ -112,6 +112,15 @@ impl Transient for LayerMarch<'_> {
     fn snapshot(&self) -> Snapshot {
         Snapshot::of(self.m, &self.state)
     }
+    fn fields(&self) -> Vec<(String, Array2<f64>)> {
+        let (sn, s) = (Snapshot::of(self.m, &self.state), &self.m.scales);
+        vec![
+            ("pressure_pa".into(), sn.p.mapv(|v| s.p_si(v))),
+            ("layer_thickness_m".into(), sn.l.mapv(|v| s.h_si(v))),
+            ("strain".into(), sn.eps),
+            ("gap_m".into(), (&sn.film - &sn.l).mapv(|v| s.h_si(v))),
+        ]
+    }
     fn observables(&self) -> Observables {
         let (m, s) = (self.m, &self.state);
         let film = s.thickness(m) + s.gap(m);

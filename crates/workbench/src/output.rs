@@ -274,6 +274,75 @@ pub fn write_into(outcome: &dyn Outcome, dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(files)
 }
 
+/// The folder a failed `ehl run` into `dir` writes what its march kept ([`write_failure`]):
+/// beside `dir`, never in its place, so that a failure never replaces an earlier answer.
+pub fn failed_dir(dir: &Path) -> PathBuf {
+    let name = dir.file_name().map_or("out".into(), |n| n.to_string_lossy().into_owned());
+    dir.with_file_name(format!("{name}-failed"))
+}
+
+/// Keeps what the march of a one-model `scene` had done when it failed with `e`, in
+/// [`failed_dir`]`(out)`, replaced as a whole ([`replace_dir`]): the folder, or `None` when `e`
+/// carries no record (a failure that is not a march's).
+pub fn keep_failure(scene: &ehl_scene::Scene, e: &Error, out: &Path) -> Result<Option<PathBuf>> {
+    if e.partial().is_none() {
+        return Ok(None);
+    }
+    let kept = failed_dir(out);
+    replace_dir(&kept, |stage| write_failure(scene, &scene.model_names(), e, stage))?;
+    Ok(Some(kept))
+}
+
+/// Writes what a failed march kept into `dir` (no staging): `failure.json` (the diagnosis, its
+/// kind, the steps taken and the time reached, the grid), the record up to the last step taken
+/// as `timeseries.csv`, and that state's fields as `.npy` (SI; arrays of `ny` rows by `nx`).
+/// No `summary.json`: it is no answer. Nothing when `e` carries no record.
+pub fn write_failure(
+    scene: &ehl_scene::Scene,
+    model: &str,
+    e: &Error,
+    dir: &Path,
+) -> Result<Vec<PathBuf>> {
+    let Some(p) = e.partial() else { return Ok(vec![]) };
+    let mut files = vec![];
+    let (mut written, mut refused) = (vec![], vec![]);
+    for (stem, field) in &p.fields {
+        interruption()?;
+        // A non-finite value is no state to look at: named, not written.
+        if field.iter().any(|v| !v.is_finite()) {
+            refused.push(stem.clone());
+            continue;
+        }
+        let f = dir.join(format!("{stem}.npy"));
+        ndarray_npy::write_npy(&f, field).map_err(output(format!("writing {}", f.display())))?;
+        files.push(f);
+        written.push(format!("{stem}.npy"));
+    }
+    let f = dir.join("timeseries.csv");
+    write_file(&f, csv(&p.rows))?;
+    files.push(f);
+    let g = scene.grid();
+    let text = serde_json::json!({
+        "scene": scene.name,
+        "model": model,
+        "failed": true,
+        "what_this_is": "the record of a march that failed, up to the last step it took: no answer",
+        "diagnosis": e.to_string(),
+        "kind": e.class(),
+        "steps_taken": p.steps,
+        "time_reached": q(p.t_s, "s"),
+        "timeseries": "timeseries.csv",
+        "fields_of_the_last_state": written,
+        "fields_not_written_non_finite": refused,
+        "grid": {"nx": g.nx, "ny": g.ny, "x_a": [g.x_min, g.x_max], "y_a": [g.y_min, g.y_max]},
+    });
+    let f = dir.join("failure.json");
+    let text = serde_json::to_string_pretty(&text).map_err(output("failure.json"))?;
+    write_file(&f, text + "\n")?;
+    files.push(f);
+    Ok(files)
+}
+
 /// A text cell: bare when it is a plain word, else quoted (with its own quotes made single and
 /// its line breaks spaces, so a row stays one line).
 fn cell_text(s: &str) -> String {

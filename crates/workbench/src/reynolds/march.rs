@@ -163,6 +163,14 @@ impl Transient for ReynoldsMarch<'_> {
     fn snapshot(&self) -> Self::Snapshot {
         (self.solver.pressure().clone(), self.solver.film().clone())
     }
+    fn fields(&self) -> Vec<(String, Array2<f64>)> {
+        let (s, sc) = (&*self.solver, self.solver.prm.scales);
+        vec![
+            ("pressure_pa".into(), s.pressure().mapv(|v| sc.p_si(v))),
+            ("film_m".into(), s.film().mapv(|v| sc.h_si(v))),
+            ("film_content".into(), s.theta().clone()),
+        ]
+    }
     fn observables(&self) -> Observables {
         let s = &self.solver;
         Observables::from_fields(&s.grid(), &s.prm.scales, s.pressure(), s.film())
