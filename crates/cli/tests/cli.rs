@@ -424,7 +424,7 @@ fn a_run_that_does_not_converge_writes_nothing_and_says_why() {
 #[test]
 fn a_march_that_fails_keeps_its_record_beside_the_output_and_the_answer_there_stays() {
     // The shallow dent's Reynolds march on 65² allowed 4 cycles a step: a step as the dent
-    // crosses the inlet needs more (measured: the 12th fails). The answer already in the
+    // crosses the inlet needs more (measured: the 14th fails, its V-cycles and then W-cycles out of cycles). The answer already in the
     // output folder stays; the march's rows up to its last step and that state's fields go
     // beside it, to `<out>-failed`, with the diagnosis.
     let dir = tempfile::tempdir().unwrap();

@@ -76,6 +76,9 @@ pub struct ReynoldsSolver {
     coarse_theta: bool,
     /// Attempts the steady solve under way has run ([`ReynoldsReport::attempts`]).
     attempts: usize,
+    /// The cycle (1: V, 2: W) that answered a time step after the other failed it: the steps
+    /// after it start with it ([`ReynoldsSolver::step`]); `None`, `step_gamma`'s.
+    step_gamma: Option<usize>,
 }
 
 /// What a time step changes, kept to return to when an error-controlled step is rejected
@@ -145,6 +148,7 @@ impl ReynoldsSolver {
             coarsest: usize::MAX,
             coarse_theta: false,
             attempts: 0,
+            step_gamma: None,
         };
         s.start();
         s

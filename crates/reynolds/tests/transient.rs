@@ -134,8 +134,29 @@ fn a_step_before_any_steady_solve_is_refused_and_a_step_leaves_the_settings_as_g
 /// 129² over `[−1.25, 1.25]²`, one step a cell from `x = −1.25 a` to `1.25 a`, with `settings`:
 /// the central film and the pressure maximum after each step, and the cycles a step.
 fn seed_dent_passage(settings: ReynoldsSettings) -> (Vec<[f64; 2]>, f64) {
+    let p = seed_dent_steps(settings, 129);
+    if let Some((k, e)) = p.failed {
+        panic!("step {k}: {e}");
+    }
+    (p.out, p.cycles as f64 / 128.0)
+}
+
+/// A march of [`seed_dent_steps`].
+struct Passage {
+    /// The central film and the pressure maximum after each step taken.
+    out: Vec<[f64; 2]>,
+    /// Cycles, summed over the steps.
+    cycles: usize,
+    /// The steps whose first attempt was given up: the step, why, its cycles.
+    given_up: Vec<(usize, String, usize)>,
+    /// The step that failed, and its error: the march ends there.
+    failed: Option<(usize, String)>,
+}
+
+/// [`seed_dent_passage`] on `n`² points, up to the first step that fails.
+fn seed_dent_steps(settings: ReynoldsSettings, n: usize) -> Passage {
     let prm = common::seed();
-    let grid = Grid::new(129, 129, (-1.25, 1.25), (-1.25, 1.25));
+    let grid = Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
     let mut s = ReynoldsSolver::new(grid, prm, settings);
     let h_oil = 25e-9 / prm.scales.delta;
     s.set_supply(Some(&move |_y| h_oil));
@@ -143,15 +164,54 @@ fn seed_dent_passage(settings: ReynoldsSettings) -> (Vec<[f64; 2]>, f64) {
     s.set_extra_gap(dent(depth, w, -1.25));
     s.solve(&mut |_| {}).expect("the steady start converges");
     let dt = grid.dx();
-    let (mut out, mut cycles) = (vec![], 0);
+    let mut p = Passage { out: vec![], cycles: 0, given_up: vec![], failed: None };
     for k in 1..grid.nx {
         s.set_extra_gap(dent(depth, w, -1.25 + k as f64 * dt));
-        let r = s.step(dt, &mut |_| {}).unwrap_or_else(|e| panic!("step {k}: {e}"));
-        cycles += r.cycles;
+        let r = match s.step(dt, &mut |_| {}) {
+            Ok(r) => r,
+            Err(e) => {
+                p.failed = Some((k, e.to_string()));
+                break;
+            }
+        };
+        p.cycles += r.cycles;
+        if let Some(why) = r.first_attempt {
+            p.given_up.push((k, why, r.cycles));
+        }
         let pmax = s.pressure().iter().cloned().fold(0.0, f64::max);
-        out.push([s.films().0, pmax]);
+        p.out.push([s.films().0, pmax]);
     }
-    (out, cycles as f64 / (grid.nx - 1) as f64)
+    p
+}
+
+#[test]
+fn a_step_whose_cycles_fail_is_solved_again_with_the_other_and_the_steps_after_it_start_with_that()
+{
+    // The dent's passage on 65² allowed 3 cycles a step (measured): V-cycles run out of them
+    // at the first step and W-cycles (more work a cycle) answer it and the second; the third
+    // step's W-cycles run out and V-cycles answer it, the fourth's the other way round; at the
+    // fifth both run out. A step given up is solved again from the state before it, and the
+    // steps after it start with the cycle that answered: the march started with V-cycles is
+    // the one started with W-cycles, to rounding (1e-12 of the film; a second attempt from the
+    // failed one's state, or with its `ρ̄H` left in the time history, differs in the third
+    // digit), the V-cycles' 3 cycles of the first step counted, and every later step given up
+    // alike.
+    let d = ReynoldsSettings { step_max_cycles: 3, ..ReynoldsSettings::default() };
+    let p = seed_dent_steps(d, 65);
+    let w = seed_dent_steps(ReynoldsSettings { step_gamma: 2, ..d }, 65);
+    let (k, why, cycles) = &p.given_up[0];
+    assert!(*k == 1 && why.starts_with("with V-cycles: after 3 cycles"), "step {k}: {why}");
+    assert!(*cycles > 3, "step {k}: {cycles} cycles");
+    assert_eq!(p.given_up[1..], w.given_up[..]);
+    assert!(w.given_up.iter().any(|g| g.1.starts_with("with W-cycles")), "{:?}", w.given_up);
+    assert!(p.out.len() > *k + 1, "no step after the one given up: {:?}", p.failed);
+    assert_eq!(p.out.len(), w.out.len(), "{:?} against {:?}", p.failed, w.failed);
+    assert_eq!(p.cycles, w.cycles + 3);
+    for (a, b) in p.out.iter().zip(&w.out) {
+        for q in 0..2 {
+            assert!((a[q] / b[q] - 1.0).abs() < 1e-12, "{a:?} against {b:?}");
+        }
+    }
 }
 
 #[test]

@@ -8,10 +8,56 @@ impl ReynoldsSolver {
     /// cycles of `step_gamma` (1, V-cycles, by default). The steady solve before the first step
     /// is `T = 0`; steps may differ in size (second order: the variable-step formula, ratio
     /// `ω = dt / dt_prev`, which is the equal-step one at `ω = 1`).
+    ///
+    /// A step whose cycles fail (stalled, cycling or diverged) is solved again from the state
+    /// before it with the other cycle (V-cycles after W-cycles, W after V), and once that has
+    /// answered, the steps after it start with it. Where V-cycles amplify a mode of the state,
+    /// they fail step after step, each time after their whole stall window (the rough contact
+    /// at 5 mm/s on 513²: from the fifth step every fourth, 81 cycles and 13 s each, then
+    /// every step, and its 223rd past any shorter sub-step), and W-cycles answer in one cycle;
+    /// elsewhere W-cycles diverge where V-cycles converge (docs/decisions.md, "V-cycles in a
+    /// time step", "The other cycle where a step's cycles fail"). The report's `cycles` count
+    /// both attempts; `first_attempt` says why the first was given up.
     pub fn step(
         &mut self,
         dt: f64,
         log: &mut dyn FnMut(&CycleLog),
+    ) -> Result<ReynoldsReport, ReynoldsError> {
+        let gamma = self.step_gamma.unwrap_or(self.settings.step_gamma);
+        let saved = self.save();
+        let first = match self.step_with(dt, log, gamma) {
+            Err(e @ (ReynoldsError::NotConverged(_) | ReynoldsError::Diverged { .. })) => e,
+            other => return other,
+        };
+        self.restore(saved);
+        let (tried, other) = if gamma >= 2 { ("W", 1) } else { ("V", 2) };
+        let cycles = match &first {
+            ReynoldsError::NotConverged(r) => r.cycles,
+            ReynoldsError::Diverged { cycle, .. } => *cycle,
+            _ => 0,
+        };
+        let said = match &first {
+            ReynoldsError::NotConverged(r) => report::diagnosis_text(r).to_string(),
+            e => e.to_string(),
+        };
+        let why = format!("with {tried}-cycles: {said}");
+        match self.step_with(dt, log, other) {
+            Ok(mut r) => {
+                self.step_gamma = Some(other);
+                r.cycles += cycles;
+                r.first_attempt = Some(why);
+                Ok(r)
+            }
+            Err(e) => Err(noted(e, &format!("; before that, {why}"))),
+        }
+    }
+
+    /// [`Self::step`] with cycles of `gamma` (1: V, 2: W).
+    fn step_with(
+        &mut self,
+        dt: f64,
+        log: &mut dyn FnMut(&CycleLog),
+        gamma: usize,
     ) -> Result<ReynoldsReport, ReynoldsError> {
         let (a0, history) = match self.rho_h.as_slice() {
             [n] => (1.0 / dt, n.mapv(|v| -v / dt)),
@@ -86,7 +132,7 @@ impl ReynoldsSolver {
         self.active = ReynoldsSettings {
             fmg_cycles: 0,
             max_cycles: s.step_max_cycles,
-            gamma: s.step_gamma,
+            gamma,
             h00_gain: s.step_h00_gain,
             pre_sweeps: if self.levels[0].speed == 0.0 {
                 s.step_pre_sweeps.max(2)
@@ -113,5 +159,21 @@ impl ReynoldsSolver {
         });
         self.last_dt = dt;
         rep
+    }
+}
+
+/// `e` with `note` added to what it says (a failure's diagnosis, a divergence's account).
+fn noted(e: ReynoldsError, note: &str) -> ReynoldsError {
+    match e {
+        ReynoldsError::NotConverged(mut r) => {
+            if let Some(d) = r.diagnosis.as_mut() {
+                d.text.push_str(note);
+            }
+            ReynoldsError::NotConverged(r)
+        }
+        ReynoldsError::Diverged { cycle, kind, at, what, film, load } => {
+            ReynoldsError::Diverged { cycle, kind, at, what: format!("{what}{note}"), film, load }
+        }
+        e => e,
     }
 }
