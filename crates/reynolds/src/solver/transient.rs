@@ -13,7 +13,7 @@ impl ReynoldsSolver {
     /// before it with the other cycle (V-cycles after W-cycles, W after V), and once that has
     /// answered, the steps after it start with it. Where V-cycles amplify a mode of the state,
     /// they fail step after step, each time after their whole stall window (the rough contact
-    /// at 5 mm/s on 513²: from the fifth step every fourth, 81 cycles and 13 s each, then
+    /// at 5 mm/s on 513²: from the fifth step every fourth, 81 cycles and 11–27 s each, then
     /// every step, and its 223rd past any shorter sub-step), and W-cycles answer in one cycle;
     /// elsewhere W-cycles diverge where V-cycles converge (docs/decisions.md, "V-cycles in a
     /// time step", "The other cycle where a step's cycles fail"). The report's `cycles` count
