@@ -31,14 +31,10 @@ impl ReynoldsSolver {
         };
         self.restore(saved);
         let (tried, other) = if gamma >= 2 { ("W", 1) } else { ("V", 2) };
-        let cycles = match &first {
-            ReynoldsError::NotConverged(r) => r.cycles,
-            ReynoldsError::Diverged { cycle, .. } => *cycle,
-            _ => 0,
-        };
-        let said = match &first {
-            ReynoldsError::NotConverged(r) => report::diagnosis_text(r).to_string(),
-            e => e.to_string(),
+        let (cycles, said) = match &first {
+            ReynoldsError::NotConverged(r) => (r.cycles, report::diagnosis_text(r).to_string()),
+            ReynoldsError::Diverged { cycle, .. } => (*cycle, first.to_string()),
+            e => (0, e.to_string()),
         };
         let why = format!("with {tried}-cycles: {said}");
         match self.step_with(dt, log, other) {
