@@ -130,7 +130,11 @@ class Result:
     or ``None`` for a model that does not say. ``passage``: a march through a patterned
     relief (waviness, roughness): its last passage, ``{"central_film_mean_m", "central_film_min_m",
     "central_film_max_m", "minimum_film_m", "max_pressure_pa", "lambda", "deformed_amplitude_m",
-    "amplitude_ratio"}`` (the last three ``None`` where they do not apply), else ``None``.
+    "amplitude_ratio", "contact_load_share_mean", "contact_load_share_max",
+    "contact_area_mean_m2"}`` (the wave's two and the solids' three ``None`` where they do not
+    apply), else ``None``. ``passage_errors``: their estimated errors from the coarser grids'
+    passages, ``{"central_film_mean_m", "contact_load_share_mean", "contact_area_mean_m2",
+    "amplitude_ratio"}`` (each ``None`` where none was estimated), with a passage, else ``None``.
     """
 
     def __init__(self, raw: dict[str, Any]):
@@ -156,6 +160,20 @@ class Result:
                 "lambda": ps["lambda"],
                 "deformed_amplitude_m": (ps["deformed_amplitude"] or {}).get("value"),
                 "amplitude_ratio": ps["amplitude_ratio"],
+                "contact_load_share_mean": (ps.get("contact_load_share") or {}).get("mean"),
+                "contact_load_share_max": (ps.get("contact_load_share") or {}).get("max"),
+                "contact_area_mean_m2": (ps.get("contact_area_mean") or {}).get("value"),
+            }
+            if ps
+            else None
+        )
+        pe = (self.summary.get("accuracy") or {}).get("passage") or {}
+        self.passage_errors: dict[str, float | None] | None = (
+            {
+                "central_film_mean_m": (pe.get("central_film_mean") or {}).get("error"),
+                "contact_load_share_mean": (pe.get("contact_load_share_mean") or {}).get("error"),
+                "contact_area_mean_m2": (pe.get("contact_area_mean") or {}).get("error"),
+                "amplitude_ratio": (pe.get("amplitude_ratio") or {}).get("error"),
             }
             if ps
             else None

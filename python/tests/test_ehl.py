@@ -292,4 +292,8 @@ def test_a_wave_rolled_through_the_contact_gives_its_last_passage():
     assert p["amplitude_ratio"] > 0.0
     assert p["deformed_amplitude_m"] == pytest.approx(p["amplitude_ratio"] * 5e-9, rel=1e-12)
     assert c.comparison["models"][0]["passage"]["lambda"] == pytest.approx(p["lambda"], rel=1e-12)
+    # The layer model says where its solids touch (no layer left) over the passage too.
+    assert 0.0 <= p["contact_load_share_mean"] <= p["contact_load_share_max"] < 1.0
+    # Not estimated, so no passage statistic has an error bar.
+    assert set(c["layer"].passage_errors.values()) == {None}
     assert ehl.compare("seed", grid=33, estimate=False)["layer"].passage is None

@@ -2,10 +2,11 @@
 //! its passage repeats, each model's last passage against what must hold whatever the model
 //! (a flat wave is the steady answer; the passage does not depend on where the run ends on the
 //! wave) and against what the Reynolds film must do (carry the wave in proportion to the
-//! surfaces', undamped by its time steps); a wave's ratio carries its error from the coarser
-//! grids' passages.
+//! surfaces', undamped by its time steps); a passage's statistics (a wave's ratio, a rough
+//! surface's share of the load) carry their errors from the coarser grids' passages.
 
 use ehl_scene::Model;
+use ehl_workbench::Outcome;
 use ehl_workbench::compare::{self, Comparison};
 
 /// `waviness-compare` with its wave's amplitude set to `amplitude_m` [m] and at
@@ -111,8 +112,12 @@ fn a_wave_through_the_seed_contact_keeps_a_third_of_its_amplitude_in_the_reynold
     coarse.run.as_mut().unwrap().time.steps_per_cell = 2.0;
     let coarse = ehl_workbench::run_scene(&coarse.with_points(65).unwrap()).unwrap();
     let r65 = coarse.passage().unwrap().amplitude_ratio.unwrap();
-    let bar = est.amplitude_ratio.expect("the wave's ratio has an error bar");
+    let bar = est.passage.amplitude_ratio.expect("the wave's ratio has an error bar");
     assert!((bar.absolute - (lr - r65).abs()).abs() < 1e-9, "{bar:?}: {lr} on 129², {r65} on 65²");
+    // So does the passage's mean central film (the same passage's on 65²).
+    let (h, h65) = (l.central_film_mean_m, coarse.passage().unwrap().central_film_mean_m);
+    let bar = est.passage.central_film_mean.expect("the mean film has an error bar");
+    assert!((bar.absolute - (h - h65).abs()).abs() < 1e-18, "{bar:?}: {h} on 129², {h65} on 65²");
     // λ of the run: the passage's mean central film over the wave's RMS height A/√2.
     let rms = 5e-9 / 2f64.sqrt();
     assert!((r.lambda.unwrap() - r.central_film_mean_m / rms).abs() < 1e-12);
@@ -228,6 +233,62 @@ fn a_rough_patch_rolls_in_and_the_layer_model_reports_the_load_its_solids_carry(
     // Smooth: a layer everywhere, nothing touches (exactly 0: the mask is empty).
     let p = run(0.0).passage().expect("a roughness of 0 still has its passage");
     assert_eq!(p.contact_load_share_max, Some(0.0), "{p:?}");
+}
+
+#[test]
+fn a_rough_passage_s_share_of_the_load_carries_its_error_from_the_coarser_grid_and_is_flagged_beyond_it()
+ {
+    // roughness-mixed-compare's layer side on 65², the correlation length at 40 µm so that 33²
+    // carries the roughness (its shortest wave on 7.5 cells; 17², 3.8, does not): the answer's
+    // passage statistics carry the errors of the same passage on 33², two grids, the change
+    // itself. The 40 nm crests leave no layer on some of them on both grids.
+    let rough = |n: usize| {
+        let mut scene =
+            ehl_scene::builtin("roughness-mixed-compare").unwrap().for_model(Model::Layer);
+        scene.outputs.figures = false;
+        if let Some(ehl_scene::Feature::Roughness(r)) =
+            scene.run.as_mut().map(|r| &mut r.features[0])
+        {
+            r.correlation_length_m = 4e-5;
+            r.rq_m = 4e-8;
+        }
+        scene.with_points(n).unwrap()
+    };
+    let checked = ehl_workbench::accuracy::run(&rough(65), true).unwrap();
+    let est = checked.estimate.as_ref().unwrap();
+    assert_eq!(est.grids, vec![65, 33], "{}", est.method);
+    let p = checked.passage().unwrap();
+    let q = ehl_workbench::run_scene(&rough(33)).unwrap().passage().unwrap();
+    let (s, s33) = (p.contact_load_share_mean.unwrap(), q.contact_load_share_mean.unwrap());
+    assert!(s > 0.0 && s33 > 0.0, "shares {s} on 65², {s33} on 33²");
+    let share = est.passage.contact_load_share_mean.expect("the share has an error bar");
+    assert!((share.absolute - (s - s33).abs()).abs() < 1e-15, "{share:?}: {s} against {s33}");
+    // Relative to the share itself (above a thousandth of the load) ...
+    assert!((share.relative - share.absolute / s.max(1e-3)).abs() < 1e-12, "{share:?}");
+    let film = est.passage.central_film_mean.unwrap();
+    assert!((film.absolute - (p.central_film_mean_m - q.central_film_mean_m).abs()).abs() < 1e-18);
+    let area = est.passage.contact_area_mean.unwrap();
+    let (a, a33) = (p.contact_area_mean_m2.unwrap(), q.contact_area_mean_m2.unwrap());
+    assert!((area.absolute - (a - a33).abs()).abs() < 1e-18 * a.max(1e-12), "{area:?}");
+    // ... and flagged beyond the limit with the grid that would meet it, the film's too.
+    let flagged = |what: &str| checked.flags.iter().any(|f| f.starts_with(what));
+    let named = [
+        ("the solids' mean share of the load over the last passage", share),
+        ("the last passage's mean h_c", film),
+    ];
+    for (name, bar) in named {
+        assert_eq!(
+            flagged(name),
+            bar.relative > checked.limit,
+            "{name}: {bar:?}, {:?}",
+            checked.flags
+        );
+    }
+    // summary.json and the comparison's CSV say the same.
+    let sum = ehl_workbench::output::summary(&checked);
+    let bar = &sum["accuracy"]["passage"]["contact_load_share_mean"];
+    assert_eq!(bar["error"].as_f64(), Some(share.absolute), "{bar}");
+    assert_eq!(sum["passage"]["contact_load_share"]["mean"].as_f64(), Some(s));
 }
 
 #[test]

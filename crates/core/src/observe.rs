@@ -74,11 +74,43 @@ pub struct Estimate {
     pub method: String,
     /// The coarser runs' wall time [s].
     pub wall_time_s: f64,
-    /// A march through a single wave: the error of the last passage's `A_d/A_i` (relative to
-    /// it; `absolute` in the ratio's unit, 1), from the same passage on the coarser grids;
-    /// `None` where no coarser grid carried the wave through a passage.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// A march through a patterned relief: the errors of its last passage's statistics, from
+    /// the same passage on the coarser grids (all `None` without a passage, or where no
+    /// coarser grid carried the pattern through one).
+    #[serde(default)]
+    pub passage: PassageErrors,
+}
+
+/// The estimated errors of a march's last passage ([`crate::Passage`]), each `None` where the
+/// answer or no coarser grid has the statistic.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct PassageErrors {
+    /// The mean central film (and with it `λ`, the same relative error), relative to the
+    /// film's scale; `absolute` in m.
+    pub central_film_mean: Option<ErrorBar>,
+    /// The solids' mean share of the load, relative to the share's scale (the share, at least
+    /// a thousandth of the load); `absolute` as a fraction of the load.
+    pub contact_load_share_mean: Option<ErrorBar>,
+    /// Their mean area, relative to the area's scale (the area, at least a thousandth of the
+    /// Hertz area); `absolute` in m².
+    pub contact_area_mean: Option<ErrorBar>,
+    /// A single wave's `A_d/A_i`, relative to it; `absolute` in the ratio's unit, 1.
     pub amplitude_ratio: Option<ErrorBar>,
+}
+
+impl PassageErrors {
+    /// The statistics an accuracy is asked of, with their names: the mean central film, the
+    /// solids' mean share of the load, a wave's `A_d/A_i` (the area follows the share).
+    pub fn judged(&self) -> [(&'static str, Option<ErrorBar>); 3] {
+        [
+            ("the last passage's mean h_c", self.central_film_mean),
+            (
+                "the solids' mean share of the load over the last passage",
+                self.contact_load_share_mean,
+            ),
+            ("A_d/A_i of the last passage", self.amplitude_ratio),
+        ]
+    }
 }
 
 impl Estimate {

@@ -9,6 +9,7 @@ use crate::model::Outcome;
 use crate::output::{self, q};
 use crate::plot::{self, MapPanel, Mark, Panel, Series};
 use ehl_core::HertzScales;
+use ehl_core::observe::ErrorBar;
 use ehl_scene::{Model, Scene};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -233,6 +234,8 @@ impl Comparison {
                 let ob = e.outcome.as_ref().ok().map(|o| o.observables());
                 let contact = e.outcome.as_ref().ok().and_then(|o| o.solid_contact());
                 let passage = e.outcome.as_ref().ok().and_then(|o| o.passage());
+                let bars = e.outcome.as_ref().ok().and_then(|o| o.estimate())
+                    .map(|(est, _)| est.passage).unwrap_or_default();
                 serde_json::json!({
                     "model": e.name(),
                     "converged": ob.is_some(),
@@ -250,12 +253,13 @@ impl Comparison {
                     "passage_minimum_film_m": passage.map(|p| p.minimum_film_m),
                     "passage_lambda": passage.and_then(|p| p.lambda),
                     "passage_amplitude_ratio": passage.and_then(|p| p.amplitude_ratio),
-                    "passage_amplitude_ratio_error": e.outcome.as_ref().ok()
-                        .and_then(|o| o.estimate()).and_then(|(est, _)| est.amplitude_ratio)
-                        .map(|b| b.absolute),
+                    "passage_amplitude_ratio_error": bars.amplitude_ratio.map(|b| b.absolute),
+                    "passage_central_film_mean_error_m": bars.central_film_mean.map(|b| b.absolute),
                     "passage_contact_load_share_mean": passage.and_then(|p| p.contact_load_share_mean),
+                    "passage_contact_load_share_mean_error": bars.contact_load_share_mean.map(|b| b.absolute),
                     "passage_contact_load_share_max": passage.and_then(|p| p.contact_load_share_max),
                     "passage_contact_area_mean_m2": passage.and_then(|p| p.contact_area_mean_m2),
+                    "passage_contact_area_mean_error_m2": bars.contact_area_mean.map(|b| b.absolute),
                     "error": errors_json(e.outcome.as_ref().ok().map(|o| o.as_ref())),
                     "wall_time_s": e.wall_time_s,
                     "diagnosis": e.outcome.as_ref().err().map(|d| d.to_string()),
@@ -305,33 +309,51 @@ impl Comparison {
                     c.max_pressure_pa * 1e-9
                 );
             }
-            // A march through a patterned relief: its last passage, the answer to compare.
+            // A march through a patterned relief: its last passage, the answer to compare,
+            // each statistic with its error where one was estimated.
             if let Some(p) = o.passage() {
-                let lambda = p.lambda.map_or(String::new(), |l| format!(", λ {l:.2}"));
-                let bar = o.estimate().and_then(|(e, _)| e.amplitude_ratio);
+                let est = o.estimate().map(|(e, _)| e.passage);
+                let bars = est.unwrap_or_default();
+                let with_bar = crate::accuracy::with_bar;
+                let film = bars.central_film_mean;
+                let lambda = p.lambda.map_or(String::new(), |l| {
+                    // λ is the mean film over a fixed height: the film's relative error.
+                    let b = film.map(|b| ErrorBar {
+                        absolute: b.absolute / p.central_film_mean_m * l,
+                        ..b
+                    });
+                    format!(", λ {}", with_bar(l, b.as_ref(), 1.0, 2))
+                });
                 let amp = match (p.deformed_amplitude_m, p.amplitude_ratio) {
                     (Some(d), Some(r)) => format!(
-                        ", wave at the centre {:.3} nm (A_d/A_i {}{})",
+                        ", wave at the centre {:.3} nm (A_d/A_i {})",
                         d * 1e9,
-                        crate::accuracy::with_bar(r, bar.as_ref(), 1.0, 3),
-                        if bar.is_none() { ", its error not estimated" } else { "" }
+                        with_bar(r, bars.amplitude_ratio.as_ref(), 1.0, 3),
                     ),
                     _ => String::new(),
                 };
                 let solids = match (p.contact_load_share_mean, p.contact_area_mean_m2) {
                     (Some(s), Some(a)) => format!(
-                        ", the solids carry {:.2} % of the load (mean; {:.2} % at most) on {:.3e} m²",
-                        100.0 * s,
+                        ", the solids carry {} % of the load (mean; {:.2} % at most) on {} m²",
+                        with_bar(s, bars.contact_load_share_mean.as_ref(), 100.0, 2),
                         100.0 * p.contact_load_share_max.unwrap_or(s),
-                        a
+                        match bars.contact_area_mean {
+                            Some(b) => format!("{:.3e} ± {:.1e}", a, b.absolute),
+                            None => format!("{a:.3e}"),
+                        }
                     ),
                     _ => String::new(),
                 };
+                let unestimated = if est.is_some() && bars == Default::default() {
+                    "; its error not estimated (no coarser grid carried the pattern through a passage)"
+                } else {
+                    ""
+                };
                 t += &format!(
-                    "  {}: last passage ({:.3} mm): h_c {:.3} nm mean ({:.3}–{:.3}), h_min {:.3} nm{lambda}{amp}{solids}\n",
+                    "  {}: last passage ({:.3} mm): h_c {} nm mean ({:.3}–{:.3}), h_min {:.3} nm{lambda}{amp}{solids}{unestimated}\n",
                     e.name(),
                     p.travel_m * 1e3,
-                    p.central_film_mean_m * 1e9,
+                    with_bar(p.central_film_mean_m, film.as_ref(), 1e9, 3),
                     p.central_film_min_m * 1e9,
                     p.central_film_max_m * 1e9,
                     p.minimum_film_m * 1e9,

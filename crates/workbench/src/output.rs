@@ -454,10 +454,27 @@ fn accuracy(outcome: &dyn Outcome) -> Value {
         "method": e.method,
         "limit": limit,
         "within_limit": e.worst().is_some_and(|w| w <= limit),
-        "amplitude_ratio": e.amplitude_ratio.map(|b| serde_json::json!({
-            "error": b.absolute, "relative_error": b.relative, "observed_order": b.order,
-        })),
+        "passage": passage_errors(&e.passage),
         "wall_time": q(e.wall_time_s, "s"),
+    })
+}
+
+/// `accuracy.passage`: the last passage's statistics' errors, each `null` where none was
+/// estimated (no passage, or no coarser grid carried the pattern through one).
+fn passage_errors(e: &ehl_core::observe::PassageErrors) -> Value {
+    let bar = |b: Option<ehl_core::observe::ErrorBar>, unit: &str| {
+        b.map(|b| {
+            serde_json::json!({
+                "error": b.absolute, "unit": unit, "relative_error": b.relative,
+                "observed_order": b.order,
+            })
+        })
+    };
+    serde_json::json!({
+        "central_film_mean": bar(e.central_film_mean, "m"),
+        "contact_load_share_mean": bar(e.contact_load_share_mean, "1"),
+        "contact_area_mean": bar(e.contact_area_mean, "m^2"),
+        "amplitude_ratio": bar(e.amplitude_ratio, "1"),
     })
 }
 
@@ -476,6 +493,10 @@ pub fn passage(p: ehl_core::Passage) -> Value {
         "lambda": p.lambda,
         "deformed_amplitude": p.deformed_amplitude_m.map(|v| q(v, "m")),
         "amplitude_ratio": p.amplitude_ratio,
+        "contact_load_share": p.contact_load_share_mean.map(|m| serde_json::json!({
+            "mean": m, "max": p.contact_load_share_max, "unit": "1",
+        })),
+        "contact_area_mean": p.contact_area_mean_m2.map(|v| q(v, "m^2")),
     })
 }
 

@@ -14,7 +14,8 @@ pub mod rule;
 
 use crate::model::Outcome;
 use ehl_core::Observables;
-use ehl_core::observe::{ErrorBar, Estimate};
+use ehl_core::Passage;
+use ehl_core::observe::{ErrorBar, Estimate, PassageErrors};
 use ehl_scene::Scene;
 
 pub use ehl_core::observe::OBSERVED;
@@ -153,23 +154,45 @@ pub fn estimate(scene: &Scene, answer: &dyn Outcome) -> Estimate {
         ),
         None => method,
     };
-    let amplitude_ratio = amplitude_error(answer, half.as_ref().ok(), quarter.as_ref());
-    Estimate { grids, errors, method, wall_time_s: t0.elapsed().as_secs_f64(), amplitude_ratio }
+    let passage = passage_errors(answer, half.as_ref().ok(), quarter.as_ref());
+    Estimate { grids, errors, method, wall_time_s: t0.elapsed().as_secs_f64(), passage }
 }
 
-/// The error of a wave's `A_d/A_i` over the last passage from the same passage on the coarser
-/// grids ([`gci::grid_error`]: three grids, or the half grid's change itself).
-fn amplitude_error(
+/// The least share of the load the solids' share is judged on: a thousandth. Below it the film
+/// carries the contact by any standard (the mixed-lubrication map's shares from `λ` ≈ 1.7 up),
+/// and a relative change of a share of a millionth would flag a full-film answer for the crest
+/// or two its grid happens to close. The solids' area is judged on the same fraction of the
+/// Hertz area `πa²`.
+pub const SHARE_SCALE_FLOOR: f64 = 1e-3;
+
+/// The errors of the last passage's statistics of `answer` from the same passage on the
+/// coarser grids ([`gci::grid_error`]: three grids, or the half grid's change itself): the mean
+/// central film on the film's scale, the solids' mean share and area on theirs (at least
+/// [`SHARE_SCALE_FLOOR`]), a wave's `A_d/A_i` on itself.
+fn passage_errors(
     answer: &dyn Outcome,
     half: Option<&Coarse>,
     quarter: Option<&Coarse>,
-) -> Option<ErrorBar> {
-    let ratio = |p: Option<ehl_core::Passage>| p.and_then(|p| p.amplitude_ratio);
-    let f1 = ratio(answer.passage())?;
-    let f2 = ratio(half?.passage)?;
-    let f3 = quarter.and_then(|q| ratio(q.passage));
-    let e = gci::grid_error(f1, f2, f3, f1)?;
-    Some(ErrorBar { relative: e.error, absolute: e.error * f1, order: e.order })
+) -> PassageErrors {
+    let (Some(p1), Some(p2)) = (answer.passage(), half.and_then(|h| h.passage)) else {
+        return PassageErrors::default();
+    };
+    let p3 = quarter.and_then(|q| q.passage);
+    let bar = |get: fn(&Passage) -> Option<f64>, scale: &dyn Fn(f64) -> f64| {
+        let (f1, f2) = (get(&p1)?, get(&p2)?);
+        let scale = scale(f1);
+        let e = gci::grid_error(f1, f2, p3.as_ref().and_then(get), scale)?;
+        Some(ErrorBar { relative: e.error, absolute: e.error * scale, order: e.order })
+    };
+    let hertz_area = std::f64::consts::PI * answer.scales().a.powi(2);
+    PassageErrors {
+        central_film_mean: bar(|p| Some(p.central_film_mean_m), &film_scale),
+        contact_load_share_mean: bar(|p| p.contact_load_share_mean, &|s| s.max(SHARE_SCALE_FLOOR)),
+        contact_area_mean: bar(|p| p.contact_area_mean_m2, &|s| {
+            s.max(SHARE_SCALE_FLOOR * hertz_area)
+        }),
+        amplitude_ratio: bar(|p| p.amplitude_ratio, &|r| r),
+    }
 }
 
 /// A coarser grid's answer: its observables, and its last passage where a pattern rolled.
@@ -371,7 +394,7 @@ impl Checked {
         let estimate = how.estimate.then(|| estimate(scene, outcome.as_ref()));
         let ob = outcome.observables();
         let flags = match &estimate {
-            Some(e) => flags(scene, &ob, e, how.limit),
+            Some(e) => flags(scene, &ob, outcome.passage().as_ref(), e, how.limit),
             None => vec!["error not estimated (asked not to)".into()],
         };
         Self { outcome, estimate, limit: how.limit, flags }
@@ -525,19 +548,30 @@ fn side_list(grids: &[usize]) -> String {
 }
 
 /// The flags an answer carries: each error of the central and minimum film, the maximum
-/// pressure and a wave's `A_d/A_i` beyond `limit` (relative), with the grid that would meet it
-/// at the order observed (2 where none was); an error that could not be estimated; a film that
-/// went below zero.
+/// pressure and of its last passage's mean central film, solids' share and wave's `A_d/A_i`
+/// beyond `limit` (relative), with the grid that would meet it at the order observed (2 where
+/// none was); an error that could not be estimated, the passage's included; a film that went
+/// below zero.
 /// Empty when the answer is within `limit`.
-pub fn flags(scene: &Scene, answer: &Observables, e: &Estimate, limit: f64) -> Vec<String> {
+pub fn flags(
+    scene: &Scene,
+    answer: &Observables,
+    passage: Option<&Passage>,
+    e: &Estimate,
+    limit: f64,
+) -> Vec<String> {
     let mut out = vec![];
     if e.errors.iter().all(Option::is_none) {
         out.push(format!("error {}", e.method));
+    } else if passage.is_some() && e.passage == PassageErrors::default() {
+        out.push(
+            "the last passage's error not estimated: no coarser grid carried the pattern through a passage"
+                .into(),
+        );
     }
     let n = scene.grid.nx.max(scene.grid.ny);
-    let named = e.errors.iter().take(3).enumerate().map(|(k, b)| (OBSERVED[k].0, b));
-    let amplitude = std::iter::once(("A_d/A_i of the last passage", &e.amplitude_ratio));
-    for (name, bar) in named.chain(amplitude) {
+    let named = e.errors.iter().take(3).enumerate().map(|(k, b)| (OBSERVED[k].0, *b));
+    for (name, bar) in named.chain(e.passage.judged()) {
         let Some(b) = bar else { continue };
         if b.relative > limit {
             let p = b.order.unwrap_or(2.0).clamp(1.0, 2.0);
@@ -584,16 +618,16 @@ mod tests {
             errors: [bar(0.08, Some(2.0)), bar(0.01, Some(2.0)), bar(0.001, None), None, None],
             method: String::new(),
             wall_time_s: 0.0,
-            amplitude_ratio: None,
+            passage: PassageErrors::default(),
         };
         let ob = Observables::default();
-        let f = flags(&scene, &ob, &e, 0.02);
+        let f = flags(&scene, &ob, None, &e, 0.02);
         assert_eq!(f.len(), 1, "{f:?}");
         assert!(f[0].starts_with("h_c ±8.0 % (over the 2.0 % asked): about 513²"), "{f:?}");
         // At order 1 the same error needs four times the cells.
         let e1 = Estimate { errors: [bar(0.08, Some(1.0)), None, None, None, None], ..e.clone() };
-        assert!(flags(&scene, &ob, &e1, 0.02)[0].contains("about 1025²"));
-        assert!(flags(&scene, &ob, &e, 0.1).is_empty());
+        assert!(flags(&scene, &ob, None, &e1, 0.02)[0].contains("about 1025²"));
+        assert!(flags(&scene, &ob, None, &e, 0.1).is_empty());
     }
 
     #[test]
