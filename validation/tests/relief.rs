@@ -284,7 +284,14 @@ fn a_rough_passage_s_share_of_the_load_carries_its_error_from_the_coarser_grid_a
             checked.flags
         );
     }
-    // summary.json and the comparison's CSV say the same.
+    // The figures' footnote gives the passage's numbers with their bars.
+    let bar = ehl_workbench::accuracy::with_bar(s, Some(&share), 100.0, 2);
+    assert!(
+        checked.footnote().contains(&format!("solids' share {bar} %")),
+        "{}",
+        checked.footnote()
+    );
+    // summary.json says the same.
     let sum = ehl_workbench::output::summary(&checked);
     let bar = &sum["accuracy"]["passage"]["contact_load_share_mean"];
     assert_eq!(bar["error"].as_f64(), Some(share.absolute), "{bar}");

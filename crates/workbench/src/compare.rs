@@ -767,8 +767,17 @@ impl Comparison {
                 Some(format!("{name} {}", accuracy::with_bar(hc, e.errors[0].as_ref(), 1e9, 3)))
             })
             .collect();
+        // A march through a pattern: each model's solids' mean share over the last passage.
+        let shares: Vec<String> = ok
+            .iter()
+            .filter_map(|(name, o)| {
+                let s = o.passage()?.contact_load_share_mean?;
+                let bar = o.estimate().and_then(|(e, _)| e.passage.contact_load_share_mean);
+                Some(format!("{name} {}", accuracy::with_bar(s, bar.as_ref(), 100.0, 2)))
+            })
+            .collect();
         let note = format!(
-            "{}: R = {} mm, F = {} N, u1 = {} m/s; {}x{}{}",
+            "{}: R = {} mm, F = {} N, u1 = {} m/s; {}x{}{}{}",
             self.scene.name,
             self.scene.conditions.ball_radius_m * 1e3,
             self.scene.conditions.load_n,
@@ -779,6 +788,11 @@ impl Comparison {
                 String::new()
             } else {
                 format!("; h_c [nm]: {}", bars.join(", "))
+            },
+            if shares.is_empty() {
+                String::new()
+            } else {
+                format!("; the solids' mean share over the last passage [%]: {}", shares.join(", "))
             }
         );
         let centre = dir.join("comparison_centreline.png");

@@ -420,7 +420,30 @@ impl Checked {
         if parts.is_empty() {
             return format!("; error {}", e.method);
         }
-        format!("; grid error ({}): {}", side_list(&e.grids), parts.join(", "))
+        format!(
+            "; grid error ({}): {}{}",
+            side_list(&e.grids),
+            parts.join(", "),
+            self.passage_note()
+        )
+    }
+
+    /// The last passage's mean film and solids' share with their error bars, for the footnote:
+    /// `; last passage: h_c mean 9.230 ± 2.761 nm, solids' share 0.84 ± 0.83 %`; empty
+    /// without a passage.
+    fn passage_note(&self) -> String {
+        let (Some(p), Some(e)) = (self.outcome.passage(), &self.estimate) else {
+            return String::new();
+        };
+        let b = &e.passage;
+        let film = with_bar(p.central_film_mean_m, b.central_film_mean.as_ref(), 1e9, 3);
+        let share = p.contact_load_share_mean.map_or(String::new(), |s| {
+            format!(
+                ", solids' share {} %",
+                with_bar(s, b.contact_load_share_mean.as_ref(), 100.0, 2)
+            )
+        });
+        format!("; last passage: h_c mean {film} nm{share}")
     }
 }
 
