@@ -413,3 +413,23 @@ fn a_wave_whose_crests_close_the_film_beyond_what_the_grid_resolves_fails_saying
     assert!(m.contains("the solids overlap by") && m.contains("a finer grid"), "{m}");
     assert!(m.contains("surfaces moved"), "where the march was: {m}");
 }
+
+#[test]
+fn a_wave_through_the_flooded_contact_on_513_points_takes_its_first_steps() {
+    // waviness-flooded-compare's Reynolds side on 513², its first two steps (four a cell, BDF2,
+    // each to 1e-6). With the relaxation switch counting the time term at 1, as it does below
+    // 257², the first step failed both cycles and every sub-step: the V-cycles' pressure ran
+    // away (1.5e80 p_h), the W-cycles stalled with the force balance 5.5e-4 off. The finest
+    // grid's threshold, 4 from 257² on (`RelaxSettings::transient_threshold_for`), takes it,
+    // and 30 steps after it.
+    let mut scene =
+        ehl_scene::builtin("waviness-flooded-compare").unwrap().for_model(Model::ReynoldsFlooded);
+    scene.outputs = ehl_scene::Outputs { centreline: false, fields: false, figures: false };
+    let scene = scene.with_points(513).unwrap();
+    let a = ehl_core::HertzScales::new(&scene.conditions.contact()).a;
+    let (cell, u) = (2.5 * a / 512.0, scene.conditions.rolling_velocity_m_s.unwrap());
+    let mut scene = scene;
+    scene.run.as_mut().unwrap().stop.max_time_s = Some(2.0 * cell / (4.0 * u));
+    let o = ehl_workbench::run_scene(&scene).unwrap_or_else(|e| panic!("{e}"));
+    assert!(o.history().unwrap().len() > 2, "the start and two steps");
+}

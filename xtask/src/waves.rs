@@ -41,10 +41,6 @@ impl Row {
 /// the study knows the wave's.
 const ORDER: f64 = 2.0;
 
-/// The relaxation's time-term switch of the finer grid's marches
-/// ([`ehl_reynolds::RelaxSettings::transient_threshold`]).
-const FINER_TRANSIENT_THRESHOLD: f64 = 4.0;
-
 /// The ratio of the curve `curve` (points `(∇, A_d/A_i, error)` of one wavelength, sorted by `∇`) at
 /// `x`, linear in `log ∇` and `log A_d/A_i` between its points, with the larger error of the two
 /// points it lies between; `None` outside it.
@@ -169,13 +165,6 @@ pub fn run(out: &Path) -> Result<()> {
         plan.sweep.name = format!("{}-{n}", s.name);
         for p in &mut plan.points {
             p.scene = p.scene.with_points(n)?;
-            // Four steps a cell on the finer grid make the time term rival the Poiseuille one
-            // in more cells: its marches failed at their first step at 0.3 and 1 m/s with the
-            // relaxation's switch at 1 and take it at 4, as a march on 513² does
-            // (docs/decisions.md, "The time term in the relaxation switch"); 65² cannot.
-            if let Some(r) = p.scene.reynolds.as_mut().filter(|_| n > grids[0]) {
-                r.solver.relax.transient_threshold = FINER_TRANSIENT_THRESHOLD;
-            }
         }
         let (plan, ran, r) = crate::sweep_page::run_plan(plan, out)?;
         points.extend(plan.points);

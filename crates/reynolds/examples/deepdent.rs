@@ -34,7 +34,7 @@ fn main() {
         settings.relax.omega_gs = w;
     }
     if let Some(t) = std::env::var("TTHR").ok().and_then(|v| v.parse().ok()) {
-        settings.relax.transient_threshold = t;
+        settings.relax.transient_threshold = Some(t);
     }
     if let Some(t) = std::env::var("THR").ok().and_then(|v| v.parse().ok()) {
         settings.relax.distributive_threshold = t;

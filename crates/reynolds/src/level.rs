@@ -50,11 +50,9 @@ pub struct RelaxSettings {
     /// … and the time term's part of that diagonal (its elastic self-coupling `a0 ρ̄ K(0, 0)`,
     /// zero in a steady solve) counts with this threshold instead: counted at the steady
     /// threshold, Gauss–Seidel steps where the time term rivals the Poiseuille one made the
-    /// V-cycle amplify the residual. At 1 the seed's march diverges within five steps on 513²,
-    /// where 4 carries it; 4 fails the first rolling step after a squeezed rest on 129², so a
-    /// march on 513² sets it in its scene (docs/decisions.md, "The time term in the relaxation
-    /// switch").
-    pub transient_threshold: f64,
+    /// V-cycle amplify the residual. `None` (the default): the finest grid's choice,
+    /// [`RelaxSettings::transient_threshold_for`].
+    pub transient_threshold: Option<f64>,
     /// … and at rest (no wedge term: the time term's coupling is the whole of it) with this
     /// one. At rest the coupling falls as the step grows (`a0 = 1/ΔT`), and points where it is
     /// still a fifth of the Poiseuille term cycle with Gauss–Seidel steps at the threshold of 1;
@@ -103,13 +101,15 @@ impl RelaxSettings {
             1000.0,
             "Poiseuille over wedge diagonal",
         )?;
-        above(
-            "transient_threshold",
-            self.transient_threshold,
-            0.0,
-            1000.0,
-            "times the time term's elastic self-coupling",
-        )?;
+        if let Some(t) = self.transient_threshold {
+            above(
+                "transient_threshold",
+                t,
+                0.0,
+                1000.0,
+                "times the time term's elastic self-coupling",
+            )?;
+        }
         above(
             "transient_threshold_at_rest",
             self.transient_threshold_at_rest,
@@ -132,11 +132,36 @@ impl RelaxSettings {
     }
 }
 
+/// The finest grid, in points per side, from which a rolling time step's relaxation switch
+/// counts the time term at [`FINE_TRANSIENT_THRESHOLD`] instead of 1.
+pub const FINE_TRANSIENT_FROM_POINTS: usize = 257;
+
+/// The time term's threshold on grids of [`FINE_TRANSIENT_FROM_POINTS`] and finer.
+pub const FINE_TRANSIENT_THRESHOLD: f64 = 4.0;
+
+impl RelaxSettings {
+    /// The time term's threshold in a rolling step on a finest grid of `points` per side: the
+    /// one set, else 1 below [`FINE_TRANSIENT_FROM_POINTS`] and [`FINE_TRANSIENT_THRESHOLD`]
+    /// from it on. Measured on the seed's contact over `[−1.25, 1.25]²` (docs/decisions.md, "The
+    /// time term in the relaxation switch"): at 1 a march on 513² diverges within five steps at
+    /// one step a cell and the flooded wave's fails its first at four, and 257² fails the wave's
+    /// first step at 0.3 and 1 m/s; at 4 all of them go, and 257²'s dent march costs the same.
+    /// Below 257², 4 fails: the wave's first step on 65² and the first rolling step after a
+    /// squeezed rest on 129².
+    pub fn transient_threshold_for(&self, points: usize) -> f64 {
+        self.transient_threshold.unwrap_or(if points >= FINE_TRANSIENT_FROM_POINTS {
+            FINE_TRANSIENT_THRESHOLD
+        } else {
+            1.0
+        })
+    }
+}
+
 impl Default for RelaxSettings {
     fn default() -> Self {
         Self {
             distributive_threshold: 0.3,
-            transient_threshold: 1.0,
+            transient_threshold: None,
             transient_threshold_at_rest: 1.0,
             omega_gs: 0.4,
             omega_jd: 0.3,

@@ -130,7 +130,10 @@ impl ReynoldsSolver {
     /// Builds the hierarchy and starts from the Hertz pressure with `H00` from the
     /// Nijenbanning–Venner–Moes central film (on the coarsest grid when the start is full
     /// multigrid).
-    pub fn new(grid: Grid, prm: ReynoldsParams, settings: ReynoldsSettings) -> Self {
+    pub fn new(grid: Grid, prm: ReynoldsParams, mut settings: ReynoldsSettings) -> Self {
+        // The time term's threshold is the finest grid's on every grid of the hierarchy.
+        let relax = &mut settings.relax;
+        relax.transient_threshold = Some(relax.transient_threshold_for(grid.nx.max(grid.ny)));
         let mut grids = vec![grid];
         while let Some(c) = grids.last().unwrap().coarser(settings.coarsest_points) {
             grids.push(c);

@@ -16,7 +16,10 @@ fn tight(time_scheme: TimeScheme) -> ReynoldsSettings {
         film_tolerance: 1e-8,
         load_tolerance: 1e-9,
         time_scheme,
-        relax: RelaxSettings { transient_threshold: d.relax.distributive_threshold, ..d.relax },
+        relax: RelaxSettings {
+            transient_threshold: Some(d.relax.distributive_threshold),
+            ..d.relax
+        },
         ..d
     }
 }

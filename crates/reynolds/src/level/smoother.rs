@@ -260,8 +260,12 @@ impl Level {
     /// wedge diagonal's parts, each times its threshold (per unit `ρ̄`).
     pub(super) fn switch_diag(&self, s: &RelaxSettings) -> f64 {
         let (wedge, transient) = self.diag_parts();
-        let t =
-            if self.speed == 0.0 { s.transient_threshold_at_rest } else { s.transient_threshold };
+        // A solver resolves the threshold for its finest grid; a level relaxed alone is its own.
+        let t = if self.speed == 0.0 {
+            s.transient_threshold_at_rest
+        } else {
+            s.transient_threshold_for(self.grid.nx.max(self.grid.ny))
+        };
         s.distributive_threshold * wedge + t * transient
     }
 
