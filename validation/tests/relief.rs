@@ -201,6 +201,18 @@ fn a_rough_surface_rolls_through_the_layer_model_and_reports_its_last_transit() 
     assert!(s.contains("not finished by the time limit"), "{s}");
 }
 
+/// `roughness-mixed-compare`'s layer side on `n`² with its roughness's correlation length and
+/// RMS height set [m], without figures.
+fn rough_layer(correlation_m: f64, rq_m: f64, n: usize) -> ehl_scene::Scene {
+    let mut scene = ehl_scene::builtin("roughness-mixed-compare").unwrap().for_model(Model::Layer);
+    scene.outputs.figures = false;
+    if let Some(ehl_scene::Feature::Roughness(r)) = scene.run.as_mut().map(|r| &mut r.features[0]) {
+        r.correlation_length_m = correlation_m;
+        r.rq_m = rq_m;
+    }
+    scene.with_points(n).unwrap()
+}
+
 #[test]
 fn a_rough_patch_rolls_in_and_the_layer_model_reports_the_load_its_solids_carry() {
     // roughness-mixed-compare's layer side on 65² (the correlation length doubled to 20 µm to
@@ -208,18 +220,7 @@ fn a_rough_patch_rolls_in_and_the_layer_model_reports_the_load_its_solids_carry(
     // crests, and the solids there carry a share of the load; with the roughness at 0 no crest
     // does. The passage's mean is the records' mean of the same share (the monitor's column),
     // over the last transit's 128 steps (two a cell).
-    let run = |rq: f64| {
-        let mut scene =
-            ehl_scene::builtin("roughness-mixed-compare").unwrap().for_model(Model::Layer);
-        scene.outputs.figures = false;
-        if let Some(ehl_scene::Feature::Roughness(r)) =
-            scene.run.as_mut().map(|r| &mut r.features[0])
-        {
-            r.correlation_length_m = 2e-5;
-            r.rq_m = rq;
-        }
-        ehl_workbench::run_scene(&scene.with_points(65).unwrap()).unwrap()
-    };
+    let run = |rq: f64| ehl_workbench::run_scene(&rough_layer(2e-5, rq, 65)).unwrap();
     let o = run(2e-8);
     let p = o.passage().expect("a march through a rough surface has a passage");
     assert_eq!(p.records, 128);
@@ -242,18 +243,7 @@ fn a_rough_passage_s_share_of_the_load_carries_its_error_from_the_coarser_grid_a
     // carries the roughness (its shortest wave on 7.5 cells; 17², 3.8, does not): the answer's
     // passage statistics carry the errors of the same passage on 33², two grids, the change
     // itself. The 40 nm crests leave no layer on some of them on both grids.
-    let rough = |n: usize| {
-        let mut scene =
-            ehl_scene::builtin("roughness-mixed-compare").unwrap().for_model(Model::Layer);
-        scene.outputs.figures = false;
-        if let Some(ehl_scene::Feature::Roughness(r)) =
-            scene.run.as_mut().map(|r| &mut r.features[0])
-        {
-            r.correlation_length_m = 4e-5;
-            r.rq_m = 4e-8;
-        }
-        scene.with_points(n).unwrap()
-    };
+    let rough = |n: usize| rough_layer(4e-5, 4e-8, n);
     let checked = ehl_workbench::accuracy::run(&rough(65), true).unwrap();
     let est = checked.estimate.as_ref().unwrap();
     assert_eq!(est.grids, vec![65, 33], "{}", est.method);
