@@ -189,7 +189,22 @@ pub fn run(scene: &str, grids: &[usize], variant: &Variant, out: &Path) -> Resul
                 );
                 json!({"shares": shares, "order": o, "limit": limit})
             });
+            // The passage's mean central film (and `λ` with it), where each grid has a passage.
+            let means: Vec<f64> =
+                w.iter().filter_map(|p| p.passage.map(|q| q.central_film_mean_m * 1e9)).collect();
+            let mean_film = (means.len() == 3).then(|| {
+                let (o, limit) = richardson(means[0], means[1], means[2]);
+                say!(
+                    "  {model}: the passage's mean h_c {:.4}, {:.4}, {:.4} nm: observed order {o:.2}, limit {}",
+                    means[0],
+                    means[1],
+                    means[2],
+                    limit.map_or("— (order off 0.5–4)".into(), |l| format!("{l:.4} nm"))
+                );
+                json!({"films_nm": means, "order": o, "limit_nm": limit})
+            });
             orders.push(json!({
+                "passage_central_film_mean": mean_film,
                 "contact_load_share": share,
                 "grids": [w[0].n, w[1].n, w[2].n],
                 "central_film": oc,
