@@ -52,8 +52,8 @@ impl Comparison {
                 let with_bar = crate::accuracy::with_bar;
                 let film = bars.central_film_mean;
                 let lambda = p.lambda.map_or(String::new(), |l| {
-                    // λ is the mean film over a fixed height: the film's relative error.
-                    let b = film.map(|b| ErrorBar {
+                    // λ is the mean film over a fixed height: the film's error over it.
+                    let b = film.filter(|_| p.central_film_mean_m > 0.0).map(|b| ErrorBar {
                         absolute: b.absolute / p.central_film_mean_m * l,
                         ..b
                     });
