@@ -5,6 +5,7 @@
 //! speed-against-accuracy chart with every model on the same axes (wall times on one thread).
 
 use anyhow::{Result, bail};
+use ehl_core::Passage;
 use ehl_core::hertz::observed_order_of_three;
 use ehl_workbench::plot::{self, Mark, Panel, Series};
 use ehl_workbench::{compare, sweep};
@@ -158,51 +159,19 @@ pub fn run(scene: &str, grids: &[usize], variant: &Variant, out: &Path) -> Resul
                 w[1].n,
                 w[2].n
             );
-            // A wave's deformed amplitude, where each grid's passage has one: its order and
-            // the Richardson limit at that order (when it is sensible, 0.5 … 4).
-            let ratios: Vec<f64> =
-                w.iter().filter_map(|p| p.passage.and_then(|q| q.amplitude_ratio)).collect();
-            let amplitude = (ratios.len() == 3).then(|| {
-                let (o, limit) = richardson(ratios[0], ratios[1], ratios[2]);
-                say!(
-                    "  {model}: A_d/A_i {:.4}, {:.4}, {:.4}: observed order {o:.2}, limit {}",
-                    ratios[0],
-                    ratios[1],
-                    ratios[2],
-                    limit.map_or("— (order off 0.5–4)".into(), |l| format!("{l:.4}"))
-                );
-                json!({"ratios": ratios, "order": o, "limit": limit})
-            });
-            // The solids' mean share of the load over the passage, where they touched.
-            let shares: Vec<f64> = w
-                .iter()
-                .filter_map(|p| p.passage.and_then(|q| q.contact_load_share_mean))
-                .collect();
-            let share = (shares.len() == 3 && shares.iter().any(|&c| c > 0.0)).then(|| {
-                let (o, limit) = richardson(shares[0], shares[1], shares[2]);
-                say!(
-                    "  {model}: the solids' share {:.4}, {:.4}, {:.4}: observed order {o:.2}, limit {}",
-                    shares[0],
-                    shares[1],
-                    shares[2],
-                    limit.map_or("— (order off 0.5–4)".into(), |l| format!("{l:.4}"))
-                );
-                json!({"shares": shares, "order": o, "limit": limit})
-            });
-            // The passage's mean central film (and `λ` with it), where each grid has a passage.
-            let means: Vec<f64> =
-                w.iter().filter_map(|p| p.passage.map(|q| q.central_film_mean_m * 1e9)).collect();
-            let mean_film = (means.len() == 3).then(|| {
-                let (o, limit) = richardson(means[0], means[1], means[2]);
-                say!(
-                    "  {model}: the passage's mean h_c {:.4}, {:.4}, {:.4} nm: observed order {o:.2}, limit {}",
-                    means[0],
-                    means[1],
-                    means[2],
-                    limit.map_or("— (order off 0.5–4)".into(), |l| format!("{l:.4} nm"))
-                );
-                json!({"films_nm": means, "order": o, "limit_nm": limit})
-            });
+            // The last passage's statistics where each grid has them: a wave's deformed
+            // amplitude, the solids' mean share of the load (where they touched), the mean
+            // central film (and `λ` with it).
+            let mut passage =
+                |what: &str, unit: &str, scale: f64, get: fn(&Passage) -> Option<f64>| {
+                    let line = passage_orders(w, what, unit, scale, get)?;
+                    say!("  {model}: {}", line.0);
+                    Some(line.1)
+                };
+            let amplitude = passage("A_d/A_i", "", 1.0, |q| q.amplitude_ratio);
+            let share = passage("the solids' share", "", 1.0, |q| q.contact_load_share_mean);
+            let mean_film =
+                passage("the passage's mean h_c", " nm", 1e9, |q| Some(q.central_film_mean_m));
             orders.push(json!({
                 "passage_central_film_mean": mean_film,
                 "contact_load_share": share,
@@ -286,6 +255,32 @@ pub fn run(scene: &str, grids: &[usize], variant: &Variant, out: &Path) -> Resul
 
 /// The observed order of three values on grids refined by 2 (coarsest first), and the
 /// Richardson limit at that order when the order is sensible (0.5 … 4).
+/// A passage statistic (`get`, times `scale` in `unit`) of the three grids `w`: the page's line
+/// (`{what} a, b, c{unit}: observed order …, limit …`) and its JSON; `None` unless every grid
+/// has it and it is not zero on all three (the solids never touched: no order to observe).
+fn passage_orders(
+    w: &[&Point],
+    what: &str,
+    unit: &str,
+    scale: f64,
+    get: fn(&Passage) -> Option<f64>,
+) -> Option<(String, serde_json::Value)> {
+    let v: Vec<f64> = w.iter().filter_map(|p| p.passage.as_ref().and_then(get)).collect();
+    if v.len() != 3 || v.iter().all(|&x| x == 0.0) {
+        return None;
+    }
+    let v: Vec<f64> = v.iter().map(|x| x * scale).collect();
+    let (o, limit) = richardson(v[0], v[1], v[2]);
+    let line = format!(
+        "{what} {:.4}, {:.4}, {:.4}{unit}: observed order {o:.2}, limit {}",
+        v[0],
+        v[1],
+        v[2],
+        limit.map_or("— (order off 0.5–4)".into(), |l| format!("{l:.4}{unit}"))
+    );
+    Some((line, json!({"values": v, "unit": unit.trim(), "order": o, "limit": limit})))
+}
+
 fn richardson(coarse: f64, medium: f64, fine: f64) -> (f64, Option<f64>) {
     let o = observed_order_of_three(coarse, medium, fine, 2.0);
     (o, (0.5..=4.0).contains(&o).then(|| fine + (fine - medium) / (2f64.powf(o) - 1.0)))
