@@ -7,7 +7,7 @@
 //! `POIS=ratio` sets `relax.poiseuille_full_step`; `OMEGA`, `LAG` the Gauss–Seidel changes'
 //! under-relaxation (`FEDOMEGA` the fed solve's) and the laws' lag; `U=m/s` the rolling speed `u1` of the seed's
 //! contact (`LOAD=N` its load); `MAXC`, `GAIN`, `WC`, `JUMPS`, `MENP` the cycle limit, the `H00`
-//! gain, the gap's under-relaxation, the slow mode's jump cap (0: none) and the meniscus passes; `GAMMA`
+//! gain, the gap's under-relaxation, the slow mode's jump cap (0: none) and the meniscus passes (`COLS=0`: no column pass); `GAMMA`
 //! the fed solves' cycle (1: V-cycles, 2: W-cycles; the flooded solve keeps the default), `PRE` their
 //! pre-sweeps; `MASS`,
 //! `FILMTOL` the stop rule's oil and film tolerances; `DOMAIN=x0,x1,y0,y1` the domain [a]
@@ -91,6 +91,9 @@ fn main() {
             && h_oil_nm.is_some()
         {
             settings.pre_sweeps = v.parse().expect("PRE: the fed solves' pre-sweeps");
+        }
+        if let Ok(v) = std::env::var("COLS") {
+            settings.relax.column_pass = v != "0";
         }
         if let Ok(v) = std::env::var("MENP") {
             settings.relax.meniscus_passes = v.parse().expect("MENP");
