@@ -99,6 +99,11 @@ pub struct PassageErrors {
 }
 
 impl PassageErrors {
+    /// No statistic of the passage carries an error: no coarser grid carried it through.
+    pub fn is_empty(&self) -> bool {
+        *self == Self::default()
+    }
+
     /// The statistics an accuracy is asked of, with their names: the mean central film, the
     /// solids' mean share of the load, a wave's `A_d/A_i` (the area follows the share).
     pub fn judged(&self) -> [(&'static str, Option<ErrorBar>); 3] {

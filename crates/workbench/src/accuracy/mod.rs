@@ -586,7 +586,7 @@ pub fn flags(
     let mut out = vec![];
     if e.errors.iter().all(Option::is_none) {
         out.push(format!("error {}", e.method));
-    } else if passage.is_some() && e.passage == PassageErrors::default() {
+    } else if passage.is_some() && e.passage.is_empty() {
         out.push(
             "the last passage's error not estimated: no coarser grid carried the pattern through a passage"
                 .into(),

@@ -79,7 +79,7 @@ impl Comparison {
                     ),
                     _ => String::new(),
                 };
-                let unestimated = if est.is_some() && bars == Default::default() {
+                let unestimated = if est.is_some() && bars.is_empty() {
                     "; its error not estimated (no coarser grid carried the pattern through a passage)"
                 } else {
                     ""
