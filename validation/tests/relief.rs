@@ -405,6 +405,50 @@ fn a_wave_whose_crests_close_the_film_beyond_what_the_grid_resolves_fails_saying
 }
 
 #[test]
+fn the_deep_dent_s_reynolds_march_fails_naming_how_steep_its_walls_are_on_the_grid() {
+    // The seed's deep dent (1000 l0 = 25 µm, W = 0.1 a) through the Reynolds march on 129²
+    // fails as it nears the inlet meniscus (docs/findings.md, "The deep dent"). The failure
+    // must say how steep the dent's walls are on these cells: the largest ratio of the gap
+    // between neighbouring points across it over the steady central film, recomputed here
+    // from the profile (seed Eq. 14) at the film and cells the message names. What this
+    // catches: the depth taken in units of the supply rather than metres, the cell or the
+    // film taken in the wrong unit (the ratio would be off by orders), or no ratio at all.
+    let mut scene = ehl_scene::builtin("dent-shallow-compare").unwrap().for_model(Model::Reynolds);
+    scene.outputs.figures = false;
+    let r = scene.run.as_mut().unwrap();
+    r.snapshots_a.clear();
+    let depth_m = match &mut r.features[0] {
+        ehl_scene::Feature::Dent(d) => {
+            d.amplitude = Some(1000.0);
+            1000.0 * 25e-9
+        }
+        _ => unreachable!("dent-shallow-compare rolls a dent"),
+    };
+    let e = ehl_workbench::run_scene(&scene.with_points(129).unwrap()).err().expect("a failure");
+    let m = e.to_string();
+    let number_before = |tail: &str| -> f64 {
+        let head = &m[..m.find(tail).unwrap_or_else(|| panic!("no `{tail}` in: {m}"))];
+        head.rsplit([' ', '(']).next().unwrap().parse().unwrap()
+    };
+    let ratio = number_before("× from one cell to the next on this grid");
+    let h_m = number_before(" nm)") * 1e-9;
+    let cell = 2.5 / 128.0;
+    let mut expected = 1.0f64;
+    for offset in [0.0, 0.25, 0.5, 0.75] {
+        let gap = |k: i32| {
+            let x: f64 = (k as f64 + offset) * cell;
+            h_m + depth_m * 10f64.powf(-10.0 * x * x / 0.01)
+        };
+        for k in -8..8 {
+            expected = expected.max(gap(k).max(gap(k + 1)) / gap(k).min(gap(k + 1)));
+        }
+    }
+    // The message prints three decimals and the film two: 0.2 % covers their rounding.
+    assert!((ratio / expected - 1.0).abs() < 2e-3, "{ratio} against {expected}: {m}");
+    assert!(ratio > 10.0, "the deep dent's walls on 129²: {ratio}");
+}
+
+#[test]
 fn a_wave_through_the_flooded_contact_on_513_points_takes_its_first_steps() {
     // waviness-flooded-compare's Reynolds side on 513², its first two steps (four a cell, BDF2,
     // each to 1e-6). With the relaxation switch counting the time term at 1, as it does below

@@ -104,8 +104,20 @@ impl Transient for ReynoldsMarch<'_> {
         }
         // The wedge term at the speed of the time solved for (the scales stay at u_ref).
         self.solver.set_speed(self.motion.speed(t_new) / self.motion.reference_speed());
+        // How steep the dents' walls are on these cells over the steady film: a gap that jumps
+        // tenfold from one cell to the next is no thin film, and a failure at a dent says so.
+        let cell = self.solver.grid().dx().max(self.solver.grid().dy());
         let where_ = || match (self.relief.dents.is_empty(), self.relief.is_empty()) {
-            (false, _) => format!("dent at x = {:.3} a", self.x0 + travel),
+            (false, _) => {
+                let walls = self.relief.dents.iter();
+                let steepest =
+                    walls.map(|d| d.steepest_cell_ratio(cell, self.h_ref)).fold(1.0, f64::max);
+                format!(
+                    "dent at x = {:.3} a, its walls changing the gap up to {steepest:.3}× from one cell to the next on this grid over the steady central film ({:.2} nm)",
+                    self.x0 + travel,
+                    self.h_ref * 1e9
+                )
+            }
             (true, false) => format!("surfaces moved {travel:.3} a"),
             (true, true) => format!("u = {:.4e} m/s", self.motion.speed(t_new)),
         };
