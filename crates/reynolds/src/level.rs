@@ -36,7 +36,7 @@ mod relax;
 mod rows;
 mod smoother;
 use laws::laws_at;
-pub use relax::{FINE_TRANSIENT_FROM_POINTS, FINE_TRANSIENT_THRESHOLD, RelaxSettings};
+pub use relax::{RelaxSettings, TRANSIENT_THRESHOLDS};
 use rows::{ColumnHalf, Ghost, Lent, Line, LineWork, Rows, split_rows};
 
 /// Pressure [p_h] below which a point counts as cavitated.

@@ -119,6 +119,27 @@ fn steps_in_the_seeds_regime_hold_its_steady_state() {
 }
 
 #[test]
+fn on_1025_points_the_steps_hold_the_steady_state_with_the_finest_grids_threshold() {
+    // The seed's contact flooded on 1025² over [−1.25, 1.25]², one cell a step from the steady
+    // state: with the time term counted at 4 in the relaxation switch (257²'s threshold) the
+    // fourth step diverged (measured with the probe `deepdent`, a smooth surface); the finest
+    // grid's threshold, 16 from 1025 points on (`RelaxSettings::transient_threshold_for`),
+    // takes each step in one cycle (measured over 8). Bounds: every step converged within 3
+    // cycles, and the central film where the steady solve left it to the steps' own film
+    // tolerance (1e-4 a cycle).
+    let grid = Grid::new(1025, 1025, (-1.25, 1.25), (-1.25, 1.25));
+    let mut s = ReynoldsSolver::new(grid, common::seed(), ReynoldsSettings::default());
+    assert!(s.solve(&mut |_| {}).unwrap().converged);
+    let hc0 = s.films().0;
+    let dt = s.grid().dx();
+    for k in 1..=5 {
+        let r = s.step(dt, &mut |_| {}).unwrap_or_else(|e| panic!("step {k}: {e}"));
+        assert!(r.converged && r.cycles <= 3, "step {k}: {} cycles, {:?}", r.cycles, r.diagnosis);
+    }
+    assert!((s.films().0 / hc0 - 1.0).abs() < 1e-4, "{} vs {hc0}", s.films().0);
+}
+
+#[test]
 fn a_step_before_any_steady_solve_is_refused_and_a_step_leaves_the_settings_as_given() {
     // Stepping needs a steady state to step from: refused by name, not a panic.
     let prm = common::m20();

@@ -93,27 +93,26 @@ impl RelaxSettings {
     }
 }
 
-/// The finest grid, in points per side, from which a rolling time step's relaxation switch
-/// counts the time term at [`FINE_TRANSIENT_THRESHOLD`] instead of 1.
-pub const FINE_TRANSIENT_FROM_POINTS: usize = 257;
-
-/// The time term's threshold on grids of [`FINE_TRANSIENT_FROM_POINTS`] and finer.
-pub const FINE_TRANSIENT_THRESHOLD: f64 = 4.0;
+/// The time term's threshold in a rolling step's relaxation switch, by the finest grid: from
+/// so many points per side on, this threshold (1 below the first). At one step a cell the time
+/// term's self-coupling `a0 K(0, 0)` stays the same on every grid while the Poiseuille diagonal
+/// grows as `1/h²`, so the threshold that keeps the time term's points distributive grows
+/// fourfold each time the cells halve, from 1025 points on as measured (docs/decisions.md, "The
+/// time term in the relaxation switch").
+pub const TRANSIENT_THRESHOLDS: [(usize, f64); 3] = [(257, 4.0), (1025, 16.0), (2049, 64.0)];
 
 impl RelaxSettings {
     /// The time term's threshold in a rolling step on a finest grid of `points` per side: the
-    /// one set, else 1 below [`FINE_TRANSIENT_FROM_POINTS`] and [`FINE_TRANSIENT_THRESHOLD`]
-    /// from it on. Measured on the seed's contact over `[−1.25, 1.25]²` (docs/decisions.md, "The
-    /// time term in the relaxation switch"): at 1 a march on 513² diverges within five steps at
-    /// one step a cell and the flooded wave's fails its first at four, and 257² fails the wave's
-    /// first step at 0.3 and 1 m/s; at 4 all of them go, and 257²'s dent march costs the same.
-    /// Below 257², 4 fails: the wave's first step on 65² and the first rolling step after a
-    /// squeezed rest on 129².
+    /// one set, else [`TRANSIENT_THRESHOLDS`]. Measured on the seed's contact over
+    /// `[−1.25, 1.25]²` (docs/decisions.md, "The time term in the relaxation switch"): at 1 a
+    /// march on 513² diverges within five steps at one step a cell and the flooded wave's fails
+    /// its first at four, and 257² fails the wave's first step at 0.3 and 1 m/s; at 4 all of
+    /// them go, and 257²'s dent march costs the same; 1025² diverges at its fourth step at 4
+    /// and goes at 16, 2049² fails its fifth at 16 and goes at 64. Below 257², 4 fails: the
+    /// wave's first step on 65² and the first rolling step after a squeezed rest on 129².
     pub fn transient_threshold_for(&self, points: usize) -> f64 {
-        self.transient_threshold.unwrap_or(if points >= FINE_TRANSIENT_FROM_POINTS {
-            FINE_TRANSIENT_THRESHOLD
-        } else {
-            1.0
+        self.transient_threshold.unwrap_or_else(|| {
+            TRANSIENT_THRESHOLDS.iter().rev().find(|(from, _)| points >= *from).map_or(1.0, |t| t.1)
         })
     }
 }
