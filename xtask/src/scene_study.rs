@@ -253,8 +253,6 @@ pub fn run(scene: &str, grids: &[usize], variant: &Variant, out: &Path) -> Resul
     Ok(files)
 }
 
-/// The observed order of three values on grids refined by 2 (coarsest first), and the
-/// Richardson limit at that order when the order is sensible (0.5 … 4).
 /// A passage statistic (`get`, times `scale` in `unit`) of the three grids `w`: the page's line
 /// (`{what} a, b, c{unit}: observed order …, limit …`) and its JSON; `None` unless every grid
 /// has it and it is not zero on all three (the solids never touched: no order to observe).
@@ -281,6 +279,8 @@ fn passage_orders(
     Some((line, json!({"values": v, "unit": unit.trim(), "order": o, "limit": limit})))
 }
 
+/// The observed order of three values on grids refined by 2 (coarsest first), and the
+/// Richardson limit at that order when the order is sensible (0.5 … 4).
 fn richardson(coarse: f64, medium: f64, fine: f64) -> (f64, Option<f64>) {
     let o = observed_order_of_three(coarse, medium, fine, 2.0);
     (o, (0.5..=4.0).contains(&o).then(|| fine + (fine - medium) / (2f64.powf(o) - 1.0)))
