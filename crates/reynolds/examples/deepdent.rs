@@ -9,7 +9,8 @@
 //! contact from `edge_a` when given (`STEPS_PER_CELL` and `STEPS` as for the dent; 0 steps: the
 //! steady solve alone); `FILMTOL` the steps' film tolerance; `ONE=1` the first attempt alone,
 //! `NOCONTACT=1` the lubricated cycles alone; `BDF2=1` second-order steps; `NEG=1` lists the
-//! closed and touching points; `AROUND=1`, on a failure, the points round the largest residuals.
+//! closed and touching points; `AROUND=1`, on a failure, the points round the largest residuals; `AHEAD` the points
+//! the centre line's dumps show downstream of the dent's centre (8); `DENTY` the dent's `y` (a).
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -46,7 +47,8 @@ fn main() {
         settings.time_scheme = TimeScheme::Bdf2;
     }
     let mut s = ReynoldsSolver::new(grid, prm, settings);
-    let dent = Dent { depth_m: amplitude * 25e-9, width_a: 0.1, x_start_a: -1.25, y_a: 0.0 };
+    let y_a = std::env::var("DENTY").ok().map_or(0.0, |v| v.parse().expect("DENTY: a"));
+    let dent = Dent { depth_m: amplitude * 25e-9, width_a: 0.1, x_start_a: -1.25, y_a };
     // WAVE=A_nm,λ_a: transverse waviness instead of the dent (the march's start, as scenes
     // solve it: the coarser grids holding the film content).
     let wave: Option<ehl_core::Waviness> = std::env::var("WAVE").ok().map(|v| {
@@ -115,7 +117,8 @@ fn main() {
     let jc = grid.row_nearest(0.0);
     let line = |s: &ReynoldsSolver, xc: f64, r: Option<&ndarray::Array2<f64>>| {
         let (l, ic) = (s.finest(), grid.col_nearest(xc));
-        for i in ic.saturating_sub(8)..(ic + 8).min(n) {
+        let ahead = std::env::var("AHEAD").ok().and_then(|v| v.parse::<usize>().ok()).unwrap_or(8);
+        for i in ic.saturating_sub(8)..(ic + ahead).min(n) {
             let res = r.map_or(String::new(), |r| format!(" res {:+.2e}", r[[jc, i]]));
             println!(
                 "  x {:.3} P {:.3e} θ {:.3e} H {:.3e}{res}",
