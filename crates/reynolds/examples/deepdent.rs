@@ -10,7 +10,8 @@
 //! steady solve alone); `FILMTOL` the steps' film tolerance; `ONE=1` the first attempt alone,
 //! `NOCONTACT=1` the lubricated cycles alone; `BDF2=1` second-order steps; `NEG=1` lists the
 //! closed and touching points; `AROUND=1`, on a failure, the points round the largest residuals; `AHEAD` the points
-//! the centre line's dumps show downstream of the dent's centre (8); `DENTY` the dent's `y` (a).
+//! the centre line's dumps show downstream of the dent's centre (8); `DENTY` the dent's `y` (a);
+//! `NOCARRY=1` each step started from the last state.
 #[path = "../tests/common/mod.rs"]
 mod common;
 
@@ -31,6 +32,7 @@ fn main() {
     settings.step_pre_sweeps = env("PRE").unwrap_or(settings.step_pre_sweeps);
     settings.step_max_cycles = env("MAXC").unwrap_or(settings.step_max_cycles);
     settings.step_extra_passes = std::env::var("EXTRA").is_ok();
+    settings.extrapolated_start = std::env::var("NOCARRY").is_err();
     if let Some(w) = std::env::var("OMEGA").ok().and_then(|v| v.parse().ok()) {
         settings.relax.omega_gs = w;
     }
