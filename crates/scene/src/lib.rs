@@ -14,6 +14,7 @@ use std::path::Path;
 
 mod builtins;
 mod error;
+mod limits;
 mod relief;
 mod spec;
 pub mod sweep;
@@ -23,6 +24,10 @@ pub mod views;
 use builtins::parse;
 pub use builtins::{builtin, builtin_names, builtins, load};
 pub use error::SceneError;
+pub use limits::{
+    MAX_A_OVER_R, MAX_DOMAIN_A, MAX_PLACE_A, MAX_SNAPSHOTS, MAX_SPEED_M_S, MAX_TIME_S,
+    MIN_CELLS_PER_WAVELENGTH, PLAUSIBLE,
+};
 pub use relief::{DentSpec, Feature, HeightMapSpec, RoughnessSpec, WavinessSpec};
 pub use spec::{
     Conditions, Domain, GridSpec, LubricantSpec, Method, Motion, Outputs, RunSpec, StartState,
@@ -31,10 +36,6 @@ pub use spec::{
 pub use sweep::{Axis, Parameter, Sweep, builtin_sweep_names, load_sweep};
 pub use tiers::{Tiered, Tiers};
 use validate::Check;
-pub use validate::{
-    MAX_A_OVER_R, MAX_DOMAIN_A, MAX_PLACE_A, MAX_SNAPSHOTS, MAX_SPEED_M_S, MAX_TIME_S,
-    MIN_CELLS_PER_WAVELENGTH, PLAUSIBLE,
-};
 pub use views::{LayerView, MarchCase, ReynoldsView};
 
 /// A scene. Unknown fields are refused, so a typo never silently falls back to a default.
@@ -432,6 +433,17 @@ mod tests {
         assert!(m.contains("domain.x_a"), "{m}");
         let m = refused(&hertz_text().replace("\"tolerance\": 1e-8", "\"tolerance\": 0"));
         assert!(m.contains("solver.tolerance"), "{m}");
+    }
+
+    #[test]
+    fn moes_input_that_sets_an_impossible_speed_or_contact_names_its_own_value() {
+        // L sets the speed through the lubricant: a tenth of an oil's α asks for 1e4 times the
+        // speed, and the error shows L's value beside the speed it set (not one as the other).
+        let m20 = BUILTINS.iter().find(|(n, _)| *n == "reynolds-m20-l10").unwrap().1;
+        let m = refused(&m20.replace("\"alpha_per_pa\": 2.2e-8", "\"alpha_per_pa\": 2.2e-9"));
+        assert!(m.contains("`reynolds.moes.l` = 10 ") && m.contains("rolling velocity"), "{m}");
+        let m = refused(&m20.replace("117000000000.0", "1e9"));
+        assert!(m.contains("`reynolds.moes.m` = 20 ") && m.contains("Hertz radius"), "{m}");
     }
 
     #[test]
