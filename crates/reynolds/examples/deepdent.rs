@@ -7,7 +7,7 @@
 //! GAMMA, OMEGA (Gauss–Seidel), THR and TTHR (the relaxation switch's thresholds), EXTRA=1 (the steps' extra passes) override the settings.
 //! `WAVE=A_nm,λ_a[,edge_a]`: a transverse wave instead of the dent, rolling in over the smooth
 //! contact from `edge_a` when given (`STEPS_PER_CELL` and `STEPS` as for the dent; 0 steps: the
-//! steady solve alone); `FILMTOL` the steps' film tolerance; `ONE=1` the first attempt alone,
+//! steady solve alone); `FILMTOL` the steps' film tolerance (`STEPFILM` the whole film's); `ONE=1` the first attempt alone,
 //! `NOCONTACT=1` the lubricated cycles alone; `BDF2=1` second-order steps; `NEG=1` lists the
 //! closed and touching points; `AROUND=1`, on a failure, the points round the largest residuals; `AHEAD` the points
 //! the centre line's dumps show downstream of the dent's centre (8); `DENTY` the dent's `y` (a);
@@ -68,6 +68,9 @@ fn main() {
     let wave_gap = move |x: f64, travel: f64| wave.map_or(0.0, |w| w.gap(x, 0.0, travel, delta));
     if let Some(t) = std::env::var("FILMTOL").ok().and_then(|v| v.parse().ok()) {
         s.settings.film_tolerance = t;
+    }
+    if let Some(t) = std::env::var("STEPFILM").ok().and_then(|v| v.parse().ok()) {
+        s.settings.step_film_tolerance = t;
     }
     if wave.is_some() {
         s.settings.coarse_film_content = false;

@@ -167,8 +167,11 @@ fn seed_dent_passage(settings: ReynoldsSettings) -> (Vec<[f64; 2]>, f64) {
 
 /// A march of [`seed_dent_steps`].
 struct Passage {
-    /// The central film and the pressure maximum after each step taken.
+    /// The central film and the pressure maximum after each step taken …
     out: Vec<[f64; 2]>,
+    /// … and the film along the centre line round the dent, from 0.2 a behind its centre to
+    /// 0.2 a ahead [a²/R].
+    near: Vec<Vec<f64>>,
     /// Cycles, summed over the steps.
     cycles: usize,
     /// The steps whose first attempt was given up: the step, why, its cycles.
@@ -188,7 +191,8 @@ fn seed_dent_steps(settings: ReynoldsSettings, n: usize) -> Passage {
     s.set_extra_gap(dent(depth, w, -1.25));
     s.solve(&mut |_| {}).expect("the steady start converges");
     let dt = grid.dx();
-    let mut p = Passage { out: vec![], cycles: 0, given_up: vec![], failed: None };
+    let mut p = Passage { out: vec![], near: vec![], cycles: 0, given_up: vec![], failed: None };
+    let (jc, reach) = (grid.row_nearest(0.0), (0.2 / dt).round() as usize);
     for k in 1..grid.nx {
         s.set_extra_gap(dent(depth, w, -1.25 + k as f64 * dt));
         let r = match s.step(dt, &mut |_| {}) {
@@ -204,6 +208,9 @@ fn seed_dent_steps(settings: ReynoldsSettings, n: usize) -> Passage {
         }
         let pmax = s.pressure().iter().cloned().fold(0.0, f64::max);
         p.out.push([s.films().0, pmax]);
+        let ic = grid.col_nearest(-1.25 + k as f64 * dt);
+        let row = (ic.saturating_sub(reach)..(ic + reach + 1).min(n)).map(|i| s.film()[[jc, i]]);
+        p.near.push(row.collect());
     }
     p
 }
@@ -220,7 +227,11 @@ fn a_step_whose_cycles_fail_is_solved_again_with_the_other_and_the_steps_after_i
     // failed one's state, or with its `ρ̄H` left in the time history, differs in the third
     // digit), the V-cycles' 3 cycles of the first step counted, and every later step given up
     // alike.
-    let d = ReynoldsSettings { step_max_cycles: 3, ..ReynoldsSettings::default() };
+    let d = ReynoldsSettings {
+        step_max_cycles: 3,
+        step_film_tolerance: 1.0,
+        ..ReynoldsSettings::default()
+    };
     let p = seed_dent_steps(d, 65);
     let w = seed_dent_steps(ReynoldsSettings { step_gamma: 2, ..d }, 65);
     let (k, why, cycles) = &p.given_up[0];
@@ -239,28 +250,53 @@ fn a_step_whose_cycles_fail_is_solved_again_with_the_other_and_the_steps_after_i
 }
 
 #[test]
-fn a_dent_carried_with_the_surfaces_steps_in_about_one_cycle_near_the_tight_march() {
+fn a_dent_carried_with_the_surfaces_steps_in_few_cycles_and_the_whole_film_stays_near_the_tight_march()
+ {
     // Each step starts from the last state plus the last step's pressure change carried
-    // downstream by the surfaces' travel, and rolling its first cycle may be its last. Measured
-    // on 129²: 1.58 cycles a step (3.82 from the last state, `extrapolated_start: false`; on
-    // 257² the change extrapolated in place took 4.02 and the carried start 1.14); bound 2.
+    // downstream by the surfaces' travel, and rolling its first cycle may be its last. With
+    // the central film alone judging a step (`step_film_tolerance: 1.0`), measured on 129²:
+    // 1.75 cycles a step (3.82 from the last state, `extrapolated_start: false`); bound 2.
     // Against the same march converged tightly (film 1e-6 a cycle, load 1e-8, oil 1e-4), the
-    // largest deviation over the passage relative to the largest value: measured 0.72 % in the
-    // central film and in the pressure maximum (on 257², 0.60 % and 0.23 %, where the steps
-    // before the carried start left 1.88 % and 0.85 %); bound 1.5 %, what the stop rule leaves
-    // with room, far below one step a cell's own time error (7.3 % on 257²): a start that moved
-    // the answer instead of the cycles' count lands further.
+    // largest deviation over the passage relative to the largest value: 1.25 % in the central
+    // film; bound 1.5 %, far below one step a cell's own time error (7.3 % on 257²). But the
+    // centre does not see the dent: the film round it (0.2 a either side, along the centre
+    // line) stood up to 7.2 % from the tight march's, relative to its own value. With the
+    // whole film judged (the default, no film changing by 1e-3 a cycle), 3.98 cycles a step
+    // and 0.27 %: bound 1 % (a rule that let a step end with the film round the dent moving
+    // leaves several per cent), and 5 cycles a step.
     let d = ReynoldsSettings::default();
-    let (run, cycles) = seed_dent_passage(d);
-    let tight =
-        ReynoldsSettings { film_tolerance: 1e-6, load_tolerance: 1e-8, mass_tolerance: 1e-4, ..d };
-    let (reference, _) = seed_dent_passage(tight);
-    let deviation = |q: usize| {
-        let top = reference.iter().map(|r| r[q].abs()).fold(0.0, f64::max);
-        run.iter().zip(&reference).map(|(a, b)| (a[q] - b[q]).abs()).fold(0.0, f64::max) / top
+    let tight = ReynoldsSettings {
+        film_tolerance: 1e-6,
+        load_tolerance: 1e-8,
+        mass_tolerance: 1e-4,
+        step_film_tolerance: 1.0,
+        ..d
     };
-    assert!(cycles <= 2.0, "{cycles:.2} cycles a step");
-    for (q, what) in [(0, "central film"), (1, "pressure maximum")] {
-        assert!(deviation(q) < 1.5e-2, "{what}: {:.2e} from the tight march", deviation(q));
+    let reference = seed_dent_steps(tight, 129);
+    let central = seed_dent_steps(ReynoldsSettings { step_film_tolerance: 1.0, ..d }, 129);
+    let whole = seed_dent_steps(d, 129);
+    for p in [&reference, &central, &whole] {
+        assert!(p.failed.is_none(), "{:?}", p.failed);
     }
+    let deviation = |run: &Passage, q: usize| {
+        let top = reference.out.iter().map(|r| r[q].abs()).fold(0.0, f64::max);
+        let d = run.out.iter().zip(&reference.out).map(|(a, b)| (a[q] - b[q]).abs());
+        d.fold(0.0, f64::max) / top
+    };
+    let near = |run: &Passage| {
+        let steps = run.near.iter().zip(&reference.near);
+        let rel = |(a, b): (&Vec<f64>, &Vec<f64>)| {
+            a.iter().zip(b).map(|(x, y)| ((x - y) / y).abs()).fold(0.0, f64::max)
+        };
+        steps.map(rel).fold(0.0, f64::max)
+    };
+    let per_step = |run: &Passage| run.cycles as f64 / run.out.len() as f64;
+    assert!(per_step(&central) <= 2.0, "{:.2} cycles a step", per_step(&central));
+    for (q, what) in [(0, "central film"), (1, "pressure maximum")] {
+        let e = deviation(&central, q);
+        assert!(e < 1.5e-2, "{what}: {e:.2e} from the tight march");
+    }
+    assert!(per_step(&whole) <= 5.0, "{:.2} cycles a step", per_step(&whole));
+    assert!(near(&whole) < 1e-2, "round the dent: {:.2e} from the tight march", near(&whole));
+    assert!(near(&central) > 3e-2, "the centre alone: {:.2e}", near(&central));
 }

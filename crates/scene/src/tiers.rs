@@ -32,6 +32,7 @@ impl Tiers for ehl_reynolds::ReynoldsSettings {
     const USER: &'static [&'static str] = &[
         "max_cycles",
         "film_tolerance",
+        "step_film_tolerance",
         "load_tolerance",
         "mass_tolerance",
         "time_scheme",

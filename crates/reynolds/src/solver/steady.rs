@@ -437,6 +437,7 @@ impl ReynoldsSolver {
         let mut stalled = false;
         let near = self.oil_near();
         let mut jumps = ModeExtrapolation::new(self.active.mode_extrapolation);
+        let mut whole = FilmBefore::in_step(&self.levels[0], film_floor, &self.active);
         for _ in 0..self.active.max_cycles {
             cycle += 1;
             let rec = match self.logged_cycle(0, cycle, t0) {
@@ -451,6 +452,7 @@ impl ReynoldsSolver {
             self.h00 = h00;
             log(&rec);
             history.push(rec);
+            let settled_all = whole.as_mut().is_none_or(|w| w.settled(&self.levels[0], &rec));
             if moved {
                 // The record is not the state's after a jump: the next cycle judges it.
                 prev = (f64::NAN, None);
@@ -458,17 +460,14 @@ impl ReynoldsSolver {
             }
             let hc = rec.central_film;
             let now = (hc, self.centre_touching().then(|| self.contact().0));
-            let settled = self.settles(now, prev, film_floor);
-            let prev_hc = prev.0;
+            let settled = self.settles(now, prev, film_floor) && settled_all;
             let mass = rec.mass_defect <= self.active.mass_tolerance;
             let closed = may_touch && touching.at.is_none() && rec.minimum_film < 0.0;
             let strict = settled && rec.load_error.abs() < self.active.load_tolerance && mass;
             let discretisation = match (self.active.stop, coarse_hc) {
                 (StopRule::Discretisation, Some(h2)) => {
                     let e_d = (hc - h2).abs() / 3.0;
-                    (hc - prev_hc).abs() < 0.1 * e_d
-                        && rec.load_error.abs() < 0.1 * e_d / hc
-                        && mass
+                    (hc - prev.0).abs() < 0.1 * e_d && rec.load_error.abs() < 0.1 * e_d / hc && mass
                 }
                 _ => false,
             };
@@ -735,4 +734,28 @@ struct Touching {
     at: Option<usize>,
     judged_from: usize,
     lubricated: Option<(SolverState, usize, usize)>,
+}
+
+/// In a time step the whole film settles, not the centre alone
+/// ([`ReynoldsSettings::step_film_tolerance`]): the film as the cycle before left it (the
+/// step's start before the first cycle), the stop rule's floor and the tolerance.
+struct FilmBefore(Array2<f64>, f64, f64);
+
+impl FilmBefore {
+    /// In a time step (the time term on), from the film as it stands.
+    fn in_step(finest: &Level, film_floor: f64, s: &ReynoldsSettings) -> Option<Self> {
+        (finest.time_a0 > 0.0).then(|| Self(finest.film.clone(), film_floor, s.step_film_tolerance))
+    }
+
+    /// Whether no film changed since the last call by more than the tolerance, relative to
+    /// the larger of its own and the central film (the floor where the centre has closed);
+    /// the film is remembered for the next.
+    fn settled(&mut self, finest: &Level, rec: &CycleLog) -> bool {
+        let (film, floor) = (&finest.film, rec.central_film.abs().max(self.1));
+        let change = Zip::from(film)
+            .and(&self.0)
+            .fold(0.0, |m: f64, &a, &b| m.max((a - b).abs() / a.abs().max(floor)));
+        self.0.assign(film);
+        change < self.2
+    }
 }

@@ -139,8 +139,9 @@ impl ReynoldsSolver {
             relax,
             ..s
         };
-        // Rolling, the first cycle's film change is judged against the start, so that a step
-        // whose start was already its answer takes one cycle, not two, no less accurate. At
+        // Rolling, the first cycle's film change is judged against the start (the whole film's
+        // too, [`ReynoldsSettings::step_film_tolerance`]), so that a step whose start was
+        // already its answer takes one cycle, not two, no less accurate. At
         // rest the trapped film drains by less than the stop rule's tolerance a step, and
         // one-cycle steps let it drift, so at rest the first cycle is never the last
         // (docs/decisions.md, "A step's start carried with the surfaces").
