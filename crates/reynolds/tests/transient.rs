@@ -154,17 +154,6 @@ fn a_step_before_any_steady_solve_is_refused_and_a_step_leaves_the_settings_as_g
     assert_eq!(s.settings, given);
 }
 
-/// The seed's shallow dent (31.25 nm, `W = 0.1 a`) passing the seed's contact fed 25 nm on
-/// 129² over `[−1.25, 1.25]²`, one step a cell from `x = −1.25 a` to `1.25 a`, with `settings`:
-/// the central film and the pressure maximum after each step, and the cycles a step.
-fn seed_dent_passage(settings: ReynoldsSettings) -> (Vec<[f64; 2]>, f64) {
-    let p = seed_dent_steps(settings, 129);
-    if let Some((k, e)) = p.failed {
-        panic!("step {k}: {e}");
-    }
-    (p.out, p.cycles as f64 / 128.0)
-}
-
 /// A march of [`seed_dent_steps`].
 struct Passage {
     /// The central film and the pressure maximum after each step taken …
@@ -180,7 +169,9 @@ struct Passage {
     failed: Option<(usize, String)>,
 }
 
-/// [`seed_dent_passage`] on `n`² points, up to the first step that fails.
+/// The seed's shallow dent (31.25 nm, `W = 0.1 a`) passing the seed's contact fed 25 nm over
+/// `[−1.25, 1.25]²`, one step a cell from `x = −1.25 a`, on `n`² points, up to the first step that
+/// fails.
 fn seed_dent_steps(settings: ReynoldsSettings, n: usize) -> Passage {
     let prm = common::seed();
     let grid = Grid::new(n, n, (-1.25, 1.25), (-1.25, 1.25));
