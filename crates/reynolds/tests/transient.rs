@@ -252,9 +252,9 @@ fn a_dent_carried_with_the_surfaces_steps_in_few_cycles_and_the_whole_film_stays
     // film; bound 1.5 %, far below one step a cell's own time error (7.3 % on 257²). But the
     // centre does not see the dent: the film round it (0.2 a either side, along the centre
     // line) stood up to 7.2 % from the tight march's, relative to its own value. With the
-    // whole film judged (the default, no film changing by 1e-3 a cycle), 3.98 cycles a step
-    // and 0.27 %: bound 1 % (a rule that let a step end with the film round the dent moving
-    // leaves several per cent), and 5 cycles a step.
+    // whole film judged (the default, no film changing by 3e-3 a cycle), 3.06 cycles a step
+    // and 0.55 %: bound 1 % (a rule that let a step end with the film round the dent moving
+    // leaves several per cent), and 4 cycles a step.
     let d = ReynoldsSettings::default();
     let tight = ReynoldsSettings {
         film_tolerance: 1e-6,
@@ -287,7 +287,7 @@ fn a_dent_carried_with_the_surfaces_steps_in_few_cycles_and_the_whole_film_stays
         let e = deviation(&central, q);
         assert!(e < 1.5e-2, "{what}: {e:.2e} from the tight march");
     }
-    assert!(per_step(&whole) <= 5.0, "{:.2} cycles a step", per_step(&whole));
+    assert!(per_step(&whole) <= 4.0, "{:.2} cycles a step", per_step(&whole));
     assert!(near(&whole) < 1e-2, "round the dent: {:.2e} from the tight march", near(&whole));
     assert!(near(&central) > 3e-2, "the centre alone: {:.2e}", near(&central));
 }
