@@ -737,25 +737,35 @@ struct Touching {
 }
 
 /// In a time step the whole film settles, not the centre alone
-/// ([`ReynoldsSettings::step_film_tolerance`]): the film as the cycle before left it (the
-/// step's start before the first cycle), the stop rule's floor and the tolerance.
-struct FilmBefore(Array2<f64>, f64, f64);
+/// ([`ReynoldsSettings::step_film_tolerance`]).
+struct FilmBefore {
+    /// The film as the cycle before left it (the step's start before the first cycle) …
+    film: Array2<f64>,
+    /// … the stop rule's floor, where the centre has closed …
+    floor: f64,
+    /// … and the largest change a cycle that is settled.
+    tolerance: f64,
+}
 
 impl FilmBefore {
     /// In a time step (the time term on), from the film as it stands.
-    fn in_step(finest: &Level, film_floor: f64, s: &ReynoldsSettings) -> Option<Self> {
-        (finest.time_a0 > 0.0).then(|| Self(finest.film.clone(), film_floor, s.step_film_tolerance))
+    fn in_step(finest: &Level, floor: f64, s: &ReynoldsSettings) -> Option<Self> {
+        (finest.time_a0 > 0.0).then(|| Self {
+            film: finest.film.clone(),
+            floor,
+            tolerance: s.step_film_tolerance,
+        })
     }
 
     /// Whether no film changed since the last call by more than the tolerance, relative to
     /// the larger of its own and the central film (the floor where the centre has closed);
     /// the film is remembered for the next.
     fn settled(&mut self, finest: &Level, rec: &CycleLog) -> bool {
-        let (film, floor) = (&finest.film, rec.central_film.abs().max(self.1));
-        let change = Zip::from(film)
-            .and(&self.0)
+        let floor = rec.central_film.abs().max(self.floor);
+        let change = Zip::from(&finest.film)
+            .and(&self.film)
             .fold(0.0, |m: f64, &a, &b| m.max((a - b).abs() / a.abs().max(floor)));
-        self.0.assign(film);
-        change < self.2
+        self.film.assign(&finest.film);
+        change < self.tolerance
     }
 }
