@@ -241,8 +241,7 @@ fn a_step_whose_cycles_fail_is_solved_again_with_the_other_and_the_steps_after_i
 }
 
 #[test]
-fn a_dent_carried_with_the_surfaces_steps_in_few_cycles_and_the_whole_film_stays_near_the_tight_march()
- {
+fn a_carried_dent_steps_in_few_cycles_and_its_whole_film_stays_near_the_tight_march() {
     // Each step starts from the last state plus the last step's pressure change carried
     // downstream by the surfaces' travel, and rolling its first cycle may be its last. With
     // the central film alone judging a step (`step_film_tolerance: 1.0`), measured on 129²:
